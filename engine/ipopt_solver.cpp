@@ -1,0 +1,304 @@
+// Ipopt backend: all spines of a brush are solved as one sparse NLP per step
+// (block-diagonal Hessian and Jacobian), so Ipopt's and MUMPS's set-up is paid
+// once per step rather than once per spine (SOLVER-NOTES.md: ~1.5-2 ms for 10
+// spines instead of ~10 ms).
+
+#include <IpIpoptApplication.hpp>
+#include <IpSolveStatistics.hpp>
+#include <IpTNLP.hpp>
+#include <algorithm>
+#include <cmath>
+
+#include "engine/spine_solver.h"
+
+namespace bristle {
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+class BrushNlp : public Ipopt::TNLP {
+ public:
+  BrushNlp(std::span<const SpineProblem* const> problems, std::span<SpineSolution* const> sols,
+           bool warm)
+      : problems_(problems), sols_(sols), warm_(warm) {
+    for (const SpineProblem* p : problems_) {
+      var_offset_.push_back(nvars_);
+      con_offset_.push_back(ncons_);
+      const int n = p->spine->jointCount();
+      nvars_ += 2 * n;
+      ncons_ += n;
+      nnz_jac_ += n * (n + 1);  // constraint j depends on the 2j angles before it
+      nnz_hess_ += (2 * n) * (2 * n + 1) / 2;
+    }
+    fk_.resize(problems_.size());
+    grad_.resize(nvars_);
+    hess_.resize(problems_.size());
+  }
+
+  Ipopt::ApplicationReturnStatus status = Ipopt::Internal_Error;
+  bool finalized = false;
+
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag,
+                    IndexStyleEnum& index_style) override {
+    n = nvars_;
+    m = ncons_;
+    nnz_jac_g = nnz_jac_;
+    nnz_h_lag = nnz_hess_;
+    index_style = C_STYLE;
+    return true;
+  }
+
+  bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index m, Number* g_l,
+                       Number* g_u) override {
+    for (Index i = 0; i < n; ++i) {
+      const double lim = (i % 2 == 0) ? kThetaLimitRad : kPhiLimitRad;
+      x_l[i] = -lim;
+      x_u[i] = lim;
+    }
+    for (Index j = 0; j < m; ++j) {
+      g_l[j] = 0.0;     // eq. 5: every joint on or above the canvas
+      g_u[j] = 2e19;    // > nlp_upper_bound_inf: no upper bound
+    }
+    return true;
+  }
+
+  bool get_starting_point(Index, bool init_x, Number* x, bool init_z, Number* z_L, Number* z_U,
+                          Index, bool init_lambda, Number* lambda) override {
+    for (size_t s = 0; s < problems_.size(); ++s) {
+      const SpineSolution& sol = *sols_[s];
+      const int nv = problems_[s]->vars(), nc = nv / 2;
+      const bool have = warm_ && sol.lambda.size() == size_t(nc);
+      for (int i = 0; i < nv; ++i) {
+        const double lim = (i % 2 == 0) ? kThetaLimitRad : kPhiLimitRad;
+        if (init_x) x[var_offset_[s] + i] = std::clamp(sol.q[i], -lim, lim);
+        if (init_z) {
+          z_L[var_offset_[s] + i] = have ? sol.z_lower[i] : 0.0;
+          z_U[var_offset_[s] + i] = have ? sol.z_upper[i] : 0.0;
+        }
+      }
+      if (init_lambda)
+        for (int j = 0; j < nc; ++j) lambda[con_offset_[s] + j] = have ? sol.lambda[j] : 0.0;
+    }
+    return true;
+  }
+
+  bool eval_f(Index, const Number* x, bool new_x, Number& obj) override {
+    update(x, new_x);
+    obj = energy_;
+    return std::isfinite(energy_);
+  }
+
+  bool eval_grad_f(Index n, const Number* x, bool new_x, Number* g) override {
+    update(x, new_x);
+    std::copy(grad_.begin(), grad_.begin() + n, g);
+    return true;
+  }
+
+  bool eval_g(Index, const Number* x, bool new_x, Index, Number* g) override {
+    update(x, new_x);
+    for (size_t s = 0; s < problems_.size(); ++s)
+      for (int j = 1; j <= fk_[s].n; ++j) g[con_offset_[s] + j - 1] = fk_[s].x[j].z();
+    return true;
+  }
+
+  bool eval_jac_g(Index, const Number* x, bool new_x, Index, Index, Index* rows, Index* cols,
+                  Number* values) override {
+    Index k = 0;
+    if (values == nullptr) {
+      for (size_t s = 0; s < problems_.size(); ++s) {
+        const int n = problems_[s]->spine->jointCount();
+        for (int j = 1; j <= n; ++j)
+          for (int v = 0; v < 2 * j; ++v) {
+            rows[k] = con_offset_[s] + j - 1;
+            cols[k] = var_offset_[s] + v;
+            ++k;
+          }
+      }
+      return true;
+    }
+    update(x, new_x);
+    for (size_t s = 0; s < problems_.size(); ++s)
+      for (int j = 1; j <= fk_[s].n; ++j)
+        for (int v = 0; v < 2 * j; ++v) values[k++] = fk_[s].d(j, v).z();
+    return true;
+  }
+
+  bool eval_h(Index, const Number* x, bool new_x, Number obj_factor, Index, const Number* lambda,
+              bool, Index, Index* rows, Index* cols, Number* values) override {
+    Index k = 0;
+    if (values == nullptr) {
+      for (size_t s = 0; s < problems_.size(); ++s) {
+        const int nv = problems_[s]->vars();
+        for (int r = 0; r < nv; ++r)
+          for (int c = 0; c <= r; ++c) {
+            rows[k] = var_offset_[s] + r;
+            cols[k] = var_offset_[s] + c;
+            ++k;
+          }
+      }
+      return true;
+    }
+    update(x, new_x);
+    for (size_t s = 0; s < problems_.size(); ++s) {
+      const SpineFk& fk = fk_[s];
+      const int nv = fk.vars();
+      const std::vector<double>& h = hess_[s];
+      for (int r = 0; r < nv; ++r)
+        for (int c = 0; c <= r; ++c) {
+          double v = obj_factor * h[c * nv + r];
+          // Constraint j involves angles of joints < j only.
+          for (int j = std::max(r, c) / 2 + 1; j <= fk.n; ++j)
+            v += lambda[con_offset_[s] + j - 1] * fk.dd(j, r, c).z();
+          values[k++] = v;
+        }
+    }
+    return true;
+  }
+
+  void finalize_solution(Ipopt::SolverReturn, Index, const Number* x, const Number* z_L,
+                         const Number* z_U, Index, const Number*, const Number* lambda, Number,
+                         const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+    finalized = true;
+    for (size_t s = 0; s < problems_.size(); ++s) {
+      SpineSolution& sol = result_.emplace_back();
+      const int nv = problems_[s]->vars(), nc = nv / 2;
+      sol.q.assign(x + var_offset_[s], x + var_offset_[s] + nv);
+      sol.z_lower.assign(z_L + var_offset_[s], z_L + var_offset_[s] + nv);
+      sol.z_upper.assign(z_U + var_offset_[s], z_U + var_offset_[s] + nv);
+      sol.lambda.assign(lambda + con_offset_[s], lambda + con_offset_[s] + nc);
+      sol.normal_force_n.resize(nc);
+      // Ipopt's Lagrangian is f + lambda^T g: an active g >= 0 has lambda <= 0,
+      // and -lambda is the canvas's force on the joint in newtons (E in N mm, g in mm).
+      for (int j = 0; j < nc; ++j) sol.normal_force_n[j] = std::max(0.0, -sol.lambda[j]);
+    }
+  }
+
+  std::vector<SpineSolution> result_;
+
+ private:
+  void update(const Number* x, bool new_x) {
+    if (!new_x && have_) return;
+    have_ = true;
+    energy_ = 0;
+    for (size_t s = 0; s < problems_.size(); ++s) {
+      const int nv = problems_[s]->vars();
+      hess_[s].resize(nv * nv);
+      energy_ += spineEnergy(*problems_[s], x + var_offset_[s], &fk_[s], nullptr,
+                             grad_.data() + var_offset_[s], hess_[s].data());
+    }
+  }
+
+  std::span<const SpineProblem* const> problems_;
+  std::span<SpineSolution* const> sols_;
+  bool warm_;
+  std::vector<int> var_offset_, con_offset_;
+  int nvars_ = 0, ncons_ = 0, nnz_jac_ = 0, nnz_hess_ = 0;
+  std::vector<SpineFk> fk_;
+  std::vector<double> grad_;
+  std::vector<std::vector<double>> hess_;
+  double energy_ = 0;
+  bool have_ = false;
+};
+
+const char* ipoptStatusName(Ipopt::ApplicationReturnStatus s) {
+  switch (s) {
+    case Ipopt::Solve_Succeeded: return "Solve_Succeeded";
+    case Ipopt::Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
+    case Ipopt::Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
+    case Ipopt::Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
+    case Ipopt::Diverging_Iterates: return "Diverging_Iterates";
+    case Ipopt::User_Requested_Stop: return "User_Requested_Stop";
+    case Ipopt::Feasible_Point_Found: return "Feasible_Point_Found";
+    case Ipopt::Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
+    case Ipopt::Restoration_Failed: return "Restoration_Failed";
+    case Ipopt::Error_In_Step_Computation: return "Error_In_Step_Computation";
+    case Ipopt::Maximum_CpuTime_Exceeded: return "Maximum_CpuTime_Exceeded";
+    case Ipopt::Not_Enough_Degrees_Of_Freedom: return "Not_Enough_Degrees_Of_Freedom";
+    case Ipopt::Invalid_Problem_Definition: return "Invalid_Problem_Definition";
+    case Ipopt::Invalid_Option: return "Invalid_Option";
+    case Ipopt::Invalid_Number_Detected: return "Invalid_Number_Detected";
+    case Ipopt::Unrecoverable_Exception: return "Unrecoverable_Exception";
+    case Ipopt::NonIpopt_Exception_Thrown: return "NonIpopt_Exception_Thrown";
+    case Ipopt::Insufficient_Memory: return "Insufficient_Memory";
+    default: return "Internal_Error";
+  }
+}
+
+class IpoptSolver : public SpineSolver {
+ public:
+  explicit IpoptSolver(const IpoptSettings& settings) : app_(IpoptApplicationFactory()) {
+    Ipopt::OptionsList& o = *app_->Options();
+    o.SetStringValue("sb", "yes");  // no banner on stdout
+    o.SetIntegerValue("print_level", 0);
+    o.SetStringValue("hessian_approximation", "exact");
+    o.SetStringValue("mu_strategy", "adaptive");
+    o.SetNumericValue("tol", settings.tol);
+    o.SetNumericValue("acceptable_tol", settings.acceptable_tol);
+    o.SetIntegerValue("max_iter", settings.max_iterations);
+    o.SetIntegerValue("min_refinement_steps", 0);
+    o.SetIntegerValue("max_soc", 0);
+    // Small warm-start pushes: the previous step's solution is nearly optimal.
+    for (const char* opt : {"warm_start_bound_push", "warm_start_bound_frac",
+                            "warm_start_slack_bound_frac", "warm_start_slack_bound_push",
+                            "warm_start_mult_bound_push"})
+      o.SetNumericValue(opt, 1e-9);
+    initialized_ = app_->Initialize() == Ipopt::Solve_Succeeded;
+  }
+
+  const char* name() const override { return "ipopt"; }
+
+  SolveSummary solve(std::span<const SpineProblem* const> problems,
+                     std::span<SpineSolution* const> solutions) override {
+    SolveSummary summary;
+    if (!initialized_) {
+      summary.status = SolveStatus::kFailed;
+      summary.message = "Ipopt initialisation failed";
+      return summary;
+    }
+    bool warm = true;
+    for (SpineSolution* s : solutions)
+      warm = warm && s->lambda.size() == s->q.size() / 2;
+    app_->Options()->SetStringValue("warm_start_init_point", warm ? "yes" : "no");
+    Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, warm);
+    Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
+    try {
+      st = app_->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
+    } catch (...) {
+      st = Ipopt::NonIpopt_Exception_Thrown;
+    }
+    summary.message = ipoptStatusName(st);
+    if (Ipopt::SmartPtr<Ipopt::SolveStatistics> stats = app_->Statistics(); Ipopt::IsValid(stats))
+      summary.iterations = stats->IterationCount();
+    const bool ok = st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
+    if (!ok || !nlp->finalized || nlp->result_.size() != solutions.size()) {
+      summary.status = SolveStatus::kFailed;
+      return summary;
+    }
+    summary.status = st == Ipopt::Solve_Succeeded ? SolveStatus::kOk : SolveStatus::kAcceptable;
+    for (size_t s = 0; s < solutions.size(); ++s) *solutions[s] = std::move(nlp->result_[s]);
+    return summary;
+  }
+
+ private:
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
+  bool initialized_ = false;
+};
+
+}  // namespace
+
+const char* toString(SolveStatus s) {
+  switch (s) {
+    case SolveStatus::kOk: return "ok";
+    case SolveStatus::kAcceptable: return "acceptable";
+    case SolveStatus::kFree: return "free";
+    case SolveStatus::kFailed: return "failed";
+  }
+  return "unknown";
+}
+
+std::unique_ptr<SpineSolver> makeIpoptSolver(const IpoptSettings& settings) {
+  return std::make_unique<IpoptSolver>(settings);
+}
+
+}  // namespace bristle

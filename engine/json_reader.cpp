@@ -1,0 +1,155 @@
+#include "engine/json_reader.h"
+
+#include <cmath>
+
+#include "engine/text_file.h"
+
+namespace bristle {
+namespace {
+
+std::string escapePointerToken(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+std::string shortDump(const nlohmann::json& value) {
+  std::string s = value.dump();
+  if (s.size() > 40) s = s.substr(0, 37) + "...";
+  return s;
+}
+
+}  // namespace
+
+nlohmann::json parseJsonText(const std::string& text, const std::string& path) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // e.byte is 1-based and points just past the offending character.
+    const size_t offset = e.byte > 0 ? e.byte - 1 : 0;
+    std::string what = e.what();
+    const size_t pos = what.find("syntax error");
+    throw dataError(path, lineColumnOf(text, offset),
+                    "malformed JSON (" + (pos == std::string::npos ? what : what.substr(pos)) + ")");
+  }
+}
+
+JsonObject::JsonObject(const nlohmann::json& node, std::string pointer, std::string file)
+    : node_(node), pointer_(std::move(pointer)), file_(std::move(file)) {
+  if (!node_.is_object()) fail(pointer_.empty() ? "/" : pointer_, "must be a JSON object");
+}
+
+std::string JsonObject::childPointer(const std::string& key) const {
+  return pointer_ + "/" + escapePointerToken(key);
+}
+
+bool JsonObject::has(const std::string& key) const { return node_.contains(key); }
+
+void JsonObject::fail(const std::string& pointer, const std::string& rule) const {
+  throw dataError(file_, pointer, rule);
+}
+
+const nlohmann::json& JsonObject::get(const std::string& key) const {
+  used_.insert(key);
+  auto it = node_.find(key);
+  if (it == node_.end()) fail(childPointer(key), "required key is missing");
+  return *it;
+}
+
+const nlohmann::json& JsonObject::raw(const std::string& key) const { return get(key); }
+
+double JsonObject::number(const std::string& key) const {
+  const nlohmann::json& v = get(key);
+  if (!v.is_number()) fail(childPointer(key), shortDump(v) + " must be a number");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) fail(childPointer(key), "must be finite");
+  return d;
+}
+
+double JsonObject::number(const std::string& key, double fallback) const {
+  used_.insert(key);
+  return has(key) ? number(key) : fallback;
+}
+
+int JsonObject::integer(const std::string& key) const {
+  const nlohmann::json& v = get(key);
+  if (!v.is_number_integer() && !(v.is_number_float() && v.get<double>() == std::floor(v.get<double>())))
+    fail(childPointer(key), shortDump(v) + " must be an integer");
+  const double d = v.get<double>();
+  if (std::fabs(d) > 1e9) fail(childPointer(key), shortDump(v) + " is out of range");
+  return static_cast<int>(d);
+}
+
+int JsonObject::integer(const std::string& key, int fallback) const {
+  used_.insert(key);
+  return has(key) ? integer(key) : fallback;
+}
+
+std::string JsonObject::string(const std::string& key) const {
+  const nlohmann::json& v = get(key);
+  if (!v.is_string()) fail(childPointer(key), shortDump(v) + " must be a string");
+  return v.get<std::string>();
+}
+
+std::string JsonObject::string(const std::string& key, const std::string& fallback) const {
+  used_.insert(key);
+  return has(key) ? string(key) : fallback;
+}
+
+std::vector<double> JsonObject::numbers(const std::string& key) const {
+  const nlohmann::json& v = get(key);
+  if (!v.is_array()) fail(childPointer(key), shortDump(v) + " must be an array of numbers");
+  std::vector<double> out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string p = childPointer(key) + "/" + std::to_string(i);
+    if (!v[i].is_number()) fail(p, shortDump(v[i]) + " must be a number");
+    const double d = v[i].get<double>();
+    if (!std::isfinite(d)) fail(p, "must be finite");
+    out.push_back(d);
+  }
+  return out;
+}
+
+JsonObject JsonObject::object(const std::string& key) const {
+  return JsonObject(get(key), childPointer(key), file_);
+}
+
+std::vector<JsonObject> JsonObject::objects(const std::string& key) const {
+  const nlohmann::json& v = get(key);
+  if (!v.is_array()) fail(childPointer(key), "must be an array of objects");
+  std::vector<JsonObject> out;
+  for (size_t i = 0; i < v.size(); ++i)
+    out.emplace_back(v[i], childPointer(key) + "/" + std::to_string(i), file_);
+  return out;
+}
+
+void JsonObject::require(bool ok, const std::string& key, const std::string& rule) const {
+  if (ok) return;
+  auto it = node_.find(key);
+  fail(childPointer(key) + (it == node_.end() ? std::string() : " = " + shortDump(*it)), rule);
+}
+
+void JsonObject::requireAt(bool ok, const std::string& pointer, const nlohmann::json& value,
+                           const std::string& rule) const {
+  if (!ok) fail(pointer + " = " + shortDump(value), rule);
+}
+
+void JsonObject::rejectUnknownKeys() const {
+  for (auto it = node_.begin(); it != node_.end(); ++it)
+    if (!used_.count(it.key())) fail(childPointer(it.key()), "unknown key '" + it.key() + "'");
+}
+
+double checkedElement(const JsonObject& obj, const std::string& key, size_t index, double value,
+                      bool ok, const std::string& rule) {
+  if (!ok)
+    obj.fail(obj.childPointer(key) + "/" + std::to_string(index) + " = " +
+                 nlohmann::json(value).dump(),
+             rule);
+  return value;
+}
+
+}  // namespace bristle

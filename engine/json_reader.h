@@ -1,0 +1,60 @@
+#pragma once
+// Strict reading of JSON input files: every key is either used or reported as
+// unknown, and every bad value is reported as `file: /json/pointer = value: rule`
+// (STYLE.md item 3). Readers throw bristle::Error with kDataError.
+
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "engine/error.h"
+
+namespace bristle {
+
+// Parses text as JSON; malformed JSON throws kDataError naming line and column.
+nlohmann::json parseJsonText(const std::string& text, const std::string& path);
+
+class JsonObject {
+ public:
+  JsonObject(const nlohmann::json& node, std::string pointer, std::string file);
+
+  bool has(const std::string& key) const;
+  const std::string& pointer() const { return pointer_; }
+  const std::string& file() const { return file_; }
+  std::string childPointer(const std::string& key) const;
+
+  // Typed getters: mark the key used, check type and finiteness.
+  double number(const std::string& key) const;
+  double number(const std::string& key, double fallback) const;
+  int integer(const std::string& key) const;
+  int integer(const std::string& key, int fallback) const;
+  std::string string(const std::string& key) const;
+  std::string string(const std::string& key, const std::string& fallback) const;
+  std::vector<double> numbers(const std::string& key) const;
+  JsonObject object(const std::string& key) const;
+  std::vector<JsonObject> objects(const std::string& key) const;
+  const nlohmann::json& raw(const std::string& key) const;
+
+  // Rule checks: throw naming the key's pointer and value.
+  void require(bool ok, const std::string& key, const std::string& rule) const;
+  void requireAt(bool ok, const std::string& pointer, const nlohmann::json& value,
+                 const std::string& rule) const;
+  // Throws for the first key that no getter asked for.
+  void rejectUnknownKeys() const;
+  [[noreturn]] void fail(const std::string& pointer, const std::string& rule) const;
+
+ private:
+  const nlohmann::json& get(const std::string& key) const;
+
+  const nlohmann::json& node_;
+  std::string pointer_;
+  std::string file_;
+  mutable std::set<std::string> used_;
+};
+
+// Checks each element of a number array and names /pointer/index on failure.
+double checkedElement(const JsonObject& obj, const std::string& key, size_t index,
+                      double value, bool ok, const std::string& rule);
+
+}  // namespace bristle

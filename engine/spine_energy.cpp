@@ -1,0 +1,110 @@
+#include "engine/spine_energy.h"
+
+#include <cmath>
+
+#include "engine/smooth.h"
+
+namespace bristle {
+namespace {
+
+// w = 1 - a_rest . a(q): one minus the cosine of the bend from the rest axis
+// (eq. 12 generalised to a non-zero rest pose), with derivatives in (theta, phi).
+struct BendW {
+  double w;
+  Eigen::Vector2d dw;
+  Eigen::Matrix2d ddw;
+};
+BendW bendW(const SpineSpec& spine, int k, const double* q) {
+  const Eigen::Vector2d& rest = spine.rest_angles_rad[k];
+  const Eigen::Vector3d a0 = jointAxis(rest[0], rest[1]).a;
+  const JointAxis ax = jointAxis(q[2 * k], q[2 * k + 1]);
+  BendW b;
+  b.w = 1.0 - a0.dot(ax.a);
+  for (int i = 0; i < 2; ++i) {
+    b.dw[i] = -a0.dot(ax.d[i]);
+    for (int j = 0; j < 2; ++j) b.ddw(i, j) = -a0.dot(ax.dd[i][j]);
+  }
+  return b;
+}
+
+}  // namespace
+
+double smoothedBendRad(const SpineSpec& spine, int joint, const double* q, double eps_rad) {
+  const BendSquared h = bendSquared(bendW(spine, joint, q).w);
+  return std::sqrt(h.h + eps_rad * eps_rad);
+}
+
+double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
+                   double* grad, double* hess) {
+  const SpineSpec& s = *p.spine;
+  const int n = s.jointCount();
+  const int nv = 2 * n;
+  const int order = hess ? 2 : (grad ? 1 : 0);
+  spineForwardKinematics(s, p.handle, q, order, fk);
+  if (grad) std::fill(grad, grad + nv, 0.0);
+  if (hess) std::fill(hess, hess + nv * nv, 0.0);
+  auto H = [&](int i, int j) -> double& { return hess[j * nv + i]; };
+  EnergyTerms e;
+
+  for (int k = 0; k < n; ++k) {
+    const BendW bw = bendW(s, k, q);
+    const BendSquared h = bendSquared(bw.w);
+    // eq. 2: K beta^2 / 2 with beta^2 = h(w).
+    const double K = s.stiffness_nmm_per_rad[k];
+    e.spring_nmm += 0.5 * K * h.h;
+    if (grad)
+      for (int a = 0; a < 2; ++a) grad[2 * k + a] += 0.5 * K * h.dh * bw.dw[a];
+    if (hess)
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+          H(2 * k + a, 2 * k + b) +=
+              0.5 * K * (h.ddh * bw.dw[a] * bw.dw[b] + h.dh * bw.ddw(a, b));
+
+    // eq. 4: D |beta - beta_prev|, on the smoothed bend angle.
+    const double D = s.damping_nmm[k];
+    if (D > 0) {
+      const double bt = std::sqrt(h.h + p.eps_rad * p.eps_rad);
+      const double dbt = h.dh / (2 * bt);                       // d bt / dw
+      const double ddbt = h.ddh / (2 * bt) - h.dh * h.dh / (4 * bt * bt * bt);
+      const Smooth1 sa = smoothAbs(bt - p.prev_bend_rad[k], p.eps_rad);
+      e.damping_nmm += D * sa.f;
+      if (grad)
+        for (int a = 0; a < 2; ++a) grad[2 * k + a] += D * sa.df * dbt * bw.dw[a];
+      if (hess)
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b) {
+            const double dba = dbt * bw.dw[a], dbb = dbt * bw.dw[b];
+            const double ddb = ddbt * bw.dw[a] * bw.dw[b] + dbt * bw.ddw(a, b);
+            H(2 * k + a, 2 * k + b) += D * (sa.ddf * dba * dbb + sa.df * ddb);
+          }
+    }
+  }
+
+  // eq. 3: mu |F_n| |dx_c| for joints that touched the canvas at the previous step.
+  for (int j = 1; j <= n; ++j) {
+    const double c = p.friction_n[j - 1];
+    if (c <= 0) continue;
+    const Eigen::Vector2d d = fk->x[j].head<2>() - p.anchor_xy_mm[j - 1];
+    const Smooth2 sn = smoothNorm(d, p.eps_mm);
+    e.friction_nmm += c * sn.f;
+    // Only joints 0..j-1 move x_j.
+    const int nvj = 2 * j;
+    if (grad)
+      for (int v = 0; v < nvj; ++v) grad[v] += c * sn.grad.dot(fk->d(j, v).head<2>());
+    if (hess)
+      for (int v = 0; v < nvj; ++v) {
+        const Eigen::Vector2d dv = fk->d(j, v).head<2>();
+        const Eigen::Vector2d hdv = sn.hess * dv;
+        for (int w = 0; w <= v; ++w) {
+          const double val =
+              c * (hdv.dot(fk->d(j, w).head<2>()) + sn.grad.dot(fk->dd(j, v, w).head<2>()));
+          H(v, w) += val;
+          if (w != v) H(w, v) += val;
+        }
+      }
+  }
+  if (terms) *terms = e;
+  return e.total();
+}
+
+}  // namespace bristle

@@ -1,0 +1,52 @@
+#pragma once
+// The energy one spine minimises at every step (paper eq. 1):
+//   E = E_s + E_f + E_d
+//   E_s = sum_i K_i beta_i^2 / 2                            (eqs. 2, 12)
+//   E_f = sum_i mu F_n,i |dx_c,i|                           (eq. 3)
+//   E_d = sum_i D_i |d beta_i|                              (eq. 4)
+// subject to the canvas constraint z(x_i) >= 0 (eq. 5 with the canvas at z = 0).
+// |.| is smoothed (engine/smooth.h) so that Ipopt sees a C2 function.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "engine/brush.h"
+#include "engine/pose.h"
+#include "engine/spine_kinematics.h"
+
+namespace bristle {
+
+// Smoothing widths (SOLVER-NOTES.md): energies at the smoothed optimum differ from
+// the exact minimum by a few 1e-6 N mm; a sticking joint creeps by about eps.
+inline constexpr double kSmoothMm = 1e-3;
+inline constexpr double kSmoothRad = 1e-3;
+
+struct EnergyTerms {
+  double spring_nmm = 0, friction_nmm = 0, damping_nmm = 0;
+  double total() const { return spring_nmm + friction_nmm + damping_nmm; }
+};
+
+// Everything that stays fixed during one solve of one spine.
+struct SpineProblem {
+  const SpineSpec* spine = nullptr;
+  Pose handle;                              // handle pose of this step
+  // Per joint j = 1..n (index j - 1): the friction force magnitude mu F_n of the
+  // previous step (N; 0 = no contact, no friction, eq. 3 "only joints in contact").
+  std::vector<double> friction_n;
+  std::vector<Eigen::Vector2d> anchor_xy_mm;  // joint positions at the previous step
+  std::vector<double> prev_bend_rad;          // smoothed beta_i at the previous step
+  double eps_mm = kSmoothMm, eps_rad = kSmoothRad;
+
+  int vars() const { return 2 * spine->jointCount(); }
+};
+
+// Smoothed total bend angle sqrt(beta^2 + eps^2) of joint k relative to its rest
+// direction, used by the damping term (smooth where beta = 0).
+double smoothedBendRad(const SpineSpec& spine, int joint, const double* q, double eps_rad);
+
+// Evaluates E at q. grad (size 2n) and hess (2n x 2n, column-major, full) may be
+// null. fk is a workspace; on return it holds the kinematics at q (order 2 if hess).
+double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
+                   double* grad, double* hess);
+
+}  // namespace bristle

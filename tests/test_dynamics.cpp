@@ -1,0 +1,164 @@
+// The quasi-static spine simulation (paper §3) against closed forms and the
+// laws it must obey: the canvas constraint, Coulomb stick and slip.
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "engine/simulation.h"
+#include "test_helpers.h"
+
+using namespace bristle;
+using namespace bristle::testing;
+
+namespace {
+
+// Runs the handle in a straight line from a to b in steps of at most 0.1 mm.
+void moveHandle(Simulation& sim, const Pose& a, const Pose& b, double* t) {
+  const double dist = (b.position_mm - a.position_mm).norm();
+  const int n = std::max(1, static_cast<int>(std::ceil(dist / 0.1)));
+  for (int i = 1; i <= n; ++i) {
+    *t += 0.01;
+    sim.step(interpolatePose(a, b, double(i) / n), *t);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("one joint pressed into the canvas reaches the closed-form equilibrium",
+          "[dynamics]") {
+  // Frictionless (mu = 0), undamped: the tip slides until the constraint alone
+  // holds it, so cos(theta*) = h / L and the canvas force balances the spring
+  // torque about the root: Fn * L sin(theta*) = K (theta* - theta_rest).
+  constexpr double L = 10, K = 5, h = 6, rest = 0.02;
+  SpineSpec spine = makeSpine({L}, {K});
+  spine.rest_angles_rad[0] = Eigen::Vector2d(rest, 0);
+  const Brush brush = makeBrush({spine}, 0.0, 0.0);
+  Simulation sim(brush, SimOptions{}, makeIpoptSolver());
+  double t = 0;
+  sim.reset(poseAt(0, 0, 12), t);
+  moveHandle(sim, poseAt(0, 0, 12), poseAt(0, 0, h), &t);
+  const SpineState& s = sim.state().spines[0];
+  const double theta_star = std::acos(h / L);
+  const double fn_star = K * (theta_star - rest) / (L * std::sin(theta_star));
+  // Ipopt's tol 1e-8 leaves joint angles within ~1e-6 rad; 1e-5 is the margin.
+  constexpr double kAngleTol = 1e-5;
+  CHECK(s.solution.q[0] == Approx(theta_star).margin(kAngleTol));
+  CHECK(s.solution.q[1] == Approx(0).margin(kAngleTol));
+  // The multiplier inherits the angle's accuracy times dFn/dtheta ~ 1 N/rad.
+  CHECK(s.solution.normal_force_n[0] == Approx(fn_star).epsilon(1e-4));
+  CHECK(s.contact[0]);
+  CHECK(sim.state().force_n.z() == Approx(fn_star).epsilon(1e-4));
+}
+
+TEST_CASE("no joint ends a step below the canvas", "[dynamics]") {
+  SpineSpec a = makeSpine({4, 4, 4}, {10, 8, 6}, 0.005, Eigen::Vector3d(1, 0, 0));
+  SpineSpec b = makeSpine({4, 4, 4}, {10, 8, 6}, 0.005, Eigen::Vector3d(-1, 0.5, 0));
+  a.rest_angles_rad[0] = Eigen::Vector2d(0.03, 0.01);
+  b.rest_angles_rad[0] = Eigen::Vector2d(0.02, -0.02);
+  const Brush brush = makeBrush({a, b}, 0.45, 0.35);
+  Simulation sim(brush, SimOptions{}, makeIpoptSolver());
+  double t = 0;
+  Pose start = poseAt(0, 0, 14);
+  start.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX());
+  Pose pressed = start, dragged = start;
+  pressed.position_mm.z() = 6;
+  dragged.position_mm = Eigen::Vector3d(8, 6, 6.5);
+  sim.reset(start, t);
+  // Ipopt's constraint tolerance (constr_viol_tol) is 1e-8 mm scaled; allow 1e-6 mm.
+  constexpr double kPenetrationTolMm = 1e-6;
+  double lowest = 1e9;
+  for (const auto& [from, to] : {std::pair{start, pressed}, std::pair{pressed, dragged}}) {
+    const double dist = (to.position_mm - from.position_mm).norm();
+    const int n = static_cast<int>(std::ceil(dist / 0.1));
+    for (int i = 1; i <= n; ++i) {
+      t += 0.01;
+      const BrushState& st = sim.step(interpolatePose(from, to, double(i) / n), t);
+      for (const SpineState& s : st.spines) {
+        REQUIRE(s.summary.usable());
+        for (const Eigen::Vector3d& x : s.joints_mm) lowest = std::min(lowest, x.z());
+      }
+    }
+  }
+  CHECK(lowest >= -kPenetrationTolMm);
+  CHECK(sim.state().anyContact());
+}
+
+TEST_CASE("a contact joint sticks under a small drag and slides under a large one",
+          "[dynamics][friction]") {
+  // Two joints so that the spine can flex while its tip holds.
+  SpineSpec spine = makeSpine({6, 6}, {8, 5});
+  spine.rest_angles_rad[0] = Eigen::Vector2d(0.05, 0);
+  const double mu = 0.5;
+  const Brush brush = makeBrush({spine}, mu, mu);
+  Simulation sim(brush, SimOptions{}, makeIpoptSolver());
+  double t = 0;
+  sim.reset(poseAt(0, 0, 14), t);
+  moveHandle(sim, poseAt(0, 0, 14), poseAt(0, 0, 8), &t);
+  for (int i = 0; i < 5; ++i) sim.step(poseAt(0, 0, 8), t += 0.01);  // settle
+  REQUIRE(sim.state().spines[0].contact[1]);
+  const Eigen::Vector3d tip0 = sim.state().spines[0].joints_mm[2];
+
+  SECTION("small drag: the tangential load stays below mu Fn and the tip holds") {
+    sim.step(poseAt(0.05, 0, 8), t += 0.01);
+    const BrushState& st = sim.state();
+    const Eigen::Vector3d tip1 = st.spines[0].joints_mm[2];
+    // Smoothed friction holds with a creep of order the smoothing width
+    // (1e-3 mm); 5e-3 mm is far below the 0.05 mm the root moved.
+    CHECK((tip1 - tip0).head<2>().norm() < 5e-3);
+    CHECK_FALSE(st.spines[0].sliding[1]);
+    CHECK(st.force_n.head<2>().norm() < mu * st.force_n.z());
+  }
+  SECTION("large drag: the tip slides and friction saturates at mu Fn") {
+    // The spine first flexes while the tip holds (it trails), then the spring
+    // load exceeds mu Fn and the tip follows the handle.
+    moveHandle(sim, poseAt(0, 0, 8), poseAt(20, 0, 8), &t);
+    const BrushState& st = sim.state();
+    const Eigen::Vector3d tip1 = st.spines[0].joints_mm[2];
+    INFO("tip moved " << (tip1 - tip0).transpose() << " force " << st.force_n.transpose());
+    CHECK((tip1 - tip0).x() > 10.0);
+    CHECK(st.spines[0].sliding[1]);
+    // Friction uses the previous step's Fn (eq. 3 holds Fn constant during a
+    // solve); while sliding steadily the two differ by well under 5%.
+    CHECK(st.force_n.head<2>().norm() == Approx(mu * st.force_n.z()).epsilon(0.05));
+    CHECK(st.force_n.x() < 0);  // friction opposes the drag
+  }
+}
+
+TEST_CASE("the simulation is deterministic", "[dynamics][determinism]") {
+  SpineSpec a = makeSpine({4, 4, 4}, {10, 8, 6}, 0.005, Eigen::Vector3d(1, 0, 0));
+  a.rest_angles_rad[0] = Eigen::Vector2d(0.03, 0.01);
+  const Brush brush = makeBrush({a, a}, 0.45, 0.35);
+  auto run = [&] {
+    Simulation sim(brush, SimOptions{}, makeIpoptSolver());
+    double t = 0;
+    sim.reset(poseAt(0, 0, 13), t);
+    moveHandle(sim, poseAt(0, 0, 13), poseAt(0, 0, 7), &t);
+    moveHandle(sim, poseAt(0, 0, 7), poseAt(5, 3, 7), &t);
+    return sim.state().spines[0].solution.q;
+  };
+  CHECK(run() == run());
+}
+
+TEST_CASE("step planning bounds root motion and keeps a minimum rate", "[dynamics]") {
+  Trajectory tr;
+  tr.path = "t.csv";
+  TrajectorySample a, b;
+  a.t_s = 0;
+  a.pose = poseAt(0, 0, 10);
+  b.t_s = 1;
+  b.pose = poseAt(10, 0, 10);
+  b.pose.rotation = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ());
+  tr.samples = {a, b};
+  SpineSpec s = makeSpine({5}, {5}, 0, Eigen::Vector3d(2, 0, 0));
+  const Brush brush = makeBrush({s}, 0.4, 0.3);
+  SimOptions opt;
+  const std::vector<double> times = planStepTimes(tr, brush, opt);
+  REQUIRE(times.front() == 0);
+  REQUIRE(times.back() == 1);
+  for (size_t i = 1; i < times.size(); ++i) {
+    const Pose p0 = tr.poseAt(times[i - 1]), p1 = tr.poseAt(times[i]);
+    const double moved = (p1.apply(s.root_mm) - p0.apply(s.root_mm)).norm();
+    CHECK(moved <= opt.max_step_mm + 1e-12);
+    CHECK(times[i] - times[i - 1] <= 1 / opt.min_rate_hz + 1e-12);
+  }
+}

@@ -1,0 +1,112 @@
+// Energy terms of the spine problem (paper eqs. 2-4, 12) against finite
+// differences and closed forms.
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "engine/smooth.h"
+#include "engine/spine_energy.h"
+#include "test_helpers.h"
+
+using namespace bristle;
+using bristle::testing::makeSpine;
+
+namespace {
+// See test_kinematics.cpp: central differences at h = 1e-6 are good to ~1e-9;
+// energies here are O(10 N mm) with derivatives O(10), so 1e-5 relative (with
+// an absolute floor) separates round-off from a wrong term by orders of magnitude.
+constexpr double kFdStep = 1e-6;
+constexpr double kFdRelTol = 1e-5;
+constexpr double kFdAbsTol = 1e-6;
+
+bool close(double a, double b) {
+  return std::fabs(a - b) <= kFdAbsTol + kFdRelTol * std::max(std::fabs(a), std::fabs(b));
+}
+}  // namespace
+
+TEST_CASE("beta^2 series agrees with acos^2 and is smooth at the switch", "[energy]") {
+  // acos(1 - w)^2 computed directly loses ~half the digits near w = 0 (acos's
+  // infinite slope); 1e-10 relative is what it keeps at w >= 1e-6.
+  constexpr double kRelTol = 1e-10;
+  for (double w : {1e-6, 1e-4, 3e-3, 9.99e-3, 1e-2, 0.1, 0.5, 1.2}) {
+    const double exact = std::pow(std::acos(1 - w), 2);
+    INFO("w = " << w);
+    CHECK(std::fabs(bendSquared(w).h - exact) <= kRelTol * exact);
+  }
+  // Derivatives on both sides of the series/closed-form switch at w = 1e-2.
+  const BendSquared lo = bendSquared(1e-2 - 1e-12), hi = bendSquared(1e-2 + 1e-12);
+  CHECK(std::fabs(lo.dh - hi.dh) < 1e-9);
+  CHECK(std::fabs(lo.ddh - hi.ddh) < 1e-7);
+  // h'(0) = 2 (beta^2 ~ 2w): the straight joint has a finite, non-zero slope in w.
+  CHECK(bendSquared(0).dh == Approx(2.0));
+  for (double w : {1e-3, 0.05, 0.7}) {
+    const double h = 1e-7;
+    CHECK(close(bendSquared(w).dh, (bendSquared(w + h).h - bendSquared(w - h).h) / (2 * h)));
+    CHECK(close(bendSquared(w).ddh, (bendSquared(w + h).dh - bendSquared(w - h).dh) / (2 * h)));
+  }
+}
+
+TEST_CASE("spring energy is K beta^2 / 2 with beta from eq. 12", "[energy]") {
+  SpineSpec spine = makeSpine({5.0}, {7.0});
+  SpineProblem p;
+  p.spine = &spine;
+  p.friction_n = {0};
+  p.anchor_xy_mm = {Eigen::Vector2d::Zero()};
+  p.prev_bend_rad = {0};
+  SpineFk fk;
+  EnergyTerms e;
+  double q[2] = {0.3, 0.4};
+  spineEnergy(p, q, &fk, &e, nullptr, nullptr);
+  const double beta = std::acos(std::cos(0.3) * std::cos(0.4));  // eq. 12
+  CHECK(e.spring_nmm == Approx(7.0 * beta * beta / 2).epsilon(1e-12));
+  CHECK(e.friction_nmm == 0);
+  CHECK(e.damping_nmm == 0);
+}
+
+TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
+  SpineSpec spine = makeSpine({4.0, 3.5, 3.0}, {10, 7, 5}, 0.008, Eigen::Vector3d(0.5, 0, -0.3));
+  spine.rest_angles_rad[0] = Eigen::Vector2d(0.05, -0.02);
+  spine.rest_angles_rad[2] = Eigen::Vector2d(-0.1, 0.2);
+  SpineProblem p;
+  p.spine = &spine;
+  p.handle.position_mm = Eigen::Vector3d(10, 20, 6);
+  p.handle.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
+  p.friction_n = {0.0, 0.15, 0.4};  // joints 2 and 3 in contact
+  p.anchor_xy_mm = {Eigen::Vector2d(0, 0), Eigen::Vector2d(11.0, 24.0), Eigen::Vector2d(9.5, 27.0)};
+  p.prev_bend_rad = {0.1, 0.45, 0.2};
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-0.9, 0.9);
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<double> q(6);
+    for (double& a : q) a = angle(rng);
+    if (trial == 0) std::fill(q.begin(), q.end(), 0.0);  // the straight spine: beta = 0
+    std::vector<double> g(6), h(36), gp(6), gm(6);
+    SpineFk fk;
+    spineEnergy(p, q.data(), &fk, nullptr, g.data(), h.data());
+    for (int v = 0; v < 6; ++v) {
+      std::vector<double> qp = q, qm = q;
+      qp[v] += kFdStep;
+      qm[v] -= kFdStep;
+      const double ep = spineEnergy(p, qp.data(), &fk, nullptr, gp.data(), nullptr);
+      const double em = spineEnergy(p, qm.data(), &fk, nullptr, gm.data(), nullptr);
+      INFO("trial " << trial << " var " << v << " grad " << g[v] << " fd " << (ep - em) / (2 * kFdStep));
+      CHECK(close(g[v], (ep - em) / (2 * kFdStep)));
+      for (int w = 0; w < 6; ++w) {
+        INFO("hessian (" << w << "," << v << ")");
+        CHECK(close(h[v * 6 + w], (gp[w] - gm[w]) / (2 * kFdStep)));
+      }
+    }
+  }
+}
+
+TEST_CASE("smoothed friction approaches mu Fn |dx| away from the kink", "[energy]") {
+  // eq. 3 smoothed: |sqrt(d^2 + eps^2) - eps - |d|| <= eps.
+  for (double d : {0.0, 1e-4, 0.01, 1.0}) {
+    const Smooth2 s = smoothNorm(Eigen::Vector2d(d, 0), kSmoothMm);
+    CHECK(std::fabs(s.f - d) <= kSmoothMm);
+  }
+  // Far from the kink the force is the full Coulomb force mu Fn in the motion direction.
+  const Smooth2 far = smoothNorm(Eigen::Vector2d(0.3, -0.4), kSmoothMm);
+  CHECK(far.grad.norm() == Approx(1.0).epsilon(1e-5));
+}

@@ -1,0 +1,41 @@
+#pragma once
+// Small builders shared by the engine tests.
+
+#include <string>
+#include <vector>
+
+#include "engine/brush.h"
+#include "engine/trajectory.h"
+
+namespace bristle::testing {
+
+// A spine hanging from the ferrule centre, with the given per-joint data.
+inline SpineSpec makeSpine(std::vector<double> lengths_mm, std::vector<double> k_nmm,
+                           double damping_nmm = 0, Eigen::Vector3d root = Eigen::Vector3d::Zero()) {
+  SpineSpec s;
+  s.root_mm = root;
+  s.segment_lengths_mm = lengths_mm;
+  s.stiffness_nmm_per_rad = k_nmm;
+  s.damping_nmm.assign(lengths_mm.size(), damping_nmm);
+  s.rest_angles_rad.assign(lengths_mm.size(), Eigen::Vector2d::Zero());
+  s.width_mm.assign(lengths_mm.size() + 1, 1.0);
+  return s;
+}
+
+inline Brush makeBrush(std::vector<SpineSpec> spines, double mu_s, double mu_k) {
+  Brush b;
+  b.name = "test";
+  b.path = "test-brush";
+  b.spines = std::move(spines);
+  b.friction.mu_static = mu_s;
+  b.friction.mu_kinetic = mu_k;
+  return b;
+}
+
+inline Pose poseAt(double x, double y, double z) {
+  Pose p;
+  p.position_mm = Eigen::Vector3d(x, y, z);
+  return p;
+}
+
+}  // namespace bristle::testing

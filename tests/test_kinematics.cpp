@@ -1,0 +1,106 @@
+// Spine forward kinematics (paper eqs. 10-11) and its derivatives.
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "engine/spine_kinematics.h"
+#include "test_helpers.h"
+
+using namespace bristle;
+using bristle::testing::makeSpine;
+
+namespace {
+// Positions are O(10 mm); double round-off in a few 3x3 products is ~1e-14 mm.
+constexpr double kExactTolMm = 1e-12;
+// Central differences with h = 1e-6 rad: truncation ~h^2 * |x'''| ~ 1e-11 mm,
+// round-off ~1e-16 * 20 mm / 1e-6 = 2e-9 mm. 1e-6 leaves a wide margin while
+// still catching any wrong term (those are O(1 mm/rad)).
+constexpr double kFdStep = 1e-6;
+constexpr double kFdTol = 1e-6;
+}  // namespace
+
+TEST_CASE("eq. 10 rotation is Ry(phi) Rx(theta) and orthonormal", "[kinematics]") {
+  const JointRotation r = jointRotation(0.3, -0.7);
+  const double ct = std::cos(0.3), st = std::sin(0.3), cp = std::cos(-0.7), sp = std::sin(-0.7);
+  Eigen::Matrix3d expected;
+  expected << cp, sp * st, sp * ct, 0, ct, -st, -sp, cp * st, cp * ct;  // eq. 10 as printed
+  CHECK((r.r - expected).norm() < kExactTolMm);
+  CHECK((r.r * r.r.transpose() - Eigen::Matrix3d::Identity()).norm() < kExactTolMm);
+}
+
+TEST_CASE("forward kinematics matches hand-computed poses", "[kinematics]") {
+  const SpineSpec one = makeSpine({5.0}, {1.0});
+  SpineFk fk;
+  Pose up;  // identity rotation: hairs hang along -z
+  up.position_mm = Eigen::Vector3d(1, 2, 10);
+
+  SECTION("at rest the spine hangs straight down") {
+    double q[2] = {0, 0};
+    spineForwardKinematics(one, up, q, 0, &fk);
+    CHECK((fk.x[1] - Eigen::Vector3d(1, 2, 5)).norm() < kExactTolMm);
+  }
+  SECTION("theta bends in the y-z plane towards +y") {
+    double q[2] = {0.3, 0};
+    spineForwardKinematics(one, up, q, 0, &fk);
+    CHECK((fk.x[1] - Eigen::Vector3d(1, 2 + 5 * std::sin(0.3), 10 - 5 * std::cos(0.3))).norm() <
+          kExactTolMm);
+  }
+  SECTION("phi bends in the x-z plane towards -x") {
+    double q[2] = {0, 0.4};
+    spineForwardKinematics(one, up, q, 0, &fk);
+    CHECK((fk.x[1] - Eigen::Vector3d(1 - 5 * std::sin(0.4), 2, 10 - 5 * std::cos(0.4))).norm() <
+          kExactTolMm);
+  }
+  SECTION("joint angles accumulate along the chain") {
+    const SpineSpec two = makeSpine({5.0, 3.0}, {1.0, 1.0});
+    double q[4] = {0.3, 0, 0.2, 0};
+    spineForwardKinematics(two, up, q, 0, &fk);
+    const Eigen::Vector3d tip(1, 2 + 5 * std::sin(0.3) + 3 * std::sin(0.5),
+                              10 - 5 * std::cos(0.3) - 3 * std::cos(0.5));
+    CHECK((fk.x[2] - tip).norm() < kExactTolMm);
+  }
+  SECTION("the handle rotation carries the spine") {
+    Pose turned = up;
+    // Tilt the handle 90 degrees about +x: the hairs now point along +y.
+    turned.rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX());
+    const SpineSpec rooted = makeSpine({5.0}, {1.0}, 0, Eigen::Vector3d(0.5, 0, 0));
+    double q[2] = {0, 0};
+    spineForwardKinematics(rooted, turned, q, 0, &fk);
+    CHECK((fk.x[0] - Eigen::Vector3d(1.5, 2, 10)).norm() < kExactTolMm);
+    CHECK((fk.x[1] - Eigen::Vector3d(1.5, 7, 10)).norm() < kExactTolMm);
+  }
+}
+
+TEST_CASE("first and second derivatives match central differences", "[kinematics]") {
+  const SpineSpec spine = makeSpine({4.0, 3.5, 3.0, 2.5}, {10, 8, 6, 5}, 0,
+                                    Eigen::Vector3d(0.7, -0.4, -0.2));
+  Pose handle;
+  handle.position_mm = Eigen::Vector3d(3, 4, 12);
+  handle.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 0.5).normalized()));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> angle(-1.0, 1.0);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<double> q(8);
+    for (double& a : q) a = angle(rng);
+    SpineFk fk, fp, fm;
+    spineForwardKinematics(spine, handle, q.data(), 2, &fk);
+    for (int v = 0; v < 8; ++v) {
+      std::vector<double> qp = q, qm = q;
+      qp[v] += kFdStep;
+      qm[v] -= kFdStep;
+      spineForwardKinematics(spine, handle, qp.data(), 1, &fp);
+      spineForwardKinematics(spine, handle, qm.data(), 1, &fm);
+      for (int j = 0; j <= 4; ++j) {
+        const Eigen::Vector3d fd = (fp.x[j] - fm.x[j]) / (2 * kFdStep);
+        INFO("joint " << j << " var " << v);
+        CHECK((fk.d(j, v) - fd).norm() < kFdTol);
+        for (int w = 0; w < 8; ++w) {
+          const Eigen::Vector3d fd2 = (fp.d(j, w) - fm.d(j, w)) / (2 * kFdStep);
+          INFO("second derivative w " << w);
+          CHECK((fk.dd(j, v, w) - fd2).norm() < kFdTol);
+        }
+      }
+    }
+  }
+}
