@@ -1,0 +1,29 @@
+#pragma once
+// One function per subcommand, each returning its exit code (STYLE.md item 12).
+// cli/main.cpp owns the command line (CLI11) and nothing else.
+
+#include <string>
+#include <vector>
+
+namespace bristle::cli {
+
+struct RenderArgs {
+  std::string brush, trajectory, output;
+  std::string trace, forces;  // optional outputs
+  std::string solver = "ipopt";
+  double px_per_mm = 8;
+  double max_step_mm = 0.25;
+  double min_rate_hz = 120;
+  double clip_mm = 0.1;
+  std::string colour = "#1c2433";      // paint (a blue-black ink)
+  std::string background = "#f6f1e6";  // paper
+  bool quiet = false;
+};
+int runRender(const RenderArgs& args);
+
+int runValidate(const std::vector<std::string>& files);
+
+// Prints "bristle: <message>" on stderr.
+void printError(const std::string& message);
+
+}  // namespace bristle::cli

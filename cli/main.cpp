@@ -1,0 +1,114 @@
+// bristle: the command line. This file owns CLI11 (slow to compile: keep it in
+// one translation unit) and maps errors to the exit codes of ARCHITECTURE.md.
+
+#include <CLI/CLI.hpp>
+#include <cstdlib>
+#include <iostream>
+
+#include "bristle/version.h"
+#include "cli/commands.h"
+#include "engine/error.h"
+
+namespace {
+
+constexpr const char* kDescription =
+    "bristle renders brush strokes from recorded 6-DOF stylus motion with the\n"
+    "physically based 3D brush of Baxter & Lin (2004).\n";
+
+constexpr const char* kFooter =
+    "Examples:\n"
+    "  bristle render --brush scenes/brushes/round.json \\\n"
+    "                 --trajectory scenes/trajectories/s-curve.csv -o s.png --trace s.jsonl\n"
+    "  bristle validate scenes/brushes/round.json scenes/trajectories/s-curve.csv\n"
+    "\n"
+    "Exit codes: 0 ok, 64 usage, 65 bad input data, 66 input missing, 70 internal\n"
+    "error, 73 cannot create output, 74 I/O error.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using bristle::cli::printError;
+  CLI::App app(kDescription, "bristle");
+  app.footer(kFooter);
+  app.set_version_flag("--version", std::string("bristle ") + bristle::kVersion);
+  app.require_subcommand(0, 1);
+
+  bristle::cli::RenderArgs r;
+  CLI::App* render = app.add_subcommand("render", "Render a stroke: a brush along a trajectory");
+  render->footer(
+      "Example:\n"
+      "  bristle render --brush scenes/brushes/round.json \\\n"
+      "      --trajectory scenes/trajectories/s-curve.csv -o s.png --trace s.jsonl\n"
+      "The canvas is sized to everything the brush can reach plus a 5 mm margin.");
+  render->add_option("--brush", r.brush, "Brush file (bristle-brush/1 JSON)")->required();
+  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV)")
+      ->required();
+  render->add_option("-o,--output", r.output, "Output PNG")->required();
+  render->add_option("--trace", r.trace, "Write the per-step trace (JSON lines)");
+  render->add_option("--forces", r.forces, "Write the force on the handle per step (CSV)");
+  render->add_option("--solver", r.solver, "Spine solver")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ipopt"}));
+  render->add_option("--px-per-mm", r.px_per_mm, "Canvas resolution (pixels per mm)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 100.0));
+  render->add_option("--max-step-mm", r.max_step_mm,
+                     "Largest motion of a spine root per simulation step (mm)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 5.0));
+  render->add_option("--min-rate-hz", r.min_rate_hz, "Fewest simulation steps per second")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 10000.0));
+  render->add_option("--contact-band-mm", r.clip_mm,
+                     "Brush geometry below this height touches the paper (mm)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 2.0));
+  render->add_option("--colour,--color", r.colour, "Paint colour (#rrggbb)")->capture_default_str();
+  render->add_option("--background", r.background, "Paper colour (#rrggbb)")
+      ->capture_default_str();
+  render->add_flag("-q,--quiet", r.quiet, "No progress, no output path on stdout");
+
+  std::vector<std::string> files;
+  CLI::App* validate = app.add_subcommand("validate", "Check brush (.json) and trajectory (.csv) files");
+  validate->add_option("files", files, "Files to check")->required();
+
+  std::string help_topic;
+  CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
+  help->add_option("command", help_topic, "Command to explain");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    printError(e.what() + std::string(" (see bristle --help)"));
+    return static_cast<int>(bristle::ExitCode::kUsage);
+  }
+
+  try {
+    if (render->parsed()) return bristle::cli::runRender(r);
+    if (validate->parsed()) return bristle::cli::runValidate(files);
+    if (help->parsed() && !help_topic.empty()) {
+      for (CLI::App* sub : {render, validate}) {
+        if (sub->get_name() == help_topic) {
+          std::cout << sub->help();
+          return 0;
+        }
+      }
+      printError("help: unknown command '" + help_topic + "' (commands: render, validate)");
+      return static_cast<int>(bristle::ExitCode::kUsage);
+    }
+    std::cout << app.help();
+    return help->parsed() ? 0 : static_cast<int>(bristle::ExitCode::kUsage);
+  } catch (const bristle::Error& e) {
+    printError(e.what());
+    return static_cast<int>(e.code());
+  } catch (const std::exception& e) {
+    printError(std::string("internal error: ") + e.what());
+    return static_cast<int>(bristle::ExitCode::kSoftware);
+  }
+}

@@ -1,0 +1,126 @@
+// `bristle render --brush B.json --trajectory T.csv -o out.png`
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "bristle/version.h"
+#include "cli/commands.h"
+#include "engine/atomic_output.h"
+#include "engine/brush.h"
+#include "engine/canvas.h"
+#include "engine/error.h"
+#include "engine/trace.h"
+#include "engine/trajectory.h"
+#include "render/png_io.h"
+#include "render/stroke_renderer.h"
+
+namespace bristle::cli {
+namespace {
+
+// Progress on stderr, only when it is a terminal, at most every 0.2 s.
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled && ::isatty(2)) {}
+  void update(int step, int steps) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (step + 1 < steps && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    std::fprintf(stderr, "\rbristle: step %d/%d (%3.0f%%)", step + 1, steps,
+                 100.0 * (step + 1) / steps);
+    if (step + 1 == steps) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool enabled_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+Rgb colourArg(const std::string& option, const std::string& text) {
+  Rgb c;
+  if (!parseHexColour(text, &c))
+    throw Error(ExitCode::kUsage, option + " = '" + text + "': must be a colour like #1c2433");
+  return c;
+}
+
+}  // namespace
+
+void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
+
+int runRender(const RenderArgs& args) {
+  const Rgb paint = colourArg("--colour", args.colour);
+  const Rgb background = colourArg("--background", args.background);
+  if (args.solver != "ipopt")
+    throw Error(ExitCode::kUsage, "--solver " + args.solver + ": available solvers: ipopt");
+
+  const Brush brush = loadBrush(args.brush);
+  const Trajectory trajectory = loadTrajectory(args.trajectory);
+  validateTrajectoryForBrush(trajectory, brush);
+
+  render::StrokeOptions options;
+  options.px_per_mm = args.px_per_mm;
+  options.clip_mm = args.clip_mm;
+  options.sim.max_step_mm = args.max_step_mm;
+  options.sim.min_rate_hz = args.min_rate_hz;
+  const CanvasGrid grid = render::canvasForStroke(brush, trajectory, options);
+
+  // Fail before the long run if an output cannot be created; each output is
+  // written to a temporary file and renamed only when everything succeeded.
+  checkCanCreate(args.output);
+  std::unique_ptr<AtomicOutput> trace, forces;
+  if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
+  if (!args.forces.empty()) {
+    forces = std::make_unique<AtomicOutput>(args.forces);
+    forces->stream() << "t_s,fx_n,fy_n,fz_n\n";
+    forces->stream().precision(9);
+  }
+
+  Canvas canvas(grid);
+  render::StrokeRenderer renderer;
+  Progress progress(!args.quiet);
+  int failed_reported = 0;
+  constexpr int kMaxFailureLines = 5;  // then only the summary
+  auto on_step = [&](const BrushState& st, int step, int steps) {
+    if (trace) trace->stream() << traceLine(st) << '\n';
+    if (forces)
+      forces->stream() << st.t_s << ',' << st.force_n.x() << ',' << st.force_n.y() << ','
+                       << st.force_n.z() << '\n';
+    for (size_t s = 0; s < st.spines.size(); ++s)
+      if (!st.spines[s].summary.usable() && failed_reported++ < kMaxFailureLines)
+        printError("warning: step " + std::to_string(st.step) + " (t = " +
+                   std::to_string(st.t_s) + " s): spine " + std::to_string(s) +
+                   " solve failed (" + st.spines[s].summary.message +
+                   "); continuing from its last good state");
+    progress.update(step, steps);
+  };
+  const render::StrokeResult result =
+      renderer.render(brush, trajectory, makeIpoptSolver(), options, &canvas, on_step);
+
+  render::Image8 image;
+  image.width = grid.width_px;
+  image.height = grid.height_px;
+  image.channels = 3;
+  image.pixels = canvas.composeRgb8(paint, background);
+  render::writePng(args.output, image,
+                   {{"Software", std::string("bristle ") + kVersion},
+                    {"bristle:brush", brush.name}});
+  if (trace) trace->commit();
+  if (forces) forces->commit();
+
+  if (!result.touched)
+    printError("warning: the brush never touched the canvas (" + args.trajectory +
+               "): the image is blank");
+  if (result.stats.failed_steps > 0)
+    printError("warning: " + std::to_string(result.stats.failed_steps) + " of " +
+               std::to_string(result.stats.steps) + " steps had a failed solve (" +
+               std::to_string(result.stats.failed_spine_solves) +
+               " spine solves); those spines continued from their last good state");
+  if (!args.quiet) std::cout << args.output << "\n";
+  return 0;
+}
+
+}  // namespace bristle::cli

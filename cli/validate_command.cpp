@@ -1,0 +1,35 @@
+// `bristle validate FILE...`: checks brush and trajectory files and reports
+// each file's verdict, so a batch of inputs can be checked before a long run.
+
+#include <iostream>
+
+#include "cli/commands.h"
+#include "engine/brush.h"
+#include "engine/error.h"
+#include "engine/text_file.h"
+#include "engine/trajectory.h"
+
+namespace bristle::cli {
+
+int runValidate(const std::vector<std::string>& files) {
+  int code = 0;
+  for (const std::string& f : files) {
+    try {
+      const bool csv = f.size() >= 4 && f.compare(f.size() - 4, 4, ".csv") == 0;
+      if (csv) {
+        const Trajectory t = loadTrajectory(f);
+        std::cout << f << ": ok (trajectory, " << t.samples.size() << " samples, "
+                  << t.endTime() - t.startTime() << " s)\n";
+      } else {
+        const Brush b = loadBrush(f);
+        std::cout << f << ": ok (brush '" << b.name << "', " << b.spines.size() << " spines)\n";
+      }
+    } catch (const Error& e) {
+      printError(e.what());
+      if (code == 0) code = static_cast<int>(e.code());
+    }
+  }
+  return code;
+}
+
+}  // namespace bristle::cli

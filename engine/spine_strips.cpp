@@ -1,0 +1,57 @@
+#include "engine/spine_strips.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace bristle {
+
+void buildSpineGeometry(const Brush& brush, const BrushState& state,
+                        std::vector<BrushVertex>* triangles) {
+  // Fallback side direction for a vertical segment: the brush frame's x axis.
+  const Eigen::Vector3d brush_x = state.handle.rotation * Eigen::Vector3d::UnitX();
+  const size_t ns = brush.spines.size();
+  constexpr int F = kTubeFacets;
+  std::vector<Eigen::Vector3d> ring;
+  for (size_t s = 0; s < ns; ++s) {
+    const SpineSpec& spec = brush.spines[s];
+    const std::vector<Eigen::Vector3d>& x = state.spines[s].joints_mm;
+    const int n = spec.jointCount();
+    ring.assign((n + 1) * (F + 1), Eigen::Vector3d::Zero());
+    for (int j = 0; j <= n; ++j) {
+      // Tangent at joint j: the mean of the adjacent segment directions.
+      Eigen::Vector3d t = Eigen::Vector3d::Zero();
+      if (j > 0) t += (x[j] - x[j - 1]).normalized();
+      if (j < n) t += (x[j + 1] - x[j]).normalized();
+      t.normalize();
+      // Side: across the hair in the canvas plane; down: across the hair,
+      // towards the canvas. The half tube spans side -> down -> -side.
+      Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(t);
+      if (side.norm() < 1e-6) side = brush_x - brush_x.dot(t) * t;
+      side.normalize();
+      Eigen::Vector3d down = t.cross(side);
+      if (down.z() > 0) down = -down;
+      const double r = 0.5 * spec.width_mm[j];
+      for (int k = 0; k <= F; ++k) {
+        const double a = std::numbers::pi * k / F;
+        ring[j * (F + 1) + k] = x[j] + r * (std::cos(a) * side + std::sin(a) * down);
+      }
+    }
+    auto vtx = [&](int j, int k) {
+      const Eigen::Vector3d& p = ring[j * (F + 1) + k];
+      return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
+                         static_cast<float>(p.z()), static_cast<float>((s + double(k) / F) / ns),
+                         static_cast<float>(double(j) / n)};
+    };
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < F; ++k) {
+        triangles->push_back(vtx(j, k));
+        triangles->push_back(vtx(j, k + 1));
+        triangles->push_back(vtx(j + 1, k + 1));
+        triangles->push_back(vtx(j, k));
+        triangles->push_back(vtx(j + 1, k + 1));
+        triangles->push_back(vtx(j + 1, k));
+      }
+  }
+}
+
+}  // namespace bristle

@@ -1,0 +1,45 @@
+#include "engine/trace.h"
+
+#include <nlohmann/json.hpp>
+
+namespace bristle {
+namespace {
+
+nlohmann::json vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+std::string traceLine(const BrushState& st) {
+  nlohmann::json j;
+  j["step"] = st.step;
+  j["t_s"] = st.t_s;
+  const Eigen::Quaterniond& q = st.handle.rotation;
+  j["handle"] = {{"position_mm", vec3(st.handle.position_mm)},
+                 {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+  j["force_n"] = vec3(st.force_n);
+  nlohmann::json spines = nlohmann::json::array();
+  for (const SpineState& s : st.spines) {
+    nlohmann::json js;
+    nlohmann::json joints = nlohmann::json::array(), angles = nlohmann::json::array();
+    for (const Eigen::Vector3d& x : s.joints_mm) joints.push_back(vec3(x));
+    for (size_t k = 0; k + 1 < s.solution.q.size(); k += 2)
+      angles.push_back({s.solution.q[k], s.solution.q[k + 1]});
+    js["joints_mm"] = std::move(joints);
+    js["angles_rad"] = std::move(angles);
+    js["contact"] = s.contact;
+    js["normal_force_n"] = s.solution.normal_force_n;
+    js["sliding"] = s.sliding;
+    js["energy_nmm"] = {{"spring", s.energy.spring_nmm},
+                        {"friction", s.energy.friction_nmm},
+                        {"damping", s.energy.damping_nmm}};
+    js["solver"] = {{"status", toString(s.summary.status)},
+                    {"iterations", s.summary.iterations}};
+    if (!s.summary.message.empty() && !s.summary.usable())
+      js["solver"]["message"] = s.summary.message;
+    spines.push_back(std::move(js));
+  }
+  j["spines"] = std::move(spines);
+  return j.dump();
+}
+
+}  // namespace bristle

@@ -1,0 +1,108 @@
+// OSMesa behind GlContext. Every OSMesa call of the project lives in this file.
+//
+// Link trap: this library must link libOSMesa only. If libGL/libOpenGL (glvnd)
+// were linked too, their gl* entry points would shadow OSMesa's and every call
+// would silently do nothing; GL_GLEXT_PROTOTYPES makes OSMesa export the core
+// 3.x/4.x entry points directly, so no loader is needed.
+
+#include "render/gl_context.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <GL/osmesa.h>
+
+#include <array>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace bristle::render {
+
+namespace {
+
+// The gallium drivers built into Debian's libOSMesa. Any other GALLIUM_DRIVER
+// value (zink, swr, a typo) segfaults inside OSMesaCreateContextAttribs (Mesa
+// 22.3), so refuse it up front with a message instead of a crash.
+constexpr std::array<std::string_view, 2> kOsmesaDrivers = {"llvmpipe", "softpipe"};
+
+void checkGalliumDriver() {
+  const char* driver = std::getenv("GALLIUM_DRIVER");
+  if (driver == nullptr || *driver == '\0') return;  // unset: llvmpipe
+  for (std::string_view known : kOsmesaDrivers) {
+    if (known == driver) return;
+  }
+  throw std::runtime_error(std::string("GALLIUM_DRIVER=") + driver +
+                           ": OSMesa supports only llvmpipe or softpipe; unset it "
+                           "to use llvmpipe");
+}
+
+std::string glString(GLenum name) {
+  const GLubyte* s = glGetString(name);
+  return s != nullptr ? reinterpret_cast<const char*>(s) : "(null)";
+}
+
+}  // namespace
+
+struct GlContext::Impl {
+  OSMesaContext context = nullptr;
+  // OSMesa insists on a client colour buffer to make a context current. All
+  // real drawing goes to FBOs, so one RGBA8 pixel is enough.
+  std::array<GLubyte, 4> dummy_buffer{};
+  std::string description;
+};
+
+GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
+  checkGalliumDriver();
+
+  // No depth/stencil/accum on the dummy buffer: the FBO brings its own depth.
+  const int attributes[] = {
+      OSMESA_FORMAT, OSMESA_RGBA,
+      OSMESA_DEPTH_BITS, 0,
+      OSMESA_STENCIL_BITS, 0,
+      OSMESA_ACCUM_BITS, 0,
+      OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+      OSMESA_CONTEXT_MAJOR_VERSION, 3,
+      OSMESA_CONTEXT_MINOR_VERSION, 3,
+      0};
+  impl_->context = OSMesaCreateContextAttribs(attributes, nullptr);
+  if (impl_->context == nullptr) {
+    throw std::runtime_error(
+        "cannot create an OSMesa OpenGL 3.3 core context (is Mesa's llvmpipe "
+        "available?)");
+  }
+  try {
+    makeCurrent();
+    impl_->description = glString(GL_VERSION) + " | " + glString(GL_RENDERER);
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    if (major * 10 + minor < 33) {
+      throw std::runtime_error("OSMesa returned OpenGL " + impl_->description +
+                               "; the footprint renderer needs 3.3 core");
+    }
+  } catch (...) {
+    OSMesaDestroyContext(impl_->context);
+    throw;
+  }
+}
+
+GlContext::~GlContext() {
+  // Unbind first if we are current, so no thread is left with a dangling context.
+  if (OSMesaGetCurrentContext() == impl_->context) {
+    OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0);
+  }
+  OSMesaDestroyContext(impl_->context);
+}
+
+void GlContext::makeCurrent() {
+  if (OSMesaGetCurrentContext() == impl_->context) return;
+  if (!OSMesaMakeCurrent(impl_->context, impl_->dummy_buffer.data(),
+                         GL_UNSIGNED_BYTE, 1, 1)) {
+    throw std::runtime_error("OSMesaMakeCurrent failed for the footprint context");
+  }
+}
+
+const std::string& GlContext::description() const { return impl_->description; }
+
+}  // namespace bristle::render

@@ -1,0 +1,331 @@
+// PNG files through libpng's classic API (the simplified png_image API cannot
+// write or read text chunks). libpng reports errors by longjmp; the functions
+// that call it with setjmp armed hold no C++ objects with destructors, so a
+// longjmp never skips one. Allocation and throwing happen outside those frames.
+
+#include "render/png_io.h"
+
+#include <png.h>
+#include <unistd.h>
+
+#include <bit>
+#include <cerrno>
+#include <cstdint>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "engine/error.h"
+
+namespace bristle::render {
+
+namespace {
+
+// Text values at least this long are deflated (zTXt/compressed iTXt): shorter
+// ones would not shrink and stay readable with `strings`.
+constexpr std::size_t kCompressTextFromBytes = 512;
+
+// libpng's message for the last error, carried out of the longjmp.
+struct PngFailure {
+  char message[200] = "unknown libpng error";
+};
+
+void onPngError(png_structp png, png_const_charp message) {
+  auto* failure = static_cast<PngFailure*>(png_get_error_ptr(png));
+  std::snprintf(failure->message, sizeof failure->message, "%s", message);
+  png_longjmp(png, 1);
+}
+
+void onPngWarning(png_structp, png_const_charp) {}  // warnings are not errors here
+
+std::string describeErrno(int error) {
+  return error != 0 ? std::strerror(error) : "unknown error";
+}
+
+// Closes a FILE* on scope exit; fclose's own result is checked where it matters.
+struct FileCloser {
+  std::FILE* file;
+  ~FileCloser() {
+    if (file != nullptr) std::fclose(file);
+  }
+};
+
+// Everything encodePng needs, prepared by the caller (it may not allocate).
+struct EncodeJob {
+  int width, height, channels, bit_depth;
+  png_bytep* rows;
+  png_text* text;
+  int text_count;
+};
+
+// Returns false (with failure->message set) when libpng reports an error.
+bool encodePng(std::FILE* file, const EncodeJob& job, PngFailure* failure) {
+  png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, failure, onPngError, onPngWarning);
+  if (png == nullptr) return false;
+  png_infop info = png_create_info_struct(png);
+  if (info == nullptr) {
+    png_destroy_write_struct(&png, nullptr);
+    return false;
+  }
+  // setjmp stands alone in the condition, as C requires.
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  static constexpr int kColourType[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
+                                        PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
+  png_init_io(png, file);
+  png_set_IHDR(png, info, job.width, job.height, job.bit_depth,
+               kColourType[job.channels - 1], PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (job.text_count > 0) png_set_text(png, info, job.text, job.text_count);
+  png_write_info(png, info);
+  // PNG stores 16-bit samples big-endian; ours are in host order.
+  if (job.bit_depth == 16 && std::endian::native == std::endian::little) png_set_swap(png);
+  png_write_image(png, job.rows);
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+bool isPrintableKeyword(const std::string& key) {
+  if (key.empty() || key.size() > 79 || key.front() == ' ' || key.back() == ' ' ||
+      key.find("  ") != std::string::npos) {
+    return false;
+  }
+  for (unsigned char c : key) {
+    if (c < 32 || c > 126) return false;
+  }
+  return true;
+}
+
+// ASCII values go to tEXt (zTXt when long); anything else is UTF-8 in iTXt.
+std::vector<png_text> toPngText(const PngText& text) {
+  std::vector<png_text> chunks;
+  for (const auto& [key, value] : text) {
+    if (!isPrintableKeyword(key) || value.find('\0') != std::string::npos) {
+      throw std::invalid_argument("PNG text key '" + key +
+                                  "': must be 1-79 printable ASCII characters without "
+                                  "leading, trailing or double spaces, and the value "
+                                  "must not contain NUL");
+    }
+    bool ascii = true;
+    for (unsigned char c : value) ascii = ascii && c < 128;
+    const bool compress = value.size() >= kCompressTextFromBytes;
+    png_text chunk{};
+    chunk.key = const_cast<char*>(key.c_str());  // libpng copies; never writes
+    chunk.text = const_cast<char*>(value.c_str());
+    chunk.text_length = value.size();
+    if (ascii) {
+      chunk.compression = compress ? PNG_TEXT_COMPRESSION_zTXt : PNG_TEXT_COMPRESSION_NONE;
+    } else {
+      chunk.compression = compress ? PNG_ITXT_COMPRESSION_zTXt : PNG_ITXT_COMPRESSION_NONE;
+      chunk.itxt_length = value.size();
+      chunk.lang = const_cast<char*>("");
+      chunk.lang_key = const_cast<char*>("");
+    }
+    chunks.push_back(chunk);
+  }
+  return chunks;
+}
+
+void writePngRows(const std::string& path, int width, int height, int channels,
+                  int bit_depth, const void* pixels, std::size_t pixel_bytes,
+                  const PngText& text) {
+  const std::size_t row_bytes =
+      static_cast<std::size_t>(width) * channels * static_cast<std::size_t>(bit_depth / 8);
+  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
+      pixel_bytes != row_bytes * static_cast<std::size_t>(height)) {
+    throw std::invalid_argument(path + ": cannot write a " + std::to_string(width) + "x" +
+                                std::to_string(height) + "x" + std::to_string(channels) +
+                                " image from " + std::to_string(pixel_bytes) + " bytes");
+  }
+  std::vector<png_text> chunks = toPngText(text);
+  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
+  for (int r = 0; r < height; ++r) {
+    // libpng reads the rows only; the cast drops const for its C signature.
+    rows[r] = const_cast<png_bytep>(static_cast<const png_byte*>(pixels)) + row_bytes * r;
+  }
+
+  // Write beside the target and rename, so readers never see a partial file.
+  const std::string temp_path = path + ".tmp-" + std::to_string(::getpid());
+  std::FILE* file = std::fopen(temp_path.c_str(), "wb");
+  if (file == nullptr) {
+    throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
+  }
+  PngFailure failure;
+  const EncodeJob job{width, height, channels, bit_depth, rows.data(), chunks.data(),
+                      static_cast<int>(chunks.size())};
+  errno = 0;
+  const bool encoded = encodePng(file, job, &failure);
+  const int encode_errno = errno;  // libpng's "Write Error" hides the reason
+  const bool flushed = encoded && std::fflush(file) == 0 && std::ferror(file) == 0;
+  const int flush_errno = errno;
+  const bool closed = std::fclose(file) == 0;
+  const int close_errno = errno;
+  if (!encoded || !flushed || !closed) {
+    std::remove(temp_path.c_str());
+    std::string reason;
+    if (!encoded) {
+      reason = failure.message;
+      if (encode_errno != 0) reason += std::string(" (") + std::strerror(encode_errno) + ")";
+    } else {
+      reason = describeErrno(!flushed ? flush_errno : close_errno);
+    }
+    throw Error(ExitCode::kIoError, path + ": write failed: " + reason);
+  }
+  if (std::rename(temp_path.c_str(), path.c_str()) != 0) {
+    const int rename_errno = errno;
+    std::remove(temp_path.c_str());
+    throw Error(ExitCode::kCantCreate,
+                path + ": cannot create output: " + std::strerror(rename_errno));
+  }
+}
+
+// Refuse images whose RGBA8 decode would need more than 1 GiB: a corrupt or
+// hostile header should give an error, not an allocation failure.
+constexpr std::uint64_t kMaxReadPixels = std::uint64_t{1} << 28;
+
+constexpr std::size_t kSignatureBytes = 8;
+
+// Opens a PNG and consumes its signature. Throws kNoInput / kDataError.
+std::FILE* openPng(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) {
+    throw Error(ExitCode::kNoInput, path + ": cannot read: " + describeErrno(errno));
+  }
+  png_byte signature[kSignatureBytes] = {};
+  const std::size_t got = std::fread(signature, 1, kSignatureBytes, file);
+  if (got != kSignatureBytes && std::ferror(file)) {  // e.g. a directory
+    const int read_errno = errno;
+    std::fclose(file);
+    throw Error(ExitCode::kNoInput, path + ": cannot read: " + describeErrno(read_errno));
+  }
+  if (got != kSignatureBytes || png_sig_cmp(signature, 0, kSignatureBytes) != 0) {
+    std::fclose(file);
+    throw Error(ExitCode::kDataError, path + ": not a PNG file");
+  }
+  return file;
+}
+
+// libpng read state; the destructor runs in the caller's frame, never skipped.
+struct Decoder {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  PngFailure failure;
+  ~Decoder() { png_destroy_read_struct(&png, &info, nullptr); }
+};
+
+// Reads the header and arms the transforms (to 8-bit RGBA when asked).
+bool readHeader(std::FILE* file, bool to_rgba8, Decoder* d, int* passes) {
+  d->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &d->failure, onPngError,
+                                  onPngWarning);
+  if (d->png == nullptr) return false;
+  d->info = png_create_info_struct(d->png);
+  if (d->info == nullptr) return false;
+  if (setjmp(png_jmpbuf(d->png))) return false;
+  png_init_io(d->png, file);
+  png_set_sig_bytes(d->png, static_cast<int>(kSignatureBytes));
+  png_read_info(d->png, d->info);
+  if (to_rgba8) {
+    png_set_expand(d->png);  // palette -> RGB, grey < 8 bit -> 8 bit, tRNS -> alpha
+    png_set_scale_16(d->png);  // rounds 65535 -> 255, unlike strip_16's truncation
+    png_set_gray_to_rgb(d->png);
+    png_set_add_alpha(d->png, 0xff, PNG_FILLER_AFTER);  // only where alpha is absent
+  }
+  *passes = png_set_interlace_handling(d->png);
+  png_read_update_info(d->png, d->info);
+  return true;
+}
+
+// Decodes the pixels: into rows[] when given, else through one scratch row (to
+// reach the text chunks that may follow the image data).
+bool readBody(Decoder* d, png_bytep* rows, png_bytep scratch, int passes) {
+  if (setjmp(png_jmpbuf(d->png))) return false;
+  if (rows != nullptr) {
+    png_read_image(d->png, rows);
+  } else {
+    const png_uint_32 height = png_get_image_height(d->png, d->info);
+    for (int pass = 0; pass < passes; ++pass) {
+      for (png_uint_32 r = 0; r < height; ++r) png_read_row(d->png, scratch, nullptr);
+    }
+  }
+  png_read_end(d->png, d->info);
+  return true;
+}
+
+Error corruptPng(const std::string& path, const Decoder& d) {
+  return Error(ExitCode::kDataError,
+               path + ": corrupt or truncated PNG: " + d.failure.message);
+}
+
+// Opens, decodes and hands the decoder (with text and header) to the caller.
+void decodePng(const std::string& path, bool to_rgba8, Decoder* d, Image8* image) {
+  std::FILE* file = openPng(path);
+  FileCloser closer{file};
+  int passes = 1;
+  if (!readHeader(file, to_rgba8, d, &passes)) throw corruptPng(path, *d);
+  const std::uint64_t width = png_get_image_width(d->png, d->info);
+  const std::uint64_t height = png_get_image_height(d->png, d->info);
+  const std::size_t row_bytes = png_get_rowbytes(d->png, d->info);
+  if (width * height > kMaxReadPixels) {
+    throw Error(ExitCode::kDataError, path + ": " + std::to_string(width) + "x" +
+                                          std::to_string(height) + " px is too large");
+  }
+  if (image == nullptr) {
+    std::vector<png_byte> scratch(row_bytes);
+    if (!readBody(d, nullptr, scratch.data(), passes)) throw corruptPng(path, *d);
+    return;
+  }
+  if (row_bytes != width * 4) {
+    throw Error(ExitCode::kDataError, path + ": unsupported PNG pixel layout");
+  }
+  image->width = static_cast<int>(width);
+  image->height = static_cast<int>(height);
+  image->channels = 4;
+  image->pixels.resize(row_bytes * height);
+  std::vector<png_bytep> rows(height);
+  for (std::size_t r = 0; r < height; ++r) rows[r] = image->pixels.data() + row_bytes * r;
+  if (!readBody(d, rows.data(), nullptr, passes)) throw corruptPng(path, *d);
+}
+
+}  // namespace
+
+void writePng(const std::string& path, const Image8& image, const PngText& text) {
+  writePngRows(path, image.width, image.height, image.channels, 8, image.pixels.data(),
+               image.pixels.size(), text);
+}
+
+void writePng(const std::string& path, const Image16& image, const PngText& text) {
+  writePngRows(path, image.width, image.height, image.channels, 16, image.pixels.data(),
+               image.pixels.size() * sizeof(std::uint16_t), text);
+}
+
+Image8 readPngRgba8(const std::string& path) {
+  Decoder decoder;
+  Image8 image;
+  decodePng(path, true, &decoder, &image);
+  return image;
+}
+
+PngText readPngText(const std::string& path) {
+  Decoder decoder;
+  decodePng(path, false, &decoder, nullptr);
+  png_textp chunks = nullptr;
+  const int count = png_get_text(decoder.png, decoder.info, &chunks, nullptr);
+  PngText text;
+  for (int i = 0; i < count; ++i) {
+    // iTXt carries its length in itxt_length; tEXt/zTXt in text_length.
+    const std::size_t length =
+        chunks[i].compression >= PNG_ITXT_COMPRESSION_NONE ? chunks[i].itxt_length
+                                                           : chunks[i].text_length;
+    text.emplace_back(chunks[i].key, std::string(chunks[i].text, length));
+  }
+  return text;
+}
+
+}  // namespace bristle::render

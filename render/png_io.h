@@ -1,0 +1,40 @@
+#pragma once
+// PNG reading and writing (libpng). Writes go to a temporary file beside the
+// target that is renamed into place, so a failed write never leaves a partial file.
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bristle::render {
+
+// 8-bit image, row 0 at the top, channels interleaved (1 = grey, 3 = RGB, 4 = RGBA).
+struct Image8 {
+  int width = 0, height = 0, channels = 4;
+  std::vector<std::uint8_t> pixels;
+};
+
+// 16-bit image (values 0..65535), same layout as Image8.
+struct Image16 {
+  int width = 0, height = 0, channels = 4;
+  std::vector<std::uint16_t> pixels;
+};
+
+using PngText = std::vector<std::pair<std::string, std::string>>;
+
+// Throws bristle::Error: kCantCreate (73) when the file cannot be created (missing
+// directory, no permission), kIoError (74) when writing fails midway. The temp
+// file is removed on every failure path.
+void writePng(const std::string& path, const Image8& image, const PngText& text = {});
+void writePng(const std::string& path, const Image16& image, const PngText& text = {});
+
+// Reads any PNG into 8-bit RGBA (grey and palette are expanded, 16-bit scaled
+// down). Throws bristle::Error: kNoInput (66) missing/unreadable, kDataError (65)
+// not a PNG or corrupt.
+Image8 readPngRgba8(const std::string& path);
+
+// The text chunks of a PNG (for tests and `bristle compare`).
+PngText readPngText(const std::string& path);
+
+}  // namespace bristle::render

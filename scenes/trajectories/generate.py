@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""Regenerates the demo trajectories in this folder (bristle-trajectory/1 CSV).
+
+The handle position is the centre of the ferrule mouth in canvas millimetres;
+the quaternion tilts the handle so that the hairs trail behind the motion, the
+way a painter pulls a brush. Run from anywhere: python3 generate.py
+"""
+import math
+import os
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+RATE_HZ = 100
+
+
+def smoothstep(a):
+    a = min(max(a, 0.0), 1.0)
+    return a * a * (3 - 2 * a)
+
+
+def trail_quaternion(dx, dy, tilt_rad):
+    """Handle leaning towards the travel direction (dx, dy), hairs trailing."""
+    n = math.hypot(dx, dy)
+    if n < 1e-12 or tilt_rad == 0:
+        return (1.0, 0.0, 0.0, 0.0)
+    dx, dy = dx / n, dy / n
+    # Rotating -z by tilt about axis a = z x d moves the hair direction towards -d.
+    ax, ay = -dy, dx
+    s = math.sin(tilt_rad / 2)
+    return (math.cos(tilt_rad / 2), ax * s, ay * s, 0.0)
+
+
+def write(name, comment, rows):
+    path = os.path.join(HERE, name)
+    with open(path, "w") as f:
+        f.write("# bristle-trajectory/1\n")
+        for line in comment:
+            f.write("# " + line + "\n")
+        f.write("t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n")
+        for r in rows:
+            f.write(",".join(f"{v:.6f}" for v in r) + "\n")
+
+
+def straight_pull():
+    rows = []
+    tilt = math.radians(20)
+    q = trail_quaternion(1, 0, tilt)
+    duration = 2.2
+    for i in range(int(duration * RATE_HZ) + 1):
+        t = i / RATE_HZ
+        # 0-0.4 s: come down; 0.4-1.9 s: pull 55 mm; 1.9-2.2 s: lift.
+        down = smoothstep(t / 0.4)
+        lift = smoothstep((t - 1.9) / 0.3)
+        x = 12 + 55 * smoothstep((t - 0.4) / 1.5)
+        z = 24 - 11.5 * down + 13 * lift
+        rows.append((t, x, 20.0, z) + q)
+    write("straight-pull.csv",
+          ["A round-brush pull: press in, pull 55 mm along +x with the handle tilted",
+           "20 degrees towards the motion, lift off."], rows)
+
+
+def s_curve():
+    rows = []
+    tilt = math.radians(25)
+    duration = 3.2
+    prev = None
+    samples = []
+    for i in range(int(duration * RATE_HZ) + 1):
+        t = i / RATE_HZ
+        u = smoothstep((t - 0.3) / 2.6)  # progress along the S
+        x = 15 + 80 * u
+        y = 40 + 16 * math.sin(2 * math.pi * u)
+        # Pressure: light entry, heavy in the first bend, light in the
+        # middle, heavy again, then lift off at the end.
+        press = 0.5 - 0.5 * math.cos(2 * math.pi * 2 * u)  # 0 -> 1 -> 0 -> 1 -> 0
+        down = smoothstep(t / 0.3)
+        lift = smoothstep((t - 2.9) / 0.3)
+        z = 25 - 10 * down + 11 * lift - 6 * press * (1 - lift)
+        samples.append((t, x, y, z))
+    for k, (t, x, y, z) in enumerate(samples):
+        a = samples[max(k - 1, 0)]
+        b = samples[min(k + 1, len(samples) - 1)]
+        dx, dy = b[1] - a[1], b[2] - a[2]
+        if math.hypot(dx, dy) < 1e-6 and prev is not None:
+            q = prev
+        else:
+            q = trail_quaternion(dx if math.hypot(dx, dy) > 1e-6 else 1, dy, tilt)
+        prev = q
+        rows.append((t, x, y, z) + q)
+    write("s-curve.csv",
+          ["An S-curve with a round brush: press in, two heavy bends and a light",
+           "middle, handle tilted 25 degrees towards the motion, lift off."], rows)
+
+
+def press_lift():
+    rows = []
+    duration = 2.0
+    for i in range(int(duration * RATE_HZ) + 1):
+        t = i / RATE_HZ
+        press = math.sin(math.pi * t / duration) ** 2  # 0 -> 1 -> 0
+        z = 24 - 12 * press
+        rows.append((t, 30.0, 30.0, z, 1.0, 0.0, 0.0, 0.0))
+    write("press-lift.csv",
+          ["A vertical handle pressed straight down 8 mm past first contact and lifted."],
+          rows)
+
+
+if __name__ == "__main__":
+    straight_pull()
+    s_curve()
+    press_lift()
