@@ -15,6 +15,7 @@ struct RenderArgs {
   double max_step_mm = 0.25;
   double min_rate_hz = 120;
   double clip_mm = 0.1;
+  int solver_max_iterations = 200;
   std::string colour = "#1c2433";      // paint (a blue-black ink)
   std::string background = "#f6f1e6";  // paper
   bool quiet = false;

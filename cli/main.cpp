@@ -49,6 +49,10 @@ int main(int argc, char** argv) {
   render->add_option("--solver", r.solver, "Spine solver")
       ->capture_default_str()
       ->check(CLI::IsMember({"ipopt"}));
+  render->add_option("--solver-max-iterations", r.solver_max_iterations,
+                     "Iteration limit per solve; a step that hits it counts as failed")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
   render->add_option("--px-per-mm", r.px_per_mm, "Canvas resolution (pixels per mm)")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 100.0));

@@ -47,6 +47,14 @@ Rgb colourArg(const std::string& option, const std::string& text) {
   return c;
 }
 
+// World placement of the image, so that pixels can be mapped back to canvas mm.
+std::string canvasText(const CanvasGrid& g) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "x0_mm=%.6f y0_mm=%.6f px_per_mm=%.6f width_px=%d height_px=%d",
+                g.x0_mm, g.y0_mm, g.px_per_mm, g.width_px, g.height_px);
+  return buf;
+}
+
 }  // namespace
 
 void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
@@ -79,6 +87,8 @@ int runRender(const RenderArgs& args) {
     forces->stream().precision(9);
   }
 
+  IpoptSettings ipopt;
+  ipopt.max_iterations = args.solver_max_iterations;
   Canvas canvas(grid);
   render::StrokeRenderer renderer;
   Progress progress(!args.quiet);
@@ -98,7 +108,7 @@ int runRender(const RenderArgs& args) {
     progress.update(step, steps);
   };
   const render::StrokeResult result =
-      renderer.render(brush, trajectory, makeIpoptSolver(), options, &canvas, on_step);
+      renderer.render(brush, trajectory, makeIpoptSolver(ipopt), options, &canvas, on_step);
 
   render::Image8 image;
   image.width = grid.width_px;
@@ -107,7 +117,8 @@ int runRender(const RenderArgs& args) {
   image.pixels = canvas.composeRgb8(paint, background);
   render::writePng(args.output, image,
                    {{"Software", std::string("bristle ") + kVersion},
-                    {"bristle:brush", brush.name}});
+                    {"bristle:brush", brush.name},
+                    {"bristle:canvas", canvasText(grid)}});
   if (trace) trace->commit();
   if (forces) forces->commit();
 

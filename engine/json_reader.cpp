@@ -1,20 +1,60 @@
 #include "engine/json_reader.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "engine/text_file.h"
 
 namespace bristle {
 namespace {
 
-std::string escapePointerToken(const std::string& key) {
+// Control characters in a key would break the one-line message; show them as \uXXXX.
+std::string printable(const std::string& key) {
   std::string out;
   for (char c : key) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned char>(c));
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string escapePointerToken(const std::string& key) {
+  std::string out;
+  for (char c : printable(key)) {
     if (c == '~') out += "~0";
     else if (c == '/') out += "~1";
     else out += c;
   }
   return out;
+}
+
+// Offset of the first number literal spelled exactly `token` outside JSON
+// strings, or npos.
+size_t findNumberLiteral(const std::string& text, const std::string& token) {
+  auto numberChar = [](char c) {
+    return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' || c == 'e' || c == 'E';
+  };
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (numberChar(c)) {
+      size_t j = i;
+      while (j < text.size() && numberChar(text[j])) ++j;
+      if (text.compare(i, j - i, token) == 0) return i;
+      i = j - 1;
+    }
+  }
+  return std::string::npos;
 }
 
 std::string shortDump(const nlohmann::json& value) {
@@ -35,6 +75,19 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& path) {
     const size_t pos = what.find("syntax error");
     throw dataError(path, lineColumnOf(text, offset),
                     "malformed JSON (" + (pos == std::string::npos ? what : what.substr(pos)) + ")");
+  } catch (const nlohmann::json::out_of_range& e) {
+    // 406 "number overflow parsing '1e999'": a literal beyond the range of a
+    // double. nlohmann gives no position, so find the literal it names.
+    const std::string what = e.what();
+    const size_t open = what.find("parsing '");
+    const size_t close = what.rfind('\'');
+    const std::string token = open != std::string::npos && close > open + 9
+                                  ? what.substr(open + 9, close - open - 9)
+                                  : std::string();
+    const size_t at = token.empty() ? std::string::npos : findNumberLiteral(text, token);
+    if (at == std::string::npos) throw dataError(path, "JSON", what);
+    throw dataError(path, lineColumnOf(text, at),
+                    "number " + token + " is out of range (must be finite)");
   }
 }
 
@@ -140,7 +193,8 @@ void JsonObject::requireAt(bool ok, const std::string& pointer, const nlohmann::
 
 void JsonObject::rejectUnknownKeys() const {
   for (auto it = node_.begin(); it != node_.end(); ++it)
-    if (!used_.count(it.key())) fail(childPointer(it.key()), "unknown key '" + it.key() + "'");
+    if (!used_.count(it.key()))
+      fail(childPointer(it.key()), "unknown key '" + printable(it.key()) + "'");
 }
 
 double checkedElement(const JsonObject& obj, const std::string& key, size_t index, double value,

@@ -61,6 +61,16 @@ class Simulation {
   const BrushState& step(const Pose& handle, double t_s);
 
   const BrushState& state() const { return state_; }
+  // Save and return to a state, e.g. to redo a step in smaller pieces.
+  struct Snapshot {
+    BrushState state;
+    SimStats stats;
+  };
+  Snapshot snapshot() const { return {state_, stats_}; }
+  void restore(const Snapshot& s) {
+    state_ = s.state;
+    stats_ = s.stats;
+  }
   const SimStats& stats() const { return stats_; }
   const Brush& brush() const { return brush_; }
   SpineSolver& solver() { return *solver_; }

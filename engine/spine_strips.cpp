@@ -42,6 +42,33 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
                          static_cast<float>(p.z()), static_cast<float>((s + double(k) / F) / ns),
                          static_cast<float>(double(j) / n)};
     };
+    // Round the bundle off at every joint with the lower half of a sphere of the
+    // same radius: a joint that touches the canvas (a hair tip poking straight
+    // down, say) always shows, however steeply its segments rise.
+    for (int j = 1; j <= n; ++j) {
+      const double r = 0.5 * spec.width_mm[j];
+      if (r <= 0) continue;
+      auto cap = [&](int lat, int lon) {  // lat 0 = lowest point .. kCapRings = equator
+        const double polar = 0.5 * std::numbers::pi * lat / kCapRings;
+        const double az = 2 * std::numbers::pi * lon / (2 * F);
+        const Eigen::Vector3d p =
+            x[j] + r * Eigen::Vector3d(std::sin(polar) * std::cos(az),
+                                       std::sin(polar) * std::sin(az), -std::cos(polar));
+        return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
+                           static_cast<float>(p.z()), static_cast<float>((s + 0.5) / ns),
+                           static_cast<float>(double(j) / n)};
+      };
+      for (int lat = 0; lat < kCapRings; ++lat)
+        for (int lon = 0; lon < 2 * F; ++lon) {
+          triangles->push_back(cap(lat, lon));
+          triangles->push_back(cap(lat + 1, lon));
+          triangles->push_back(cap(lat + 1, lon + 1));
+          if (lat == 0) continue;  // the pole row is a fan
+          triangles->push_back(cap(lat, lon));
+          triangles->push_back(cap(lat + 1, lon + 1));
+          triangles->push_back(cap(lat, lon + 1));
+        }
+    }
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < F; ++k) {
         triangles->push_back(vtx(j, k));

@@ -26,8 +26,11 @@ struct BrushVertex {
 // Facets around the half tube: 8 keeps the polygon within 2% of the circle's
 // radius (1 - cos(pi / 16)), below a pixel at 8 px/mm for hairs under 6 mm.
 inline constexpr int kTubeFacets = 8;
+// Latitude rings of the half sphere that rounds the bundle at each joint.
+inline constexpr int kCapRings = 3;
 
-// Appends the triangles of every spine's half tube to `triangles`.
+// Appends the triangles of every spine's half tube (and the half spheres at its
+// joints) to `triangles`.
 void buildSpineGeometry(const Brush& brush, const BrushState& state,
                         std::vector<BrushVertex>* triangles);
 

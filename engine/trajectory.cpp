@@ -28,6 +28,8 @@ std::string trim(std::string_view s) {
   return std::string(s.substr(b, e - b));
 }
 
+std::string columnName(int id) { return id < 8 ? kRequired[id] : kOptional[id - 8]; }
+
 std::vector<std::string> splitCsv(std::string_view line) {
   std::vector<std::string> out;
   size_t start = 0;
@@ -113,18 +115,27 @@ Trajectory parseTrajectory(const std::string& text, const std::string& path) {
         throw dataError(path, where(0, ""), "force columns fx_n,fy_n,fz_n come all three or none");
       continue;
     }
-    if (cells.size() != column_of.size())
-      throw dataError(path, where(0, ""),
+    if (cells.size() != column_of.size()) {
+      // Name the first column that is missing or extra.
+      const size_t c = std::min(cells.size(), column_of.size());
+      const std::string name =
+          c < column_of.size() ? columnName(column_of[c]) : std::string("not in the header");
+      throw dataError(path, where(static_cast<int>(c) + 1, name),
                       "has " + std::to_string(cells.size()) + " fields, the header has " +
                           std::to_string(column_of.size()));
+    }
     std::array<double, 12> v{};
     std::array<bool, 12> present{};
+    size_t t_column = 0;
     for (size_t c = 0; c < cells.size(); ++c) {
       const int id = column_of[c];
-      const std::string name = id < 8 ? kRequired[id] : kOptional[id - 8];
+      const std::string name = columnName(id);
       const std::string& s = cells[c];
       double value = 0;
       auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+      if (ec == std::errc::result_out_of_range && ptr == s.data() + s.size())
+        throw dataError(path, where(static_cast<int>(c) + 1, name),
+                        "'" + s + "' is outside the range of a double");
       if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
         throw dataError(path, where(static_cast<int>(c) + 1, name),
                         "'" + s + "' is not a number");
@@ -135,14 +146,15 @@ Trajectory parseTrajectory(const std::string& text, const std::string& path) {
                         "must be a non-negative integer bitmask");
       v[id] = value;
       present[id] = true;
+      if (id == 0) t_column = c;
     }
     TrajectorySample s;
     s.line = line_no;
     s.t_s = v[0];
     if (!traj.samples.empty() && !(s.t_s > traj.samples.back().t_s))
-      throw dataError(path, where(0, ""),
-                      "t_s = " + cells[0] + " is not after the previous sample's time (time must "
-                      "increase strictly)");
+      throw dataError(path, where(static_cast<int>(t_column) + 1, "t_s"),
+                      "t_s = " + cells[t_column] +
+                          " is not after the previous sample's time (time must increase strictly)");
     s.pose.position_mm = Eigen::Vector3d(v[1], v[2], v[3]);
     Eigen::Quaterniond q(v[4], v[5], v[6], v[7]);
     if (q.norm() < kMinQuaternionNorm)

@@ -75,35 +75,82 @@ bool StrokeRenderer::footprint(const Brush& brush, const BrushState& state,
   return true;
 }
 
+namespace {
+
+// Furthest any joint near the canvas moved over it between two states. Each step
+// paints one stamp; where the touching part of the brush jumps further than a
+// stamp covers (a pressed brush springing back at lift-off), the step is split.
+double contactJumpMm(const Brush& brush, const BrushState& a, const BrushState& b,
+                     double clip_mm) {
+  double jump = 0;
+  for (size_t s = 0; s < brush.spines.size(); ++s) {
+    const SpineSpec& spec = brush.spines[s];
+    for (size_t j = 1; j < a.spines[s].joints_mm.size(); ++j) {
+      const Eigen::Vector3d& pa = a.spines[s].joints_mm[j];
+      const Eigen::Vector3d& pb = b.spines[s].joints_mm[j];
+      const double reach = clip_mm + 0.5 * spec.width_mm[j];  // geometry around the joint
+      if (std::min(pa.z(), pb.z()) > reach) continue;
+      jump = std::max(jump, (pa.head<2>() - pb.head<2>()).norm());
+    }
+  }
+  return jump;
+}
+
+// Splitting stops after this many halvings (a step split into at most 32).
+constexpr int kMaxSplitDepth = 5;
+
+}  // namespace
+
+void StrokeRenderer::paintStep(const Brush& brush, const BrushState& state,
+                               const StrokeOptions& options, Canvas* canvas, bool* touched) {
+  const CanvasGrid& grid = canvas->grid();
+  if (!footprint(brush, state, grid, options.clip_mm, &image_)) return;
+  // Pixel offset of the window in the canvas.
+  const int c0 = static_cast<int>(std::lround(grid.colOf(image_.window.x0_mm)));
+  const int r0 = static_cast<int>(
+      std::lround(grid.rowOf(image_.window.y0_mm + image_.window.height_px / grid.px_per_mm)));
+  for (int r = 0; r < image_.window.height_px; ++r)
+    for (int c = 0; c < image_.window.width_px; ++c) {
+      const float* t = image_.at(c, r);
+      if (t[3] <= 0) continue;
+      *touched = true;
+      // Paint in proportion to how deep the brush reaches into the contact band.
+      canvas->deposit(c0 + c, r0 + r, static_cast<float>(t[2] / options.clip_mm));
+    }
+}
+
 StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajectory,
                                     std::unique_ptr<SpineSolver> solver,
                                     const StrokeOptions& options, Canvas* canvas,
                                     const StepCallback& on_step) {
-  const CanvasGrid& grid = canvas->grid();
   Simulation sim(brush, options.sim, std::move(solver));
   const std::vector<double> times = planStepTimes(trajectory, brush, options.sim);
   StrokeResult result;
-  FootprintImage fp;
   const int steps = static_cast<int>(times.size());
-  sim.reset(trajectory.poseAt(times.front()), times.front());
-  for (int i = 0; i < steps; ++i) {
-    const BrushState& st = i == 0 ? sim.state() : sim.step(trajectory.poseAt(times[i]), times[i]);
-    if (footprint(brush, st, grid, options.clip_mm, &fp)) {
-      // Pixel offset of the window in the canvas.
-      const int c0 = static_cast<int>(std::lround(grid.colOf(fp.window.x0_mm)));
-      const int r0 = static_cast<int>(
-          std::lround(grid.rowOf(fp.window.y0_mm + fp.window.height_px / grid.px_per_mm)));
-      for (int r = 0; r < fp.window.height_px; ++r)
-        for (int c = 0; c < fp.window.width_px; ++c) {
-          const float* t = fp.at(c, r);
-          if (t[3] <= 0) continue;
-          result.touched = true;
-          // Paint in proportion to how deep the brush reaches into the contact band.
-          canvas->deposit(c0 + c, r0 + r, static_cast<float>(t[2] / options.clip_mm));
-        }
+  const double max_jump_mm = std::max(options.sim.max_step_mm, 2.0 / canvas->grid().px_per_mm);
+  int planned = 0;
+
+  // Steps from t0 to t1, halving the step while the touching part jumps too far.
+  auto advance = [&](auto&& self, double t0, double t1, int depth) -> void {
+    const Simulation::Snapshot before = sim.snapshot();
+    sim.step(trajectory.poseAt(t1), t1);
+    if (depth < kMaxSplitDepth &&
+        contactJumpMm(brush, before.state, sim.state(), options.clip_mm) > max_jump_mm) {
+      sim.restore(before);
+      const double tm = 0.5 * (t0 + t1);
+      self(self, t0, tm, depth + 1);
+      self(self, tm, t1, depth + 1);
+      return;
     }
-    if (on_step) on_step(st, i, steps);
-  }
+    paintStep(brush, sim.state(), options, canvas, &result.touched);
+    if (on_step) on_step(sim.state(), planned, steps);
+  };
+
+  sim.reset(trajectory.poseAt(times.front()), times.front());
+  paintStep(brush, sim.state(), options, canvas, &result.touched);
+  if (on_step) on_step(sim.state(), 0, steps);
+  for (planned = 1; planned < steps; ++planned)
+    advance(advance, times[planned - 1], times[planned], 0);
   result.stats = sim.stats();
   return result;
 }

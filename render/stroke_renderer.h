@@ -20,7 +20,8 @@ struct StrokeOptions {
   SimOptions sim;
 };
 
-// Called after every simulation step, with the step index and the step count.
+// Called after every simulation step with the index of the planned step it
+// belongs to and the planned step count (a split step reports its index twice).
 using StepCallback = std::function<void(const BrushState&, int step, int steps)>;
 
 struct StrokeResult {
@@ -50,7 +51,11 @@ class StrokeRenderer {
                  double clip_mm, FootprintImage* out);
 
  private:
+  void paintStep(const Brush& brush, const BrushState& state, const StrokeOptions& options,
+                 Canvas* canvas, bool* touched);
+
   FootprintRenderer renderer_;
+  FootprintImage image_;
   std::vector<FootprintVertex> vertices_;
 };
 

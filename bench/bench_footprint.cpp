@@ -1,0 +1,155 @@
+// Render benchmarks (docs/PERFORMANCE.md): one footprint render + readback
+// (OSMesa llvmpipe) at 256^2 and 512^2 windows with 5000 triangles, and a whole
+// StrokeRenderer::render of the round brush along s-curve.csv. Times are wall
+// clock (llvmpipe rasterises on its own threads), taken with a steady clock as
+// manual time; the median and p95 over all timed calls are counters.
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "engine/brush.h"
+#include "engine/trajectory.h"
+#include "render/footprint_renderer.h"
+#include "render/stroke_renderer.h"
+
+namespace {
+
+using namespace bristle;
+using namespace bristle::render;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kPxPerMm = 8;       // the CLI's default canvas resolution
+constexpr double kClipMm = 0.1;      // StrokeOptions' default contact band
+constexpr int kGridQuads = 50;       // 50 x 50 quads = 5000 triangles
+constexpr double kWaveMm = 8;        // wavelength of the test surface
+constexpr double kAmplitudeMm = 0.5; // about half the surface lies below the clip plane
+
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+// Median and nearest-rank p95 of samples (sorted in place); 0 when empty.
+double percentile(std::vector<double>& v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  if (p == 50 && v.size() % 2 == 0) return 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  const size_t rank = static_cast<size_t>(std::ceil(p / 100 * double(v.size())));
+  return v[std::clamp<size_t>(rank, 1, v.size()) - 1];
+}
+
+void reportPercentiles(benchmark::State& state, std::vector<double>& us,
+                       const std::string& prefix) {
+  state.counters[prefix + "median_us"] = percentile(us, 50);
+  state.counters[prefix + "p95_us"] = percentile(us, 95);
+}
+
+// A wavy height field filling the window: kGridQuads^2 quads, two triangles each,
+// with brush-like texture coordinates (u across, v along).
+std::vector<FootprintVertex> wavySurface(const FootprintWindow& w) {
+  const double width_mm = w.width_px / w.px_per_mm, height_mm = w.height_px / w.px_per_mm;
+  auto vertex = [&](int i, int j) {
+    const double u = double(i) / kGridQuads, v = double(j) / kGridQuads;
+    const double x = w.x0_mm + u * width_mm, y = w.y0_mm + v * height_mm;
+    const double z = kAmplitudeMm * std::sin(2 * std::numbers::pi * x / kWaveMm) *
+                     std::cos(2 * std::numbers::pi * y / kWaveMm);
+    return FootprintVertex{float(x), float(y), float(z), float(u), float(v)};
+  };
+  std::vector<FootprintVertex> tris;
+  tris.reserve(6 * kGridQuads * kGridQuads);
+  for (int j = 0; j < kGridQuads; ++j)
+    for (int i = 0; i < kGridQuads; ++i)
+      tris.insert(tris.end(), {vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1),
+                               vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1)});
+  return tris;
+}
+
+// One footprint render + readback; range(0) is the window side in pixels.
+void BM_FootprintRender(benchmark::State& state) {
+  FootprintWindow window;
+  window.width_px = window.height_px = static_cast<int>(state.range(0));
+  window.px_per_mm = kPxPerMm;
+  const std::vector<FootprintVertex> tris = wavySurface(window);
+  FootprintRenderer renderer(static_cast<int>(state.range(0)));
+  FootprintImage image;
+  renderer.render(tris, window, kClipMm, &image);  // first use allocates the FBO
+  std::vector<double> us;
+  for (auto _ : state) {
+    const Clock::time_point t0 = Clock::now();
+    renderer.render(tris, window, kClipMm, &image);
+    const double dt = seconds(t0, Clock::now());
+    benchmark::DoNotOptimize(image.texels.data());
+    state.SetIterationTime(dt);
+    us.push_back(1e6 * dt);
+  }
+  double covered = 0;
+  for (size_t i = 3; i < image.texels.size(); i += 4) covered += image.texels[i];
+  state.counters["triangles"] = double(tris.size() / 3);
+  state.counters["covered_frac"] = covered / (double(window.width_px) * window.height_px);
+  reportPercentiles(state, us, "");
+}
+BENCHMARK(BM_FootprintRender)
+    ->ArgName("px")
+    ->Arg(256)->Arg(512)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
+
+// A whole stroke: simulation + footprint + paint per step, the round brush along
+// s-curve.csv. Time: the stroke; counters: per step (between step callbacks).
+void BM_StrokeRender(benchmark::State& state) {
+  const std::string dir = BRISTLE_SOURCE_DIR;
+  const Brush brush = loadBrush(dir + "/scenes/brushes/round.json");
+  const Trajectory traj = loadTrajectory(dir + "/scenes/trajectories/s-curve.csv");
+  const StrokeOptions options;
+  const CanvasGrid grid = canvasForStroke(brush, traj, options);
+  StrokeRenderer renderer;
+  std::vector<double> step_us;
+  double total_s = 0;
+  long steps = 0;
+  for (auto _ : state) {
+    Canvas canvas(grid);
+    Clock::time_point last = Clock::now();
+    const Clock::time_point t0 = last;
+    const StrokeResult r = renderer.render(
+        brush, traj, makeIpoptSolver(), options, &canvas,
+        [&](const BrushState&, int, int) {
+          const Clock::time_point now = Clock::now();
+          step_us.push_back(1e6 * seconds(last, now));
+          last = now;
+          ++steps;
+        });
+    const double dt = seconds(t0, Clock::now());
+    if (!r.touched) {
+      state.SkipWithError("the stroke left no paint");
+      break;
+    }
+    state.SetIterationTime(dt);
+    total_s += dt;
+  }
+  state.counters["canvas_px"] = double(grid.width_px) * grid.height_px;
+  state.counters["steps"] = double(steps) / std::max<double>(1, double(state.iterations()));
+  state.counters["steps_per_s"] = total_s > 0 ? double(steps) / total_s : 0;
+  reportPercentiles(state, step_us, "step_");
+}
+BENCHMARK(BM_StrokeRender)
+    ->Iterations(3)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // An unknown GALLIUM_DRIVER makes OSMesa fail (or crash); llvmpipe is the default.
+  unsetenv("GALLIUM_DRIVER");
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

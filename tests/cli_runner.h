@@ -1,0 +1,67 @@
+#pragma once
+// Runs the bristle executable for end-to-end tests and captures its output.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace bristle::testing {
+
+struct RunResult {
+  int code = -1;
+  std::string out, err;
+};
+
+// A fresh directory under the system temp dir, removed with the object.
+class TempDir {
+ public:
+  TempDir() {
+    std::string tmpl = (std::filesystem::temp_directory_path() / "bristle-test-XXXXXX").string();
+    path_ = ::mkdtemp(tmpl.data());
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(file(name)) << text;
+    return file(name);
+  }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline std::string readAll(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs `bristle <args>` (args are passed to the shell as written).
+inline RunResult runBristle(const std::string& args) {
+  static TempDir io;
+  const std::string out = io.file("stdout"), err = io.file("stderr");
+  const std::string cmd = std::string("env -u GALLIUM_DRIVER '") + BRISTLE_BIN + "' " + args +
+                          " >'" + out + "' 2>'" + err + "' </dev/null";
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = readAll(out);
+  r.err = readAll(err);
+  return r;
+}
+
+inline std::string sourcePath(const std::string& rel) {
+  return std::string(BRISTLE_SOURCE_DIR) + "/" + rel;
+}
+
+}  // namespace bristle::testing
