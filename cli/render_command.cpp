@@ -130,7 +130,14 @@ int runRender(const RenderArgs& args) {
                std::to_string(result.stats.steps) + " steps had a failed solve (" +
                std::to_string(result.stats.failed_spine_solves) +
                " spine solves); those spines continued from their last good state");
-  if (!args.quiet) std::cout << args.output << "\n";
+  if (!args.quiet) {
+    const SimStats& st = result.stats;
+    std::fprintf(stderr,
+                 "bristle: %d steps (%d solved, %d stiction re-solves, %d rescued by the "
+                 "fallback solver), %ld solver iterations\n",
+                 st.steps, st.solved_steps, st.resolves, st.fallback_solves, st.iterations);
+    std::cout << args.output << "\n";
+  }
   return 0;
 }
 

@@ -5,9 +5,16 @@
 #include <sstream>
 
 #include "engine/error.h"
+#include "engine/friction.h"
 #include "engine/smooth.h"
 
 namespace bristle {
+
+bool SpineState::anyContactFlag() const {
+  for (bool c : contact)
+    if (c) return true;
+  return false;
+}
 
 bool BrushState::anyContact() const {
   for (const SpineState& s : spines)
@@ -16,16 +23,32 @@ bool BrushState::anyContact() const {
   return false;
 }
 
+namespace {
+
+// Passes of the stiction re-solve (§3.4.1): each pass can only move joints from
+// sticking to sliding, so it ends after at most one pass per contact joint; in
+// practice one or two.
+constexpr int kMaxStictionPasses = 4;
+
+// A straight spine pressed straight down sits on a buckling point: the canvas
+// constraint has no gradient there. Solves start from this small bend towards
+// the brush's +y instead, so the spine always buckles the same way.
+constexpr double kBucklingNudgeRad = 1e-3;
+
+}  // namespace
+
 Simulation::Simulation(const Brush& brush, const SimOptions& options,
-                       std::unique_ptr<SpineSolver> solver)
-    : brush_(brush), options_(options), solver_(std::move(solver)) {}
+                       std::unique_ptr<SpineSolver> solver, std::unique_ptr<SpineSolver> fallback)
+    : brush_(brush), options_(options), solver_(std::move(solver)), fallback_(std::move(fallback)) {}
 
 void Simulation::reset(const Pose& handle, double t_s) {
   state_ = BrushState{};
   state_.t_s = t_s;
   state_.handle = handle;
-  state_.spines.resize(brush_.spines.size());
-  for (size_t s = 0; s < brush_.spines.size(); ++s) {
+  const size_t ns = brush_.spines.size();
+  state_.spines.resize(ns);
+  problems_.assign(ns, SpineProblem{});
+  for (size_t s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush_.spines[s];
     const int n = spec.jointCount();
     SpineState& st = state_.spines[s];
@@ -36,94 +59,155 @@ void Simulation::reset(const Pose& handle, double t_s) {
     }
     st.solution.normal_force_n.assign(n, 0.0);
     st.summary.status = SolveStatus::kFree;
-    SpineProblem rest;
-    rest.spine = &spec;
-    rest.handle = handle;
-    rest.friction_n.assign(n, 0.0);
-    rest.anchor_xy_mm.assign(n, Eigen::Vector2d::Zero());
-    rest.prev_bend_rad.assign(n, 0.0);
-    finishSpine(static_cast<int>(s), rest);
+    SpineProblem& p = problems_[s];
+    p.spine = &spec;
+    p.handle = handle;
+    p.friction_n.assign(n, 0.0);
+    p.anchor_xy_mm.assign(n, Eigen::Vector2d::Zero());
+    p.pull_dir.assign(n, Eigen::Vector2d::Zero());
+    p.prev_bend_rad.assign(n, 0.0);
+    finishSpine(static_cast<int>(s), false, std::vector<bool>(n, false));
   }
   stats_ = SimStats{};
 }
 
-const BrushState& Simulation::step(const Pose& handle, double t_s) {
-  const size_t ns = brush_.spines.size();
-  std::vector<SpineProblem> problems(ns);
-  std::vector<const SpineProblem*> to_solve;
-  std::vector<SpineSolution*> solutions;
-  std::vector<SpineSolution> trial(ns);
-  std::vector<int> which;
+void Simulation::buildProblem(int s, const Pose& handle) {
+  const SpineSpec& spec = brush_.spines[s];
+  const SpineState& prev = state_.spines[s];
+  const int n = spec.jointCount();
+  SpineProblem& p = problems_[s];
+  p.spine = &spec;
+  p.handle = handle;
+  p.prev_bend_rad = prev.bend_rad;
+  p.anisotropy_strength = brush_.friction.anisotropy_strength;
+  p.anisotropy_exponent = brush_.friction.anisotropy_exponent;
+  p.anchor_xy_mm.resize(n);
+  p.pull_dir.assign(n, Eigen::Vector2d::Zero());
+  for (int j = 0; j < n; ++j) {
+    p.anchor_xy_mm[j] = prev.joints_mm[j + 1].head<2>();
+    // eq. 14's d_p: from the joint towards the projection of its parent joint,
+    // the way a trailing hair is dragged.
+    const Eigen::Vector2d towards_parent = (prev.joints_mm[j] - prev.joints_mm[j + 1]).head<2>();
+    if (towards_parent.norm() > 1e-9) p.pull_dir[j] = towards_parent.normalized();
+  }
+  setFriction(s, prev.sliding);
+}
 
-  for (size_t s = 0; s < ns; ++s) {
-    const SpineSpec& spec = brush_.spines[s];
-    const SpineState& prev = state_.spines[s];
-    const int n = spec.jointCount();
-    SpineProblem& p = problems[s];
-    p.spine = &spec;
-    p.handle = handle;
-    p.friction_n.assign(n, 0.0);
-    p.anchor_xy_mm.resize(n);
-    p.prev_bend_rad = prev.bend_rad;
-    bool touching = false;
-    for (int j = 0; j < n; ++j) {
-      p.anchor_xy_mm[j] = prev.joints_mm[j + 1].head<2>();
-      if (prev.contact[j]) {
-        touching = true;
-        // eq. 3: |F_n| of the previous step, held constant during this solve.
-        const double mu = prev.sliding[j] ? brush_.friction.mu_kinetic : brush_.friction.mu_static;
-        p.friction_n[j] = mu * prev.solution.normal_force_n[j];
+// eq. 3 with |F_n| of the previous step, held constant during this solve, and
+// mu from each contact joint's stiction state (§3.4.1).
+void Simulation::setFriction(int s, const std::vector<bool>& sliding) {
+  const SpineState& prev = state_.spines[s];
+  SpineProblem& p = problems_[s];
+  const int n = static_cast<int>(prev.contact.size());
+  p.friction_n.assign(n, 0.0);
+  for (int j = 0; j < n; ++j) {
+    if (!prev.contact[j]) continue;
+    const double mu = sliding[j] ? brush_.friction.mu_kinetic : brush_.friction.mu_static;
+    p.friction_n[j] = mu * prev.solution.normal_force_n[j];
+  }
+}
+
+void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial) {
+  std::vector<const SpineProblem*> problems;
+  std::vector<SpineSolution*> solutions;
+  for (int s : which) {
+    problems.push_back(&problems_[s]);
+    solutions.push_back(&(*trial)[s]);
+  }
+  SolveSummary summary = solver_->solve(problems, solutions);
+  stats_.iterations += summary.iterations;
+  if (summary.usable()) {
+    for (int s : which) state_.spines[s].summary = summary;
+    return;
+  }
+  // Isolate the failure: each spine on its own from a cold start, then with the
+  // fallback solver; a spine that still fails keeps its last good state.
+  for (int s : which) {
+    SpineSolution cold = state_.spines[s].solution;
+    cold.lambda.clear();
+    SpineSolution* one = &cold;
+    const SpineProblem* pone = &problems_[s];
+    SolveSummary si = solver_->solve({&pone, 1}, {&one, 1});
+    stats_.iterations += si.iterations;
+    if (!si.usable() && fallback_) {
+      SpineSolution again = state_.spines[s].solution;
+      again.lambda.clear();
+      SpineSolution* two = &again;
+      SolveSummary sf = fallback_->solve({&pone, 1}, {&two, 1});
+      stats_.iterations += sf.iterations;
+      if (sf.usable()) {
+        ++stats_.fallback_solves;
+        sf.message = std::string(fallback_->name()) + " after " + solver_->name() + " " + si.message;
+        si = sf;
+        cold = std::move(again);
       }
     }
+    if (si.usable()) (*trial)[s] = std::move(cold);
+    state_.spines[s].summary = si;
+  }
+}
+
+const BrushState& Simulation::step(const Pose& handle, double t_s) {
+  const int ns = static_cast<int>(brush_.spines.size());
+  std::vector<SpineSolution> trial(ns);
+  std::vector<int> which;
+  std::vector<std::vector<bool>> sliding(ns);
+
+  for (int s = 0; s < ns; ++s) {
+    const SpineSpec& spec = brush_.spines[s];
+    const SpineState& prev = state_.spines[s];
+    buildProblem(s, handle);
+    sliding[s] = prev.sliding;
+    trial[s] = prev.solution;
     // Step 2 of §3.1: the spine moves rigidly with the handle. If it then touches
     // nothing and did not touch before, its previous angles remain the optimum
     // (spring and damping alone, nothing pushes it), so no solve is needed.
     spineForwardKinematics(spec, handle, prev.solution.q.data(), 0, &fk_);
-    bool clear = !touching;
-    for (int j = 1; j <= n && clear; ++j) clear = fk_.x[j].z() > 0;
-    trial[s] = prev.solution;
-    if (!clear) {
-      to_solve.push_back(&p);
-      solutions.push_back(&trial[s]);
-      which.push_back(static_cast<int>(s));
-    }
+    bool clear = !prev.anyContactFlag();
+    for (int j = 1; j <= spec.jointCount() && clear; ++j) clear = fk_.x[j].z() > 0;
+    if (clear) continue;
+    which.push_back(s);
+    bool straight = true;
+    for (double a : trial[s].q) straight = straight && std::fabs(a) < 1e-9;
+    if (straight) trial[s].q[0] = kBucklingNudgeRad;
   }
 
-  SolveSummary summary;
-  summary.status = SolveStatus::kFree;
-  if (!to_solve.empty()) {
+  if (!which.empty()) {
     ++stats_.solved_steps;
-    summary = solver_->solve(to_solve, solutions);
-    stats_.iterations += summary.iterations;
-    if (!summary.usable() && to_solve.size() > 1) {
-      // Isolate the failure: solve each spine on its own from a cold start.
-      for (size_t i = 0; i < to_solve.size(); ++i) {
-        SpineSolution cold = state_.spines[which[i]].solution;
-        cold.lambda.clear();
-        SpineSolution* one = &cold;
-        const SpineProblem* pone = to_solve[i];
-        SolveSummary si = solver_->solve({&pone, 1}, {&one, 1});
-        stats_.iterations += si.iterations;
-        if (si.usable()) trial[which[i]] = std::move(cold);
-        state_.spines[which[i]].summary = si;
+    const std::vector<SpineSolution> start = trial;
+    solveSpines(which, &trial);
+    // §3.4.1: a sticking joint whose solution slipped switches to sliding, and
+    // the step is solved again with mu_kinetic for it.
+    for (int pass = 0; pass < kMaxStictionPasses; ++pass) {
+      std::vector<int> again;
+      for (int s : which) {
+        if (!state_.spines[s].summary.usable()) continue;
+        spineForwardKinematics(brush_.spines[s], handle, trial[s].q.data(), 0, &fk_);
+        bool changed = false;
+        for (size_t j = 0; j < sliding[s].size(); ++j) {
+          if (!state_.spines[s].contact[j] || sliding[s][j]) continue;
+          const double moved = (fk_.x[j + 1].head<2>() - problems_[s].anchor_xy_mm[j]).norm();
+          if (moved > options_.slip_mm) {
+            sliding[s][j] = true;
+            changed = true;
+          }
+        }
+        if (changed) {
+          setFriction(s, sliding[s]);
+          trial[s] = start[s];
+          again.push_back(s);
+        }
       }
-    } else if (!summary.usable()) {
-      SpineSolution cold = state_.spines[which[0]].solution;
-      cold.lambda.clear();
-      SpineSolution* one = &cold;
-      SolveSummary si = solver_->solve(to_solve, {&one, 1});
-      stats_.iterations += si.iterations;
-      if (si.usable()) trial[which[0]] = std::move(cold);
-      state_.spines[which[0]].summary = si;
-    } else {
-      for (int s : which) state_.spines[s].summary = summary;
+      if (again.empty()) break;
+      ++stats_.resolves;
+      solveSpines(again, &trial);
     }
   }
 
   bool step_failed = false;
-  for (size_t s = 0; s < ns; ++s) {
+  for (int s = 0; s < ns; ++s) {
     SpineState& st = state_.spines[s];
-    const bool solved = std::find(which.begin(), which.end(), int(s)) != which.end();
+    const bool solved = std::find(which.begin(), which.end(), s) != which.end();
     if (!solved) st.summary = SolveSummary{SolveStatus::kFree, 0, ""};
     if (solved && !st.summary.usable()) {
       // Keep the last good angles (carried rigidly with the handle); report it.
@@ -132,7 +216,7 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
     } else {
       st.solution = std::move(trial[s]);
     }
-    finishSpine(static_cast<int>(s), problems[s]);
+    finishSpine(s, solved, sliding[s]);
   }
   if (step_failed) ++stats_.failed_steps;
 
@@ -144,14 +228,18 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
   // Force of the canvas on the brush (and so, through it, on the handle):
   // normal forces plus the friction forces -dE_f/dx on contact joints.
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
-  for (size_t s = 0; s < ns; ++s) {
+  for (int s = 0; s < ns; ++s) {
     const SpineState& st = state_.spines[s];
-    const SpineProblem& p = problems[s];
+    const SpineProblem& p = problems_[s];
+    Anisotropy a;
+    a.strength = p.anisotropy_strength;
+    a.exponent = p.anisotropy_exponent;
     for (size_t j = 0; j < st.contact.size(); ++j) {
       if (st.contact[j]) f.z() += st.solution.normal_force_n[j];
       if (p.friction_n[j] > 0) {
         const Eigen::Vector2d d = st.joints_mm[j + 1].head<2>() - p.anchor_xy_mm[j];
-        f.head<2>() -= p.friction_n[j] * smoothNorm(d, p.eps_mm).grad;
+        a.pull_dir = p.pull_dir[j];
+        f.head<2>() -= p.friction_n[j] * frictionTerm(d, a, p.eps_mm).grad;
       }
     }
   }
@@ -159,25 +247,29 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
   return state_;
 }
 
-void Simulation::finishSpine(int s, const SpineProblem& problem) {
+void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& sliding_before) {
   const SpineSpec& spec = brush_.spines[s];
   SpineState& st = state_.spines[s];
+  const SpineProblem& problem = problems_[s];
   const int n = spec.jointCount();
   spineEnergy(problem, st.solution.q.data(), &fk_, &st.energy, nullptr, nullptr);
   st.joints_mm = fk_.x;
+  const std::vector<bool> was_contact = st.contact;
   st.contact.assign(n, false);
   st.sliding.assign(n, false);
   st.bend_rad.resize(n);
   st.solution.normal_force_n.resize(n, 0.0);
   for (int j = 0; j < n; ++j) {
     st.bend_rad[j] = smoothedBendRad(spec, j, st.solution.q.data(), problem.eps_rad);
-    const double fn = st.solution.normal_force_n[j];
-    st.contact[j] = fn > options_.contact_threshold_n;
-    if (!st.contact[j]) st.solution.normal_force_n[j] = 0.0;
-    if (problem.friction_n[j] > 0) {
-      const double moved = (st.joints_mm[j + 1].head<2>() - problem.anchor_xy_mm[j]).norm();
-      st.sliding[j] = moved > options_.slide_threshold_mm;
+    st.contact[j] = st.solution.normal_force_n[j] > options_.contact_threshold_n;
+    if (!st.contact[j]) {
+      st.solution.normal_force_n[j] = 0.0;
+      continue;  // a fresh contact starts out sticking
     }
+    if (!solved || j >= static_cast<int>(was_contact.size()) || !was_contact[j]) continue;
+    // Hysteresis: a sliding joint keeps sliding until it nearly stops.
+    const double moved = (st.joints_mm[j + 1].head<2>() - problem.anchor_xy_mm[j]).norm();
+    st.sliding[j] = sliding_before[j] ? moved >= options_.stick_mm : moved > options_.slip_mm;
   }
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The quasi-static brush simulation (paper §3.1): each step moves the handle,
 // carries the spines rigidly with it (their joint angles unchanged), then solves
-// every spine's constrained energy minimisation at the new pose.
+// every spine's constrained energy minimisation at the new pose, with stiction
+// (§3.4.1), anisotropic friction (§3.4.2) and joint damping (§3.5).
 
 #include <memory>
 #include <vector>
@@ -18,20 +19,24 @@ struct SimOptions {
   // Canvas multipliers below this are grazing contact, not contact
   // (SOLVER-NOTES.md: grazing joints show 1e-6..3e-4 N).
   double contact_threshold_n = 1e-3;
-  // A contact joint that moved further than this over the canvas in one step
-  // slid; below it, it stuck. 10x the smoothing width, where smoothed friction
-  // has reached 99.5% of mu Fn.
-  double slide_threshold_mm = 10 * kSmoothMm;
+  // Stiction with hysteresis (§3.4.1): a sticking joint that moves further than
+  // slip_mm in a step has slipped and the step is solved again with mu_kinetic;
+  // a sliding joint that moves less than stick_mm sticks again. Smoothed
+  // friction (engine/friction.h) reaches 99.5% of mu Fn at 10x its width and 98%
+  // at 5x: a joint creeping slower than that is held, not dragged.
+  double slip_mm = 10 * kSmoothMm;
+  double stick_mm = 5 * kSmoothMm;
 };
 
 struct SpineState {
   SpineSolution solution;                  // angles, canvas forces, warm start
   std::vector<Eigen::Vector3d> joints_mm;  // n + 1 world positions, root first
   std::vector<bool> contact;               // n: joint 1..n touches the canvas
-  std::vector<bool> sliding;               // n: contact joint slid this step
+  std::vector<bool> sliding;               // n: stiction state (false = sticks)
   std::vector<double> bend_rad;            // n: smoothed bend (damping reference)
   EnergyTerms energy;
   SolveSummary summary;
+  bool anyContactFlag() const;
 };
 
 struct BrushState {
@@ -39,13 +44,15 @@ struct BrushState {
   double t_s = 0;
   Pose handle;
   std::vector<SpineState> spines;
-  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();  // canvas force on the handle
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();  // canvas force on the brush
   bool anyContact() const;
 };
 
 struct SimStats {
   int steps = 0;
   int solved_steps = 0;   // steps where at least one spine needed a solve
+  int resolves = 0;       // extra solves after a stick -> slip transition
+  int fallback_solves = 0;  // spine solves rescued by the fallback solver
   int failed_spine_solves = 0;
   int failed_steps = 0;
   long iterations = 0;
@@ -53,7 +60,9 @@ struct SimStats {
 
 class Simulation {
  public:
-  Simulation(const Brush& brush, const SimOptions& options, std::unique_ptr<SpineSolver> solver);
+  // `fallback` (optional) is tried on a spine whose solve failed with `solver`.
+  Simulation(const Brush& brush, const SimOptions& options, std::unique_ptr<SpineSolver> solver,
+             std::unique_ptr<SpineSolver> fallback = nullptr);
 
   // The brush at rest at this pose (no contact).
   void reset(const Pose& handle, double t_s);
@@ -61,6 +70,11 @@ class Simulation {
   const BrushState& step(const Pose& handle, double t_s);
 
   const BrushState& state() const { return state_; }
+  const SimStats& stats() const { return stats_; }
+  const Brush& brush() const { return brush_; }
+  // The problems of the last step, one per spine (for tests of the optimum).
+  const std::vector<SpineProblem>& lastProblems() const { return problems_; }
+
   // Save and return to a state, e.g. to redo a step in smaller pieces.
   struct Snapshot {
     BrushState state;
@@ -71,18 +85,19 @@ class Simulation {
     state_ = s.state;
     stats_ = s.stats;
   }
-  const SimStats& stats() const { return stats_; }
-  const Brush& brush() const { return brush_; }
-  SpineSolver& solver() { return *solver_; }
 
  private:
-  void finishSpine(int s, const SpineProblem& problem);
+  void buildProblem(int s, const Pose& handle);
+  void setFriction(int s, const std::vector<bool>& sliding);
+  void solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial);
+  void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
 
   const Brush& brush_;
   SimOptions options_;
-  std::unique_ptr<SpineSolver> solver_;
+  std::unique_ptr<SpineSolver> solver_, fallback_;
   BrushState state_;
   SimStats stats_;
+  std::vector<SpineProblem> problems_;
   SpineFk fk_;
 };
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/friction.h"
 #include "engine/smooth.h"
 
 namespace bristle {
@@ -80,12 +81,17 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
     }
   }
 
-  // eq. 3: mu |F_n| |dx_c| for joints that touched the canvas at the previous step.
+  // eqs. 3, 13-14: (1 - eta) mu |F_n| |dx_c| for joints that touched the canvas
+  // at the previous step.
+  Anisotropy aniso;
+  aniso.strength = p.anisotropy_strength;
+  aniso.exponent = p.anisotropy_exponent;
   for (int j = 1; j <= n; ++j) {
     const double c = p.friction_n[j - 1];
     if (c <= 0) continue;
     const Eigen::Vector2d d = fk->x[j].head<2>() - p.anchor_xy_mm[j - 1];
-    const Smooth2 sn = smoothNorm(d, p.eps_mm);
+    aniso.pull_dir = p.pull_dir.empty() ? Eigen::Vector2d::Zero() : p.pull_dir[j - 1];
+    const FrictionTerm sn = frictionTerm(d, aniso, p.eps_mm);
     e.friction_nmm += c * sn.f;
     // Only joints 0..j-1 move x_j.
     const int nvj = 2 * j;

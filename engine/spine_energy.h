@@ -2,7 +2,7 @@
 // The energy one spine minimises at every step (paper eq. 1):
 //   E = E_s + E_f + E_d
 //   E_s = sum_i K_i beta_i^2 / 2                            (eqs. 2, 12)
-//   E_f = sum_i mu F_n,i |dx_c,i|                           (eq. 3)
+//   E_f = sum_i (1 - eta_i) mu F_n,i |dx_c,i|               (eqs. 3, 13-14)
 //   E_d = sum_i D_i |d beta_i|                              (eq. 4)
 // subject to the canvas constraint z(x_i) >= 0 (eq. 5 with the canvas at z = 0).
 // |.| is smoothed (engine/smooth.h) so that Ipopt sees a C2 function.
@@ -34,6 +34,10 @@ struct SpineProblem {
   // previous step (N; 0 = no contact, no friction, eq. 3 "only joints in contact").
   std::vector<double> friction_n;
   std::vector<Eigen::Vector2d> anchor_xy_mm;  // joint positions at the previous step
+  // Per joint: d_p of eq. 14, the way a trailing hair is dragged (unit, canvas
+  // plane; zero = no preferred direction). Strength and exponent from the brush.
+  std::vector<Eigen::Vector2d> pull_dir;
+  double anisotropy_strength = 0, anisotropy_exponent = 2;
   std::vector<double> prev_bend_rad;          // smoothed beta_i at the previous step
   double eps_mm = kSmoothMm, eps_rad = kSmoothRad;
 

@@ -62,8 +62,6 @@ def s_curve():
     rows = []
     tilt = math.radians(25)
     duration = 3.2
-    prev = None
-    samples = []
     for i in range(int(duration * RATE_HZ) + 1):
         t = i / RATE_HZ
         u = smoothstep((t - 0.3) / 2.6)  # progress along the S
@@ -75,16 +73,9 @@ def s_curve():
         down = smoothstep(t / 0.3)
         lift = smoothstep((t - 2.9) / 0.3)
         z = 25 - 10 * down + 11 * lift - 6 * press * (1 - lift)
-        samples.append((t, x, y, z))
-    for k, (t, x, y, z) in enumerate(samples):
-        a = samples[max(k - 1, 0)]
-        b = samples[min(k + 1, len(samples) - 1)]
-        dx, dy = b[1] - a[1], b[2] - a[2]
-        if math.hypot(dx, dy) < 1e-6 and prev is not None:
-            q = prev
-        else:
-            q = trail_quaternion(dx if math.hypot(dx, dy) > 1e-6 else 1, dy, tilt)
-        prev = q
+        # The handle leans along the path's tangent (d/du), also before and
+        # after the motion, so that it never turns in place on the paper.
+        q = trail_quaternion(80, 16 * 2 * math.pi * math.cos(2 * math.pi * u), tilt)
         rows.append((t, x, y, z) + q)
     write("s-curve.csv",
           ["An S-curve with a round brush: press in, two heavy bends and a light",
