@@ -10,12 +10,6 @@
 
 namespace bristle {
 
-bool SpineState::anyContactFlag() const {
-  for (bool c : contact)
-    if (c) return true;
-  return false;
-}
-
 bool BrushState::anyContact() const {
   for (const SpineState& s : spines)
     for (bool c : s.contact)
@@ -25,15 +19,22 @@ bool BrushState::anyContact() const {
 
 namespace {
 
-// Passes of the stiction re-solve (§3.4.1): each pass can only move joints from
-// sticking to sliding, so it ends after at most one pass per contact joint; in
-// practice one or two.
+// Passes of the contact-set correction: each pass can only move joints from
+// sticking to sliding or from contact to lifted, so it ends after at most two
+// passes per contact joint; in practice one or two.
 constexpr int kMaxStictionPasses = 4;
 
 // A straight spine pressed straight down sits on a buckling point: the canvas
 // constraint has no gradient there. Solves start from this small bend towards
 // the brush's +y instead, so the spine always buckles the same way.
 constexpr double kBucklingNudgeRad = 1e-3;
+
+// A joint this close to the canvas rests on it (Ipopt leaves active constraints
+// at ~1e-9 mm), whatever its multiplier.
+constexpr double kTouchMm = 1e-5;
+// A contact joint the solution puts this far above the canvas has left it. Well
+// above the solver's constraint accuracy, well below anything visible.
+constexpr double kLiftedMm = 1e-3;
 
 }  // namespace
 
@@ -90,18 +91,19 @@ void Simulation::buildProblem(int s, const Pose& handle) {
     const Eigen::Vector2d towards_parent = (prev.joints_mm[j] - prev.joints_mm[j + 1]).head<2>();
     if (towards_parent.norm() > 1e-9) p.pull_dir[j] = towards_parent.normalized();
   }
-  setFriction(s, prev.sliding);
+  setFriction(s, prev.sliding, {});
 }
 
 // eq. 3 with |F_n| of the previous step, held constant during this solve, and
 // mu from each contact joint's stiction state (§3.4.1).
-void Simulation::setFriction(int s, const std::vector<bool>& sliding) {
+void Simulation::setFriction(int s, const std::vector<bool>& sliding,
+                             const std::vector<bool>& lifted) {
   const SpineState& prev = state_.spines[s];
   SpineProblem& p = problems_[s];
   const int n = static_cast<int>(prev.contact.size());
   p.friction_n.assign(n, 0.0);
   for (int j = 0; j < n; ++j) {
-    if (!prev.contact[j]) continue;
+    if (!prev.contact[j] || (!lifted.empty() && lifted[j])) continue;
     const double mu = sliding[j] ? brush_.friction.mu_kinetic : brush_.friction.mu_static;
     p.friction_n[j] = mu * prev.solution.normal_force_n[j];
   }
@@ -160,10 +162,14 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
     sliding[s] = prev.sliding;
     trial[s] = prev.solution;
     // Step 2 of §3.1: the spine moves rigidly with the handle. If it then touches
-    // nothing and did not touch before, its previous angles remain the optimum
-    // (spring and damping alone, nothing pushes it), so no solve is needed.
+    // nothing, and the canvas did not hold it in the previous step either (no
+    // joint on the canvas, not even grazing it below the contact threshold), its
+    // previous angles remain the optimum: spring and damping alone, nothing
+    // pushes it. No solve is needed, and a bent brush in the air stays as it is.
+    bool clear = true;
+    for (int j = 1; j <= spec.jointCount() && clear; ++j)
+      clear = prev.joints_mm[j].z() > kTouchMm;
     spineForwardKinematics(spec, handle, prev.solution.q.data(), 0, &fk_);
-    bool clear = !prev.anyContactFlag();
     for (int j = 1; j <= spec.jointCount() && clear; ++j) clear = fk_.x[j].z() > 0;
     if (clear) continue;
     which.push_back(s);
@@ -176,8 +182,13 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
     ++stats_.solved_steps;
     const std::vector<SpineSolution> start = trial;
     solveSpines(which, &trial);
+    // The contact set of eq. 3 comes from the previous step. Correct it:
     // §3.4.1: a sticking joint whose solution slipped switches to sliding, and
-    // the step is solved again with mu_kinetic for it.
+    // the step is solved again with mu_kinetic for it; and a joint the solution
+    // lifts off the canvas has no friction to hold it (else a brush lifting off
+    // would stay pinned by the last contact's friction).
+    std::vector<std::vector<bool>> lifted(ns);
+    for (int s : which) lifted[s].assign(sliding[s].size(), false);
     for (int pass = 0; pass < kMaxStictionPasses; ++pass) {
       std::vector<int> again;
       for (int s : which) {
@@ -185,7 +196,13 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
         spineForwardKinematics(brush_.spines[s], handle, trial[s].q.data(), 0, &fk_);
         bool changed = false;
         for (size_t j = 0; j < sliding[s].size(); ++j) {
-          if (!state_.spines[s].contact[j] || sliding[s][j]) continue;
+          if (!state_.spines[s].contact[j] || lifted[s][j]) continue;
+          if (fk_.x[j + 1].z() > kLiftedMm) {
+            lifted[s][j] = true;
+            changed = true;
+            continue;
+          }
+          if (sliding[s][j]) continue;
           const double moved = (fk_.x[j + 1].head<2>() - problems_[s].anchor_xy_mm[j]).norm();
           if (moved > options_.slip_mm) {
             sliding[s][j] = true;
@@ -193,7 +210,7 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
           }
         }
         if (changed) {
-          setFriction(s, sliding[s]);
+          setFriction(s, sliding[s], lifted[s]);
           trial[s] = start[s];
           again.push_back(s);
         }

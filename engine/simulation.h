@@ -36,7 +36,6 @@ struct SpineState {
   std::vector<double> bend_rad;            // n: smoothed bend (damping reference)
   EnergyTerms energy;
   SolveSummary summary;
-  bool anyContactFlag() const;
 };
 
 struct BrushState {
@@ -88,7 +87,7 @@ class Simulation {
 
  private:
   void buildProblem(int s, const Pose& handle);
-  void setFriction(int s, const std::vector<bool>& sliding);
+  void setFriction(int s, const std::vector<bool>& sliding, const std::vector<bool>& lifted);
   void solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial);
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
 

@@ -1,0 +1,777 @@
+// Input validation of the brush JSON (`bristle-brush/1`) and trajectory CSV
+// (`bristle-trajectory/1`) readers: every bad input throws bristle::Error with
+// the sysexits code of ARCHITECTURE.md and a one-line message that names the
+// file, the field (JSON pointer, or CSV line and column) and the broken rule.
+
+#include <stdlib.h>  // mkdtemp
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "engine/brush.h"
+#include "engine/error.h"
+#include "engine/trajectory.h"
+
+using namespace bristle;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSourceDir = fs::path(__FILE__).parent_path().parent_path();
+
+struct Caught {
+  bool thrown = false;
+  int code = 0;
+  std::string message;
+};
+
+template <class F>
+Caught catchError(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return {true, static_cast<int>(e.code()), e.what()};
+  }
+  return {};
+}
+
+}  // namespace
+
+// Runs expr, which must throw bristle::Error with the given code and a single-line
+// message that starts with "file: " and contains every further argument.
+#define CHECK_READER_ERROR(expr, expected_code, file, ...)                            \
+  do {                                                                                \
+    const Caught caught_ = catchError([&] { (void)(expr); });                         \
+    INFO("message: " << caught_.message);                                             \
+    REQUIRE(caught_.thrown);                                                          \
+    CHECK(caught_.code == static_cast<int>(expected_code));                           \
+    CHECK_THAT(caught_.message, StartsWith(std::string(file) + ": "));                \
+    CHECK(caught_.message.find('\n') == std::string::npos);                           \
+    for (const std::string& part_ : std::vector<std::string>{__VA_ARGS__})            \
+      CHECK_THAT(caught_.message, Contains(part_));                                   \
+  } while (false)
+
+#define CHECK_BRUSH_ERROR(text, ...)                                                  \
+  CHECK_READER_ERROR(parseBrush(text, "brush.json"), ExitCode::kDataError, "brush.json", \
+                     __VA_ARGS__)
+#define CHECK_TRAJ_ERROR(text, ...) \
+  CHECK_READER_ERROR(parseTrajectory(text, "t.csv"), ExitCode::kDataError, "t.csv", __VA_ARGS__)
+
+namespace {
+
+// A small valid brush that uses every optional block.
+const char* const kBrush = R"({
+  "format": "bristle-brush/1",
+  "name": "test",
+  "description": "two spines",
+  "spines": [
+    {"root_mm": [0, 0, 0], "segment_lengths_mm": [5, 4], "stiffness_nmm_per_rad": [8, 6],
+     "damping_nmm": [0.01, 0.02], "rest_angles_rad": [[0, 0], [0.1, -0.1]],
+     "width_mm": [2, 1.5, 0.5]},
+    {"root_mm": [1, 0, -0.5], "segment_lengths_mm": [5, 4], "stiffness_nmm_per_rad": [8, 6],
+     "width_mm": [2, 1.5, 0]}
+  ],
+  "friction": {"mu_static": 0.5, "mu_kinetic": 0.4,
+               "anisotropy": {"strength": 0.3, "exponent": 3}},
+  "paint": {"capacity": 1.5}
+})";
+
+// kBrush with the value at a JSON pointer replaced (or added).
+std::string brushWith(const std::string& pointer, const nlohmann::json& value) {
+  nlohmann::json doc = nlohmann::json::parse(kBrush);
+  doc[nlohmann::json::json_pointer(pointer)] = value;
+  return doc.dump(2);
+}
+
+// kBrush with raw JSON text (e.g. a number literal nlohmann cannot hold) at a pointer.
+std::string brushWithRaw(const std::string& pointer, const std::string& raw) {
+  std::string text = brushWith(pointer, "@RAW@");
+  const size_t at = text.find("\"@RAW@\"");
+  return text.replace(at, 7, raw);
+}
+
+// kBrush without the key at a JSON pointer.
+std::string brushWithout(const std::string& pointer) {
+  nlohmann::json doc = nlohmann::json::parse(kBrush);
+  const nlohmann::json::json_pointer p(pointer);
+  doc[p.parent_pointer()].erase(p.back());
+  return doc.dump(2);
+}
+
+// Spine 0 of kBrush resized to n joints, all arrays consistent.
+std::string brushWithJoints(size_t n) {
+  nlohmann::json doc = nlohmann::json::parse(kBrush);
+  nlohmann::json& s = doc["spines"][0];
+  s["segment_lengths_mm"] = std::vector<double>(n, 1.0);
+  s["stiffness_nmm_per_rad"] = std::vector<double>(n, 5.0);
+  s["damping_nmm"] = std::vector<double>(n, 0.0);
+  s["rest_angles_rad"] = std::vector<std::vector<double>>(n, {0.0, 0.0});
+  s["width_mm"] = std::vector<double>(n + 1, 1.0);
+  return doc.dump();
+}
+
+std::string brushWithSpines(size_t n) {
+  nlohmann::json doc = nlohmann::json::parse(kBrush);
+  doc["spines"] = std::vector<nlohmann::json>(n, doc["spines"][1]);
+  return doc.dump();
+}
+
+// A valid trajectory: line 1 format, line 2 header, lines 3-5 samples.
+const char* const kTraj =
+    "# bristle-trajectory/1\n"
+    "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+    "0,0,0,10,1,0,0,0\n"
+    "0.5,10,0,10,1,0,0,0\n"
+    "1,20,0,10,1,0,0,0\n";
+
+// "# bristle-trajectory/1", the header on line 2, then the rows from line 3.
+std::string traj(const std::string& header, const std::vector<std::string>& rows) {
+  std::string text = "# bristle-trajectory/1\n" + header + "\n";
+  for (const std::string& r : rows) text += r + "\n";
+  return text;
+}
+const std::string kHeader = "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz";
+
+// A fresh directory under the system temp dir, removed at scope exit.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "bristle-readers-XXXXXX").string();
+    REQUIRE(mkdtemp(tmpl.data()) != nullptr);
+    path = tmpl;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path / name, std::ios::binary) << text;
+    return file(name);
+  }
+};
+
+// Quaternions in the CSVs below carry 8 decimals; the angles they give are
+// exact to ~1e-8 rad.
+constexpr double kAngleTolRad = 1e-7;
+constexpr double kTolMm = 1e-12;  // lerp of small integers is exact to rounding
+
+}  // namespace
+
+// ---------------------------------------------------------------- brush: good input
+
+TEST_CASE("round.json parses with the values in the file", "[readers]") {
+  const Brush b = loadBrush((kSourceDir / "scenes/brushes/round.json").string());
+  CHECK(b.name == "round");
+  CHECK_THAT(b.description, StartsWith("Round, size 8"));
+  REQUIRE(b.spines.size() == 7);
+  for (const SpineSpec& s : b.spines) {
+    REQUIRE(s.jointCount() == 4);
+    CHECK(s.segment_lengths_mm == std::vector<double>{6.0, 5.5, 5.0, 3.5});
+    CHECK(s.stiffness_nmm_per_rad == std::vector<double>{10.0, 8.0, 6.5, 5.0});
+    CHECK(s.damping_nmm == std::vector<double>{0.008, 0.006, 0.005, 0.004});
+    CHECK(s.rest_angles_rad.size() == 4);
+    CHECK(s.width_mm.size() == 5);
+    CHECK(s.lengthMm() == Approx(20.0));
+  }
+  CHECK(b.spines[0].root_mm == Eigen::Vector3d(0, 0, 0));
+  CHECK(b.spines[0].rest_angles_rad[0] == Eigen::Vector2d(0.03, 0.0));
+  CHECK(b.spines[0].width_mm == std::vector<double>{3.2, 3.6, 3.2, 2.4, 0.8});
+  CHECK(b.spines[1].root_mm == Eigen::Vector3d(1.4722, 0.85, 0));
+  CHECK(b.spines[1].rest_angles_rad[2] == Eigen::Vector2d(-0.1, 0.1732));
+  CHECK(b.spines[3].root_mm == Eigen::Vector3d(-1.4722, 0.85, 0));
+  CHECK(b.spines[6].rest_angles_rad[3] == Eigen::Vector2d(0.06, 0.1039));
+  CHECK(b.spines[6].width_mm == std::vector<double>{2.4, 2.8, 2.5, 1.8, 0.5});
+  CHECK(b.friction.mu_static == 0.45);
+  CHECK(b.friction.mu_kinetic == 0.35);
+  CHECK(b.friction.anisotropy_strength == 0.0);  // defaults: no anisotropy block
+  CHECK(b.friction.anisotropy_exponent == 2.0);
+  CHECK(b.paint_capacity == 1.0);
+  CHECK(b.reachMm() == Approx(21.7).margin(1e-3));  // spine 2: |root| = 1.7 mm
+}
+
+TEST_CASE("a brush with every optional block parses; omitted fields take defaults",
+          "[readers]") {
+  const Brush b = parseBrush(kBrush, "brush.json");
+  CHECK(b.path == "brush.json");
+  CHECK(b.description == "two spines");
+  REQUIRE(b.spines.size() == 2);
+  CHECK(b.spines[0].damping_nmm == std::vector<double>{0.01, 0.02});
+  CHECK(b.spines[0].rest_angles_rad[1] == Eigen::Vector2d(0.1, -0.1));
+  CHECK(b.spines[1].root_mm == Eigen::Vector3d(1, 0, -0.5));
+  CHECK(b.spines[1].damping_nmm == std::vector<double>{0, 0});
+  CHECK(b.spines[1].rest_angles_rad[1] == Eigen::Vector2d::Zero());
+  CHECK(b.spines[1].width_mm == std::vector<double>{2, 1.5, 0});  // tip width 0 is fine
+  CHECK(b.friction.mu_static == 0.5);
+  CHECK(b.friction.mu_kinetic == 0.4);
+  CHECK(b.friction.anisotropy_strength == 0.3);
+  CHECK(b.friction.anisotropy_exponent == 3.0);
+  CHECK(b.paint_capacity == 1.5);
+
+  const Brush minimal = parseBrush(
+      R"({"format": "bristle-brush/1", "name": "m", "spines": [{"root_mm": [0, 0, 0],
+          "segment_lengths_mm": [3], "stiffness_nmm_per_rad": [1], "width_mm": [1, 1]}]})",
+      "m.json");
+  CHECK(minimal.description.empty());
+  CHECK(minimal.friction.mu_static == FrictionSpec{}.mu_static);
+  CHECK(minimal.friction.mu_kinetic == FrictionSpec{}.mu_kinetic);
+  CHECK(minimal.paint_capacity == 1.0);
+
+  // mu_kinetic defaults to mu_static; the anisotropy exponent to 2.
+  const Brush f = parseBrush(brushWith("/friction", {{"mu_static", 0.7},
+                                                     {"anisotropy", {{"strength", 1}}}}),
+                             "brush.json");
+  CHECK(f.friction.mu_kinetic == 0.7);
+  CHECK(f.friction.anisotropy_strength == 1.0);
+  CHECK(f.friction.anisotropy_exponent == 2.0);
+}
+
+TEST_CASE("brush limits are inclusive: 64 spines and 16 joints parse", "[readers]") {
+  CHECK(parseBrush(brushWithSpines(kMaxSpines), "brush.json").spines.size() == 64);
+  CHECK(parseBrush(brushWithJoints(kMaxJointsPerSpine), "brush.json").spines[0].jointCount() ==
+        16);
+  CHECK(parseBrush(brushWithJoints(1), "brush.json").spines[0].jointCount() == 1);
+}
+
+// ---------------------------------------------------------------- files
+
+TEST_CASE("a missing file or a directory is 66 naming the path", "[readers]") {
+  const TempDir dir;
+  const std::string missing_brush = dir.file("no-such-brush.json");
+  const std::string missing_traj = dir.file("no-such.csv");
+  CHECK_READER_ERROR(loadBrush(missing_brush), ExitCode::kNoInput, missing_brush,
+                     "No such file");
+  CHECK_READER_ERROR(loadTrajectory(missing_traj), ExitCode::kNoInput, missing_traj,
+                     "No such file");
+  CHECK_READER_ERROR(loadBrush(dir.path.string()), ExitCode::kNoInput, dir.path.string(),
+                     "directory");
+  CHECK_READER_ERROR(loadTrajectory(dir.path.string()), ExitCode::kNoInput, dir.path.string(),
+                     "directory");
+  const std::string in_missing_dir = dir.file("nodir/brush.json");
+  CHECK_READER_ERROR(loadBrush(in_missing_dir), ExitCode::kNoInput, in_missing_dir);
+}
+
+TEST_CASE("files on disk: good ones load, bad data is 65 naming the path", "[readers]") {
+  const TempDir dir;
+  const std::string brush = dir.write("b.json", kBrush);
+  CHECK(loadBrush(brush).path == brush);
+  const std::string t = dir.write("t.csv", kTraj);
+  CHECK(loadTrajectory(t).path == t);
+
+  const std::string empty = dir.write("empty.json", "");
+  CHECK_READER_ERROR(loadBrush(empty), ExitCode::kDataError, empty, "line 1, column 1",
+                     "malformed JSON");
+  const std::string empty_csv = dir.write("empty.csv", "");
+  CHECK_READER_ERROR(loadTrajectory(empty_csv), ExitCode::kDataError, empty_csv, "line 1");
+}
+
+// ---------------------------------------------------------------- brush: JSON syntax
+
+TEST_CASE("malformed JSON is 65 with the line and column of the error", "[readers]") {
+  // Columns are 1-based and count bytes; each points at the character where
+  // the parser noticed the error.
+  SECTION("trailing comma in an array") {
+    CHECK_BRUSH_ERROR("{\n"
+                      "  \"format\": \"bristle-brush/1\",\n"
+                      "  \"spines\": [1, 2,]\n"
+                      "}",
+                      "brush.json: line 3, column 19: malformed JSON");
+  }
+  SECTION("trailing comma in an object") {
+    CHECK_BRUSH_ERROR("{\n  \"a\": 1,\n}", "line 3, column 1", "malformed JSON");
+  }
+  SECTION("invalid literal") {
+    CHECK_BRUSH_ERROR("{\n"
+                      "  \"format\": \"bristle-brush/1\",\n"
+                      "  \"name\": tru,\n"
+                      "  \"spines\": []\n"
+                      "}",
+                      "line 3, column 14", "invalid literal");
+  }
+  SECTION("NaN and Infinity are not JSON") {
+    CHECK_BRUSH_ERROR("{\n"
+                      "  \"friction\": {\n"
+                      "    \"mu_static\": NaN\n"
+                      "  }\n"
+                      "}",
+                      "line 3, column 18", "malformed JSON");
+    CHECK_BRUSH_ERROR("{\n"
+                      "  \"friction\": {\n"
+                      "    \"mu_static\": -Infinity\n"
+                      "  }\n"
+                      "}",
+                      "line 3, column 19", "malformed JSON");
+  }
+  SECTION("raw newline inside a string") {
+    CHECK_BRUSH_ERROR("{\n  \"name\": \"ab\ncd\"\n}", "line 2, column 14", "control character");
+  }
+  SECTION("missing comma between members is reported on the line of the next member") {
+    CHECK_BRUSH_ERROR("{\n"
+                      "  \"format\": \"bristle-brush/1\"\n"
+                      "  \"name\": \"x\"\n"
+                      "}",
+                      "brush.json: line 3, column ", "malformed JSON");
+  }
+  SECTION("unexpected end of input points just past the end") {
+    CHECK_BRUSH_ERROR("{\n  \"spines\": [1, 2\n", "line 3, column 1", "end of input");
+    CHECK_BRUSH_ERROR("{\"a\": 1", "line 1, column 8", "end of input");
+  }
+  SECTION("text after the document") {
+    CHECK_BRUSH_ERROR("{}\n]", "line 2, column 1", "malformed JSON");
+  }
+  SECTION("empty text") { CHECK_BRUSH_ERROR("", "line 1, column 1", "malformed JSON"); }
+  SECTION("a document that is not an object") {
+    CHECK_BRUSH_ERROR("[1, 2]", "brush.json: /: must be a JSON object");
+    CHECK_BRUSH_ERROR("\"bristle-brush/1\"", "brush.json: /: must be a JSON object");
+  }
+}
+
+TEST_CASE("numbers beyond double range (1e999) are 65 with line and column", "[readers]") {
+  // nlohmann refuses them with out_of_range 406 (not a parse_error); the reader
+  // must still report 65 with a position, and not mistake a string for the number.
+  const std::string head = "{\n"
+                           "  \"format\": \"bristle-brush/1\",\n"
+                           "  \"name\": \"1e999\",\n"
+                           "  \"friction\": {\n";
+  CHECK_BRUSH_ERROR(head + "    \"mu_static\": 1e999\n  }\n}", "line 5, column 18", "1e999",
+                    "out of range");
+  CHECK_BRUSH_ERROR(head + "    \"mu_static\": -1e999\n  }\n}", "line 5, column 18", "-1e999");
+  CHECK_BRUSH_ERROR(head + "    \"mu_static\": 0.5, \"mu_kinetic\": 1E400\n  }\n}",
+                    "line 5, column 37", "1E400");
+  CHECK_BRUSH_ERROR("{\n"
+                    "  \"spines\": [\n"
+                    "    {\"segment_lengths_mm\": [5, 1e999]}\n"
+                    "  ]\n"
+                    "}",
+                    "line 3, column 32");
+  CHECK_BRUSH_ERROR(brushWithRaw("/spines/1/rest_angles_rad", "[[0, 0], [1e999, 0]]"),
+                    "out of range");
+  CHECK_BRUSH_ERROR(brushWithRaw("/paint/capacity", "1e309"), "1e309", "out of range");
+  // Underflow is not an error: it reads as 0 (and 0 is then checked by the rules).
+  CHECK_BRUSH_ERROR(brushWithRaw("/paint/capacity", "1e-999"), "/paint/capacity", "> 0");
+  // The largest doubles are finite and fine where the rules allow them.
+  CHECK(parseBrush(brushWithRaw("/paint/capacity", "1.7e308"), "brush.json").paint_capacity ==
+        1.7e308);
+}
+
+// ---------------------------------------------------------------- brush: keys
+
+TEST_CASE("format version: missing or unknown is 65 naming it", "[readers]") {
+  CHECK_BRUSH_ERROR(brushWithout("/format"), "brush.json: /format: required key is missing");
+  CHECK_BRUSH_ERROR(brushWith("/format", "bristle-brush/2"), "/format", "\"bristle-brush/2\"",
+                    "unknown format version");
+  CHECK_BRUSH_ERROR(brushWith("/format", "bristle-scene/1"), "/format", "bristle-scene/1",
+                    "unknown format version");
+  CHECK_BRUSH_ERROR(brushWith("/format", "bristle-brush/1 "), "/format",
+                    "unknown format version");
+  CHECK_BRUSH_ERROR(brushWith("/format", 1), "/format", "must be a string");
+}
+
+TEST_CASE("unknown keys anywhere in a brush are 65 naming pointer and key", "[readers]") {
+  CHECK_BRUSH_ERROR(brushWith("/colour", "red"), "brush.json: /colour: unknown key 'colour'");
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/colour", 1), "/spines/1/colour", "unknown key 'colour'");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/stiffness", {1, 2}), "/spines/0/stiffness",
+                    "unknown key 'stiffness'");
+  CHECK_BRUSH_ERROR(brushWith("/friction/mu", 0.1), "/friction/mu", "unknown key 'mu'");
+  CHECK_BRUSH_ERROR(brushWith("/friction/anisotropy/k", 2), "/friction/anisotropy/k",
+                    "unknown key 'k'");
+  CHECK_BRUSH_ERROR(brushWith("/paint/colour", "red"), "/paint/colour", "unknown key 'colour'");
+  // Keys that need escaping: '/' becomes ~1 in the pointer, a newline must not
+  // split the one-line message.
+  CHECK_BRUSH_ERROR(brushWith("/a~1b", 1), "/a~1b", "unknown key 'a/b'");
+  CHECK_BRUSH_ERROR(brushWith("/line\nbreak", 1), "/line\\u000abreak",
+                    "unknown key 'line\\u000abreak'");
+  // Keys are case-sensitive.
+  CHECK_BRUSH_ERROR(brushWith("/Name", "x"), "/Name", "unknown key 'Name'");
+}
+
+TEST_CASE("required brush keys are 65 naming the missing pointer", "[readers]") {
+  for (const char* p : {"/name", "/spines", "/spines/0/root_mm", "/spines/1/segment_lengths_mm",
+                        "/spines/0/stiffness_nmm_per_rad", "/spines/1/width_mm",
+                        "/friction/mu_static", "/friction/anisotropy/strength"}) {
+    INFO(p);
+    CHECK_BRUSH_ERROR(brushWithout(p), std::string(p) + ": required key is missing");
+  }
+  // Optional ones may go.
+  for (const char* p : {"/description", "/friction", "/paint", "/paint/capacity",
+                        "/friction/mu_kinetic", "/friction/anisotropy",
+                        "/friction/anisotropy/exponent", "/spines/0/damping_nmm",
+                        "/spines/0/rest_angles_rad"}) {
+    INFO(p);
+    CHECK_NOTHROW(parseBrush(brushWithout(p), "brush.json"));
+  }
+}
+
+TEST_CASE("wrong JSON types are 65 naming the pointer", "[readers]") {
+  CHECK_BRUSH_ERROR(brushWith("/name", 7), "/name", "must be a string");
+  CHECK_BRUSH_ERROR(brushWith("/name", ""), "/name", "must not be empty");
+  CHECK_BRUSH_ERROR(brushWith("/description", nullptr), "/description", "must be a string");
+  CHECK_BRUSH_ERROR(brushWith("/spines", nlohmann::json::object()), "/spines",
+                    "must be an array of objects");
+  CHECK_BRUSH_ERROR(brushWith("/spines/1", 3), "brush.json: /spines/1: must be a JSON object");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/segment_lengths_mm/1", "4"),
+                    "/spines/0/segment_lengths_mm/1", "must be a number");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/stiffness_nmm_per_rad", 8),
+                    "/spines/0/stiffness_nmm_per_rad", "must be an array of numbers");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/root_mm/2", nullptr), "/spines/0/root_mm/2",
+                    "must be a number");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/rest_angles_rad/1/0", true),
+                    "/spines/0/rest_angles_rad/1", "[theta, phi]");
+  CHECK_BRUSH_ERROR(brushWith("/friction", 0.4), "/friction", "must be a JSON object");
+  CHECK_BRUSH_ERROR(brushWith("/friction/anisotropy", nlohmann::json::array()),
+                    "/friction/anisotropy", "must be a JSON object");
+  CHECK_BRUSH_ERROR(brushWith("/friction/mu_static", "0.4"), "/friction/mu_static",
+                    "must be a number");
+  CHECK_BRUSH_ERROR(brushWith("/paint/capacity", true), "/paint/capacity", "must be a number");
+}
+
+// ---------------------------------------------------------------- brush: values
+
+TEST_CASE("non-positive lengths and stiffness, negative damping are 65 naming the element",
+          "[readers]") {
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/segment_lengths_mm/0", -3),
+                    "brush.json: /spines/1/segment_lengths_mm/0 = -3", "must be > 0");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/segment_lengths_mm/1", 0),
+                    "/spines/0/segment_lengths_mm/1 = 0", "must be > 0");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/stiffness_nmm_per_rad/1", 0),
+                    "/spines/0/stiffness_nmm_per_rad/1", "must be > 0");
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/stiffness_nmm_per_rad/0", -8),
+                    "/spines/1/stiffness_nmm_per_rad/0", "must be > 0");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/damping_nmm/1", -0.01), "/spines/0/damping_nmm/1",
+                    "must be >= 0");
+  CHECK_NOTHROW(parseBrush(brushWith("/spines/0/damping_nmm/1", 0), "brush.json"));
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/width_mm/2", -0.5), "/spines/0/width_mm/2",
+                    "must be >= 0");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/width_mm/0", 0), "/spines/0/width_mm",
+                    "root width must be > 0");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/rest_angles_rad/1/1", 1.3),
+                    "/spines/0/rest_angles_rad/1/1", "1.2 rad");
+  CHECK_NOTHROW(parseBrush(brushWith("/spines/0/rest_angles_rad/1/1", -1.2), "brush.json"));
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/root_mm/2", 0.5), "/spines/1/root_mm/2", "z <= 0");
+  CHECK_BRUSH_ERROR(brushWith("/paint/capacity", 0), "/paint/capacity", "must be > 0");
+}
+
+TEST_CASE("wrong array lengths are 65 naming the array", "[readers]") {
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/root_mm", {0, 0}), "/spines/0/root_mm", "[x, y, z]");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/root_mm", {0, 0, 0, 0}), "/spines/0/root_mm");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/segment_lengths_mm", nlohmann::json::array()),
+                    "/spines/0/segment_lengths_mm", "1..16 segments");
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/stiffness_nmm_per_rad", {8, 6, 4}),
+                    "/spines/1/stiffness_nmm_per_rad", "must have 2 entries");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/stiffness_nmm_per_rad", {8}),
+                    "/spines/0/stiffness_nmm_per_rad", "must have 2 entries");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/damping_nmm", {0.01}), "/spines/0/damping_nmm",
+                    "must have 2 entries");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/width_mm", {2, 1}), "/spines/0/width_mm",
+                    "must have 3 entries");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/rest_angles_rad", {{0, 0}}),
+                    "/spines/0/rest_angles_rad", "2 [theta, phi] pairs");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/rest_angles_rad/1", {0.1, 0.1, 0.1}),
+                    "/spines/0/rest_angles_rad/1", "[theta, phi]");
+}
+
+TEST_CASE("spine and joint counts outside the limits are 65", "[readers]") {
+  CHECK_BRUSH_ERROR(brushWith("/spines", nlohmann::json::array()), "brush.json: /spines",
+                    "1..64 spines");
+  CHECK_BRUSH_ERROR(brushWithSpines(kMaxSpines + 1), "brush.json: /spines", "1..64 spines");
+  CHECK_BRUSH_ERROR(brushWithJoints(kMaxJointsPerSpine + 1), "/spines/0/segment_lengths_mm",
+                    "1..16 segments");
+}
+
+TEST_CASE("friction out of range is 65 naming the field", "[readers]") {
+  CHECK_BRUSH_ERROR(brushWith("/friction/mu_static", -0.1), "/friction/mu_static",
+                    "must be in [0, 2]");
+  CHECK_BRUSH_ERROR(brushWith("/friction/mu_static", 2.01), "/friction/mu_static",
+                    "must be in [0, 2]");
+  CHECK_BRUSH_ERROR(brushWith("/friction/mu_kinetic", -0.1), "/friction/mu_kinetic",
+                    "must be in [0, 2]");
+  CHECK_BRUSH_ERROR(brushWith("/friction/mu_kinetic", 0.6), "/friction/mu_kinetic = 0.6",
+                    "must not exceed mu_static");
+  CHECK_BRUSH_ERROR(brushWith("/friction/anisotropy/strength", -0.01),
+                    "/friction/anisotropy/strength", "must be in [0, 1]");
+  CHECK_BRUSH_ERROR(brushWith("/friction/anisotropy/strength", 1.01),
+                    "/friction/anisotropy/strength", "must be in [0, 1]");
+  CHECK_BRUSH_ERROR(brushWith("/friction/anisotropy/exponent", 0.99),
+                    "/friction/anisotropy/exponent", "must be >= 1");
+  // The bounds themselves are allowed.
+  const Brush lo = parseBrush(brushWith("/friction", {{"mu_static", 0}, {"mu_kinetic", 0},
+                                                      {"anisotropy", {{"strength", 0},
+                                                                      {"exponent", 1}}}}),
+                              "brush.json");
+  CHECK(lo.friction.mu_static == 0);
+  CHECK(lo.friction.anisotropy_exponent == 1);
+  const Brush hi = parseBrush(brushWith("/friction", {{"mu_static", 2}, {"mu_kinetic", 2},
+                                                      {"anisotropy", {{"strength", 1}}}}),
+                              "brush.json");
+  CHECK(hi.friction.mu_kinetic == 2);
+  CHECK(hi.friction.anisotropy_strength == 1);
+}
+
+// ---------------------------------------------------------------- trajectory: good input
+
+TEST_CASE("every trajectory in scenes/trajectories parses", "[readers]") {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(kSourceDir / "scenes/trajectories")) {
+    if (entry.path().extension() != ".csv") continue;
+    ++count;
+    INFO(entry.path().string());
+    const Trajectory t = loadTrajectory(entry.path().string());
+    REQUIRE(t.samples.size() >= 2);
+    CHECK(t.samples.front().line > 1);
+    for (size_t i = 0; i < t.samples.size(); ++i) {
+      CHECK(t.samples[i].pose.rotation.norm() == Approx(1.0).epsilon(1e-12));
+      if (i > 0) CHECK(t.samples[i].t_s > t.samples[i - 1].t_s);
+    }
+  }
+  CHECK(count >= 3);
+}
+
+TEST_CASE("comments, blank lines, CRLF and spaces around cells are allowed", "[readers]") {
+  const std::string text =
+      "# bristle-trajectory/1\r\n"   // 1
+      "\r\n"                         // 2
+      "# made by hand\r\n"           // 3
+      "t_s, x_mm ,y_mm,z_mm,qw,qx,qy,qz\r\n"  // 4
+      "   # an indented comment\r\n"          // 5
+      "0,0,0,10,1,0,0,0\r\n"                  // 6
+      "\r\n"                                  // 7
+      "\t\r\n"                                // 8
+      "# between samples\r\n"                 // 9
+      " 0.5 , 10 ,0,10, 1 ,0,0,0\r\n"         // 10
+      "# trailing comment";                   // 11, no final newline
+  const Trajectory t = parseTrajectory(text, "t.csv");
+  REQUIRE(t.samples.size() == 2);
+  CHECK(t.samples[0].line == 6);
+  CHECK(t.samples[1].line == 10);
+  CHECK(t.samples[1].t_s == 0.5);
+  CHECK(t.samples[1].pose.position_mm == Eigen::Vector3d(10, 0, 10));
+  CHECK(t.startTime() == 0.0);
+  CHECK(t.endTime() == 0.5);
+}
+
+TEST_CASE("quaternions are normalised on read", "[readers]") {
+  const Trajectory t = parseTrajectory(traj(kHeader, {"0,0,0,0,2,0,0,0", "1,0,0,0,1,1,0,0",
+                                                      "2,0,0,0,0.001,0,0,0",
+                                                      "3,0,0,0,0,0,-3,4"}),
+                                       "t.csv");
+  REQUIRE(t.samples.size() == 4);
+  for (const TrajectorySample& s : t.samples) CHECK(s.pose.rotation.norm() == Approx(1.0));
+  CHECK(t.samples[0].pose.rotation.w() == Approx(1.0));
+  CHECK(t.samples[1].pose.rotation.w() == Approx(std::sqrt(0.5)));
+  CHECK(t.samples[1].pose.rotation.x() == Approx(std::sqrt(0.5)));
+  CHECK(t.samples[2].pose.rotation.w() == Approx(1.0));  // tiny but not near zero
+  CHECK(t.samples[3].pose.rotation.y() == Approx(-0.6));
+  CHECK(t.samples[3].pose.rotation.z() == Approx(0.8));
+}
+
+TEST_CASE("optional columns buttons and fx_n,fy_n,fz_n parse, in any column order",
+          "[readers]") {
+  const Trajectory plain = parseTrajectory(kTraj, "t.csv");
+  CHECK(plain.samples[1].buttons == 0);
+  CHECK_FALSE(plain.samples[1].force_n.has_value());
+
+  const Trajectory rec = parseTrajectory(
+      traj(kHeader + ",buttons,fx_n,fy_n,fz_n",
+           {"0,0,0,10,1,0,0,0,0,0,0,0", "0.001,0.5,0,9.5,1,0,0,0,3,0.1,-0.2,1.5"}),
+      "t.csv");
+  REQUIRE(rec.samples.size() == 2);
+  CHECK(rec.samples[1].buttons == 3);
+  REQUIRE(rec.samples[1].force_n.has_value());
+  CHECK(*rec.samples[1].force_n == Eigen::Vector3d(0.1, -0.2, 1.5));
+
+  const Trajectory shuffled = parseTrajectory(
+      traj("fz_n,qz,buttons,qy,z_mm,fx_n,qx,y_mm,t_s,qw,fy_n,x_mm",
+           {"1,0,1,0,3,4,0,2,0,1,5,1", "1,0,65535,0,6,4,0,5,2,1,5,4"}),
+      "t.csv");
+  REQUIRE(shuffled.samples.size() == 2);
+  CHECK(shuffled.samples[1].t_s == 2.0);
+  CHECK(shuffled.samples[1].pose.position_mm == Eigen::Vector3d(4, 5, 6));
+  CHECK(shuffled.samples[1].buttons == 65535);
+  CHECK(*shuffled.samples[0].force_n == Eigen::Vector3d(4, 5, 1));
+}
+
+TEST_CASE("poseAt lerps position, slerps rotation and clamps outside the span", "[readers]") {
+  // Start upright at (0,0,10); end 1 s later at (20,0,10) turned 90 deg about z.
+  const Trajectory t = parseTrajectory(
+      traj(kHeader, {"0,0,0,10,1,0,0,0", "1,20,0,10,0.70710678,0,0,0.70710678",
+                     "3,20,40,0,0.70710678,0,0,0.70710678"}),
+      "t.csv");
+  const Eigen::Quaterniond start = t.samples[0].pose.rotation;
+  const Eigen::Quaterniond end = t.samples[1].pose.rotation;
+  const double quarter_turn = std::numbers::pi / 2;
+
+  const Pose mid = t.poseAt(0.5);
+  CHECK((mid.position_mm - Eigen::Vector3d(10, 0, 10)).norm() < kTolMm);
+  CHECK(rotationAngleRad(start, mid.rotation) == Approx(quarter_turn / 2).margin(kAngleTolRad));
+  CHECK(rotationAngleRad(mid.rotation, end) == Approx(quarter_turn / 2).margin(kAngleTolRad));
+  // The midpoint turns about z: it maps x to (cos 45, sin 45, 0).
+  const Eigen::Vector3d x_mid = mid.rotation * Eigen::Vector3d::UnitX();
+  CHECK((x_mid - Eigen::Vector3d(std::sqrt(0.5), std::sqrt(0.5), 0)).norm() < kAngleTolRad);
+
+  const Pose q1 = t.poseAt(0.25);
+  CHECK((q1.position_mm - Eigen::Vector3d(5, 0, 10)).norm() < kTolMm);
+  CHECK(rotationAngleRad(start, q1.rotation) == Approx(quarter_turn / 4).margin(kAngleTolRad));
+
+  // Second segment: pure translation over 2 s.
+  const Pose p2 = t.poseAt(2.0);
+  CHECK((p2.position_mm - Eigen::Vector3d(20, 20, 5)).norm() < kTolMm);
+  CHECK(rotationAngleRad(p2.rotation, end) < kAngleTolRad);
+  CHECK(t.segmentAt(0.5) == 0);
+  CHECK(t.segmentAt(1.0) == 1);
+  CHECK(t.segmentAt(2.0) == 1);
+
+  // Clamped outside [0, 3] s, exact at the samples.
+  CHECK(t.poseAt(-5).position_mm == t.samples[0].pose.position_mm);
+  CHECK(rotationAngleRad(t.poseAt(-5).rotation, start) == 0);
+  CHECK(t.poseAt(99).position_mm == t.samples[2].pose.position_mm);
+  CHECK(t.poseAt(3).position_mm == Eigen::Vector3d(20, 40, 0));
+  CHECK((t.poseAt(1).position_mm - Eigen::Vector3d(20, 0, 10)).norm() < kTolMm);
+  CHECK(t.segmentAt(-5) == 0);
+  CHECK(t.segmentAt(99) == 1);
+}
+
+TEST_CASE("poseAt slerps along the shortest path when the quaternion sign flips",
+          "[readers]") {
+  // q and -q are the same rotation; the midpoint must still be 45 deg, not 135.
+  const Trajectory t = parseTrajectory(
+      traj(kHeader, {"0,0,0,0,1,0,0,0", "1,0,0,0,-0.70710678,0,0,-0.70710678"}), "t.csv");
+  const Pose mid = t.poseAt(0.5);
+  CHECK(rotationAngleRad(t.samples[0].pose.rotation, mid.rotation) ==
+        Approx(std::numbers::pi / 4).margin(kAngleTolRad));
+}
+
+// ---------------------------------------------------------------- trajectory: bad input
+
+TEST_CASE("trajectory format line: missing or unknown version is 65 naming it", "[readers]") {
+  const std::string rows = "0,0,0,10,1,0,0,0\n1,0,0,10,1,0,0,0\n";
+  CHECK_TRAJ_ERROR(kHeader + "\n" + rows, "t.csv: line 1",
+                   "first line must be '# bristle-trajectory/1'");
+  CHECK_TRAJ_ERROR("# bristle-trajectory/2\n" + kHeader + "\n" + rows, "t.csv: line 1",
+                   "unknown format version 'bristle-trajectory/2'");
+  CHECK_TRAJ_ERROR("# bristle-trajectory/10\n" + kHeader + "\n" + rows, "line 1",
+                   "'bristle-trajectory/10'");
+  CHECK_TRAJ_ERROR("# a comment first\n# bristle-trajectory/1\n" + kHeader + "\n" + rows,
+                   "line 1", "bristle-trajectory/1");
+  CHECK_TRAJ_ERROR("#bristle-trajectory/1\n" + kHeader + "\n" + rows, "line 1");
+  CHECK_TRAJ_ERROR("", "t.csv: line 1", "bristle-trajectory/1");
+  CHECK_TRAJ_ERROR("# bristle-trajectory/1\n", "missing header");
+  CHECK_TRAJ_ERROR("# bristle-trajectory/1\n# only comments\n\n", "missing header");
+}
+
+TEST_CASE("trajectory header: unknown, missing, duplicate columns are 65", "[readers]") {
+  const std::vector<std::string> rows = {"0,0,0,10,1,0,0,0", "1,0,0,10,1,0,0,0"};
+  CHECK_TRAJ_ERROR(traj("t_s,x_mm,y_mm,z_mm,w_mm,qw,qx,qy,qz", rows),
+                   "t.csv: line 2, column 5 (w_mm)", "unknown column 'w_mm'");
+  CHECK_TRAJ_ERROR(traj("T_s,x_mm,y_mm,z_mm,qw,qx,qy,qz", rows), "line 2, column 1",
+                   "unknown column 'T_s'");
+  CHECK_TRAJ_ERROR(traj(kHeader + ",", rows), "line 2, column 9", "unknown column ''");
+  CHECK_TRAJ_ERROR(traj("t_s,x_mm,y_mm,z_mm,qw,qx,qy", rows), "t.csv: line 2",
+                   "required column 'qz'");
+  CHECK_TRAJ_ERROR(traj("x_mm,y_mm,z_mm,qw,qx,qy,qz", rows), "line 2", "'t_s'");
+  CHECK_TRAJ_ERROR(traj(kHeader + ",x_mm", rows), "line 2, column 9 (x_mm)",
+                   "duplicate column");
+  CHECK_TRAJ_ERROR(traj(kHeader + ",buttons,buttons", rows), "line 2, column 10 (buttons)",
+                   "duplicate column");
+}
+
+TEST_CASE("trajectory force columns come all three or none", "[readers]") {
+  const std::vector<std::string> rows = {"0,0,0,10,1,0,0,0,0", "1,0,0,10,1,0,0,0,0"};
+  CHECK_TRAJ_ERROR(traj(kHeader + ",fx_n", rows), "line 2", "fx_n,fy_n,fz_n");
+  CHECK_TRAJ_ERROR(traj(kHeader + ",fx_n,fz_n", {"0,0,0,10,1,0,0,0,0,0", "1,0,0,10,1,0,0,0,0,0"}),
+                   "line 2", "all three or none");
+}
+
+TEST_CASE("malformed CSV cells are 65 naming line and column", "[readers]") {
+  auto bad = [](const std::string& row4) {
+    return traj(kHeader, {"0,0,0,10,1,0,0,0", row4, "1,20,0,10,1,0,0,0"});
+  };
+  CHECK_TRAJ_ERROR(bad("0.5,10,abc,10,1,0,0,0"), "t.csv: line 4, column 3 (y_mm)",
+                   "'abc' is not a number");
+  CHECK_TRAJ_ERROR(bad("0.5,10,,10,1,0,0,0"), "line 4, column 3 (y_mm)", "is not a number");
+  CHECK_TRAJ_ERROR(bad("0.5,10,0,1 0,1,0,0,0"), "line 4, column 4 (z_mm)", "'1 0'");
+  CHECK_TRAJ_ERROR(bad("0.5,10,0,10,1,0,0,0x1"), "line 4, column 8 (qz)", "is not a number");
+  CHECK_TRAJ_ERROR(bad("0.5s,10,0,10,1,0,0,0"), "line 4, column 1 (t_s)", "'0.5s'");
+  CHECK_TRAJ_ERROR(bad("\"0.5\",10,0,10,1,0,0,0"), "line 4, column 1 (t_s)");
+}
+
+TEST_CASE("nan, inf and out-of-range CSV cells are 65 naming line and column", "[readers]") {
+  auto bad = [](const std::string& row4) {
+    return traj(kHeader, {"0,0,0,10,1,0,0,0", row4, "1,20,0,10,1,0,0,0"});
+  };
+  for (const char* cell : {"nan", "NaN", "-nan", "inf", "-inf", "Infinity", "nan(0x1)"}) {
+    INFO(cell);
+    CHECK_TRAJ_ERROR(bad(std::string("0.5,10,0,10,1,") + cell + ",0,0"),
+                     "line 4, column 6 (qx)", "must be finite");
+  }
+  CHECK_TRAJ_ERROR(bad("0.5,1e999,0,10,1,0,0,0"), "line 4, column 2 (x_mm)", "'1e999'");
+  CHECK_TRAJ_ERROR(bad("0.5,10,-1e999,10,1,0,0,0"), "line 4, column 3 (y_mm)", "'-1e999'");
+  CHECK_TRAJ_ERROR(bad("inf,10,0,10,1,0,0,0"), "line 4, column 1 (t_s)", "must be finite");
+  CHECK_TRAJ_ERROR(traj(kHeader + ",fx_n,fy_n,fz_n",
+                        {"0,0,0,10,1,0,0,0,0,0,0", "1,0,0,10,1,0,0,0,0,nan,0"}),
+                   "line 4, column 10 (fy_n)", "must be finite");
+}
+
+TEST_CASE("a row with the wrong number of fields is 65 naming line and column", "[readers]") {
+  auto bad = [](const std::string& row4) {
+    return traj(kHeader, {"0,0,0,10,1,0,0,0", row4, "1,20,0,10,1,0,0,0"});
+  };
+  CHECK_TRAJ_ERROR(bad("0.5,10,0,10,1,0,0"), "t.csv: line 4, column 8 (qz)",
+                   "has 7 fields, the header has 8");
+  CHECK_TRAJ_ERROR(bad("0.5"), "line 4, column 2 (x_mm)", "has 1 fields");
+  CHECK_TRAJ_ERROR(bad("0.5,10,0,10,1,0,0,0,0"), "line 4, column 9", "has 9 fields");
+  CHECK_TRAJ_ERROR(bad("0.5,10,0,10,1,0,0,0,"), "line 4, column 9", "has 9 fields");
+}
+
+TEST_CASE("time must increase strictly", "[readers]") {
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1,0,0,0", "0,1,0,10,1,0,0,0"}),
+                   "t.csv: line 4, column 1 (t_s)", "increase strictly");
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1,0,0,0", "0.5,1,0,10,1,0,0,0",
+                                  "0.25,2,0,10,1,0,0,0"}),
+                   "line 5, column 1 (t_s)", "t_s = 0.25", "increase strictly");
+  // Line numbers count comments and blank lines.
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1,0,0,0", "# note", "", "-1,1,0,10,1,0,0,0"}),
+                   "line 6, column 1 (t_s)", "t_s = -1");
+  // With t_s in another column the message names that column and its value.
+  CHECK_TRAJ_ERROR(traj("x_mm,y_mm,z_mm,qw,qx,qy,qz,t_s",
+                        {"9,0,10,1,0,0,0,0", "8,0,10,1,0,0,0,0.5", "7,0,10,1,0,0,0,0.5"}),
+                   "line 5, column 8 (t_s)", "t_s = 0.5 is not after");
+}
+
+TEST_CASE("a near-zero quaternion is 65 naming the line", "[readers]") {
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1,0,0,0", "1,0,0,10,0,0,0,0"}), "t.csv: line 4",
+                   "near-zero norm");
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1e-9,0,0,0", "1,0,0,10,1,0,0,0"}), "line 3",
+                   "near-zero norm");
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1,0,0,0", "1,0,0,10,0,-1e-7,1e-7,0"}), "line 4",
+                   "near-zero norm");
+}
+
+TEST_CASE("a trajectory needs at least 2 samples", "[readers]") {
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1,0,0,0"}), "t.csv: line 3",
+                   "at least 2 samples");
+  CHECK_TRAJ_ERROR(traj(kHeader, {}), "line 2", "at least 2 samples");
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1,0,0,0", "# a comment"}), "at least 2 samples");
+}
+
+TEST_CASE("buttons must be a non-negative integer bitmask", "[readers]") {
+  auto withButtons = [](const std::string& b) {
+    return traj(kHeader + ",buttons", {"0,0,0,10,1,0,0,0,0", "1,0,0,10,1,0,0,0," + b});
+  };
+  for (const char* b : {"1.5", "-1", "65536", "1e9", "0.001"}) {
+    INFO(b);
+    CHECK_TRAJ_ERROR(withButtons(b), "t.csv: line 4, column 9 (buttons)", "integer bitmask");
+  }
+  CHECK_TRAJ_ERROR(withButtons("x"), "line 4, column 9 (buttons)", "is not a number");
+  CHECK_TRAJ_ERROR(withButtons(""), "line 4, column 9 (buttons)", "is not a number");
+  CHECK(parseTrajectory(withButtons("5"), "t.csv").samples[1].buttons == 5);
+  CHECK(parseTrajectory(withButtons("0"), "t.csv").samples[1].buttons == 0);
+}
