@@ -66,7 +66,7 @@ void Simulation::reset(const Pose& handle, double t_s) {
     p.friction_n.assign(n, 0.0);
     p.anchor_xy_mm.assign(n, Eigen::Vector2d::Zero());
     p.pull_dir.assign(n, Eigen::Vector2d::Zero());
-    p.prev_bend_rad.assign(n, 0.0);
+    p.prev_q = st.solution.q;
     finishSpine(static_cast<int>(s), false, std::vector<bool>(n, false));
   }
   stats_ = SimStats{};
@@ -79,7 +79,7 @@ void Simulation::buildProblem(int s, const Pose& handle) {
   SpineProblem& p = problems_[s];
   p.spine = &spec;
   p.handle = handle;
-  p.prev_bend_rad = prev.bend_rad;
+  p.prev_q = prev.solution.q;
   p.anisotropy_strength = brush_.friction.anisotropy_strength;
   p.anisotropy_exponent = brush_.friction.anisotropy_exponent;
   p.anchor_xy_mm.resize(n);
@@ -274,10 +274,8 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
   const std::vector<bool> was_contact = st.contact;
   st.contact.assign(n, false);
   st.sliding.assign(n, false);
-  st.bend_rad.resize(n);
   st.solution.normal_force_n.resize(n, 0.0);
   for (int j = 0; j < n; ++j) {
-    st.bend_rad[j] = smoothedBendRad(spec, j, st.solution.q.data(), problem.eps_rad);
     st.contact[j] = st.solution.normal_force_n[j] > options_.contact_threshold_n;
     if (!st.contact[j]) {
       st.solution.normal_force_n[j] = 0.0;

@@ -33,7 +33,6 @@ struct SpineState {
   std::vector<Eigen::Vector3d> joints_mm;  // n + 1 world positions, root first
   std::vector<bool> contact;               // n: joint 1..n touches the canvas
   std::vector<bool> sliding;               // n: stiction state (false = sticks)
-  std::vector<double> bend_rad;            // n: smoothed bend (damping reference)
   EnergyTerms energy;
   SolveSummary summary;
 };

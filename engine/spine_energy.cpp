@@ -30,11 +30,6 @@ BendW bendW(const SpineSpec& spine, int k, const double* q) {
 
 }  // namespace
 
-double smoothedBendRad(const SpineSpec& spine, int joint, const double* q, double eps_rad) {
-  const BendSquared h = bendSquared(bendW(spine, joint, q).w);
-  return std::sqrt(h.h + eps_rad * eps_rad);
-}
-
 double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
                    double* grad, double* hess) {
   const SpineSpec& s = *p.spine;
@@ -61,23 +56,17 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
           H(2 * k + a, 2 * k + b) +=
               0.5 * K * (h.ddh * bw.dw[a] * bw.dw[b] + h.dh * bw.ddw(a, b));
 
-    // eq. 4: D |beta - beta_prev|, on the smoothed bend angle.
+    // eq. 4: D |d beta|, the joint's displacement since the previous step.
     const double D = s.damping_nmm[k];
     if (D > 0) {
-      const double bt = std::sqrt(h.h + p.eps_rad * p.eps_rad);
-      const double dbt = h.dh / (2 * bt);                       // d bt / dw
-      const double ddbt = h.ddh / (2 * bt) - h.dh * h.dh / (4 * bt * bt * bt);
-      const Smooth1 sa = smoothAbs(bt - p.prev_bend_rad[k], p.eps_rad);
-      e.damping_nmm += D * sa.f;
+      const Eigen::Vector2d d(q[2 * k] - p.prev_q[2 * k], q[2 * k + 1] - p.prev_q[2 * k + 1]);
+      const Smooth2 sd = smoothNorm(d, p.eps_damp_rad);
+      e.damping_nmm += D * sd.f;
       if (grad)
-        for (int a = 0; a < 2; ++a) grad[2 * k + a] += D * sa.df * dbt * bw.dw[a];
+        for (int a = 0; a < 2; ++a) grad[2 * k + a] += D * sd.grad[a];
       if (hess)
         for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b) {
-            const double dba = dbt * bw.dw[a], dbb = dbt * bw.dw[b];
-            const double ddb = ddbt * bw.dw[a] * bw.dw[b] + dbt * bw.ddw(a, b);
-            H(2 * k + a, 2 * k + b) += D * (sa.ddf * dba * dbb + sa.df * ddb);
-          }
+          for (int b = 0; b < 2; ++b) H(2 * k + a, 2 * k + b) += D * sd.hess(a, b);
     }
   }
 

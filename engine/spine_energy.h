@@ -4,6 +4,11 @@
 //   E_s = sum_i K_i beta_i^2 / 2                            (eqs. 2, 12)
 //   E_f = sum_i (1 - eta_i) mu F_n,i |dx_c,i|               (eqs. 3, 13-14)
 //   E_d = sum_i D_i |d beta_i|                              (eq. 4)
+// with |d beta_i| taken as the joint's angular displacement in joint space,
+// |(theta_i, phi_i) - (theta_i, phi_i)_prev|: eq. 15's "constant resistance in
+// joint space". It equals |d beta| for bending in a fixed plane and also resists
+// a turn of the bend direction, and unlike |d beta| it is smooth at a straight
+// joint, where beta = acos(cos theta cos phi) has a cone point.
 // subject to the canvas constraint z(x_i) >= 0 (eq. 5 with the canvas at z = 0).
 // |.| is smoothed (engine/smooth.h) so that Ipopt sees a C2 function.
 
@@ -19,7 +24,11 @@ namespace bristle {
 // Smoothing widths (SOLVER-NOTES.md): energies at the smoothed optimum differ from
 // the exact minimum by a few 1e-6 N mm; a sticking joint creeps by about eps.
 inline constexpr double kSmoothMm = 1e-3;
-inline constexpr double kSmoothRad = 1e-3;
+// The damping term (eq. 4) is smoothed much more finely: smoothed, joint
+// friction turns viscous near zero and a bent brush would creep back towards
+// rest at every solve, eating the plasticity of §3.5, whose residual bend is
+// only D/K (~1e-3 rad). At 1e-5 rad the residual is kept to about 1%.
+inline constexpr double kSmoothDampRad = 1e-5;
 
 struct EnergyTerms {
   double spring_nmm = 0, friction_nmm = 0, damping_nmm = 0;
@@ -38,15 +47,11 @@ struct SpineProblem {
   // plane; zero = no preferred direction). Strength and exponent from the brush.
   std::vector<Eigen::Vector2d> pull_dir;
   double anisotropy_strength = 0, anisotropy_exponent = 2;
-  std::vector<double> prev_bend_rad;          // smoothed beta_i at the previous step
-  double eps_mm = kSmoothMm, eps_rad = kSmoothRad;
+  std::vector<double> prev_q;                 // joint angles at the previous step (2n)
+  double eps_mm = kSmoothMm, eps_damp_rad = kSmoothDampRad;
 
   int vars() const { return 2 * spine->jointCount(); }
 };
-
-// Smoothed total bend angle sqrt(beta^2 + eps^2) of joint k relative to its rest
-// direction, used by the damping term (smooth where beta = 0).
-double smoothedBendRad(const SpineSpec& spine, int joint, const double* q, double eps_rad);
 
 // Evaluates E at q. grad (size 2n) and hess (2n x 2n, column-major, full) may be
 // null. fk is a workspace; on return it holds the kinematics at q (order 2 if hess).

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "engine/friction.h"
 #include "engine/smooth.h"
 #include "engine/spine_energy.h"
 #include "test_helpers.h"
@@ -53,7 +54,7 @@ TEST_CASE("spring energy is K beta^2 / 2 with beta from eq. 12", "[energy]") {
   p.spine = &spine;
   p.friction_n = {0};
   p.anchor_xy_mm = {Eigen::Vector2d::Zero()};
-  p.prev_bend_rad = {0};
+  p.prev_q = {0, 0};
   SpineFk fk;
   EnergyTerms e;
   double q[2] = {0.3, 0.4};
@@ -74,7 +75,11 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
   p.handle.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
   p.friction_n = {0.0, 0.15, 0.4};  // joints 2 and 3 in contact
   p.anchor_xy_mm = {Eigen::Vector2d(0, 0), Eigen::Vector2d(11.0, 24.0), Eigen::Vector2d(9.5, 27.0)};
-  p.prev_bend_rad = {0.1, 0.45, 0.2};
+  p.prev_q = {0.1, -0.2, 0.45, 0.05, 0.2, 0.3};
+  // Anisotropic friction (eqs. 13-14) on both contact joints, k = 1.5 and 3.
+  p.pull_dir = {Eigen::Vector2d::Zero(), Eigen::Vector2d(0.6, 0.8), Eigen::Vector2d(-1, 0)};
+  p.anisotropy_strength = GENERATE(0.0, 0.7);
+  p.anisotropy_exponent = GENERATE(1.5, 3.0);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> angle(-0.9, 0.9);
   for (int trial = 0; trial < 6; ++trial) {
@@ -109,4 +114,25 @@ TEST_CASE("smoothed friction approaches mu Fn |dx| away from the kink", "[energy
   // Far from the kink the force is the full Coulomb force mu Fn in the motion direction.
   const Smooth2 far = smoothNorm(Eigen::Vector2d(0.3, -0.4), kSmoothMm);
   CHECK(far.grad.norm() == Approx(1.0).epsilon(1e-5));
+}
+
+TEST_CASE("anisotropic friction: C_eta removes friction along the pull direction only",
+          "[energy][friction]") {
+  // eq. 13-14 away from the smoothing: |dx| = 0.5 mm >> eps.
+  Anisotropy a;
+  a.pull_dir = Eigen::Vector2d(1, 0);
+  a.strength = 0.6;
+  a.exponent = 2;
+  const double len = 0.5;
+  // Smoothing shifts |dx| by eps and the cosine by ~eps^2 / |dx|^2: 1e-5 relative.
+  constexpr double kTol = 2e-3 * 0.5;
+  CHECK(frictionTerm({len, 0}, a, kSmoothMm).f == Approx((1 - 0.6) * len).margin(kTol));
+  CHECK(frictionTerm({-len, 0}, a, kSmoothMm).f == Approx(len).margin(kTol));
+  const double c45 = std::sqrt(0.5);
+  CHECK(frictionTerm({len * c45, len * c45}, a, kSmoothMm).f ==
+        Approx((1 - 0.6 * 0.5) * len).margin(kTol));
+  a.strength = 0;  // C_eta = 0 recovers eq. 3
+  CHECK(frictionTerm({len, 0}, a, kSmoothMm).f == Approx(len).margin(kTol));
+  a.strength = 1;  // C_eta = 1: no friction at all in the pull direction
+  CHECK(frictionTerm({len, 0}, a, kSmoothMm).f == Approx(0).margin(kTol));
 }
