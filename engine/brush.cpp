@@ -16,6 +16,8 @@ constexpr const char* kFormat = "bristle-brush/1";
 constexpr double kMaxRestAngleRad = 1.2;
 // Friction coefficients beyond this are not paint on paper.
 constexpr double kMaxFriction = 2.0;
+// Roots closer together than this are one point for strip placement.
+constexpr double kMinRootSpreadMm = 0.01;
 
 std::vector<double> positiveArray(const JsonObject& o, const std::string& key, size_t n,
                                   bool allow_zero) {
@@ -68,6 +70,104 @@ SpineSpec parseSpine(const JsonObject& o) {
   }
   o.rejectUnknownKeys();
   return s;
+}
+
+void parseSurface(const JsonObject& o, const std::vector<SpineSpec>& spines, SurfaceSpec* out) {
+  SurfaceSpec& sf = *out;
+  const nlohmann::json& verts = o.raw("cage_vertices_mm");
+  const std::string vp = o.childPointer("cage_vertices_mm");
+  o.requireAt(verts.is_array() && !verts.empty() && verts.size() <= size_t(kMaxCageVertices), vp,
+              verts, "must be an array of 1.." + std::to_string(kMaxCageVertices) + " [x, y, z]");
+  for (size_t i = 0; i < verts.size(); ++i) {
+    const nlohmann::json& v = verts[i];
+    const std::string pi = vp + "/" + std::to_string(i);
+    o.requireAt(v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() &&
+                    v[2].is_number(),
+                pi, v, "must be [x, y, z] in mm");
+    const Eigen::Vector3d p(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+    o.requireAt(p.allFinite(), pi, v, "must be finite");
+    sf.cage_mm.push_back(p);
+  }
+  const int nv = static_cast<int>(sf.cage_mm.size());
+  const nlohmann::json& faces = o.raw("faces");
+  const std::string fp = o.childPointer("faces");
+  o.requireAt(faces.is_array() && !faces.empty(), fp, faces, "must be a non-empty array of faces");
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const nlohmann::json& face = faces[f];
+    const std::string pf = fp + "/" + std::to_string(f);
+    o.requireAt(face.is_array() && (face.size() == 3 || face.size() == 4), pf, face,
+                "must list 3 or 4 vertex indices");
+    std::vector<int> idx;
+    for (size_t k = 0; k < face.size(); ++k) {
+      const nlohmann::json& e = face[k];
+      o.requireAt(e.is_number_integer() && e.get<long>() >= 0 && e.get<long>() < nv,
+                  pf + "/" + std::to_string(k), e,
+                  "must be a vertex index in [0, " + std::to_string(nv - 1) + "]");
+      idx.push_back(e.get<int>());
+    }
+    for (size_t a = 0; a < idx.size(); ++a)
+      for (size_t b = a + 1; b < idx.size(); ++b)
+        o.requireAt(idx[a] != idx[b], pf, face, "repeats a vertex");
+    sf.faces.push_back(idx);
+  }
+  const nlohmann::json& skin = o.raw("skin");
+  const std::string sp = o.childPointer("skin");
+  o.requireAt(skin.is_array() && skin.size() == size_t(nv), sp, skin,
+              "must have one list of [spine, point, weight] per cage vertex (" +
+                  std::to_string(nv) + ")");
+  for (size_t i = 0; i < skin.size(); ++i) {
+    const std::string pi = sp + "/" + std::to_string(i);
+    o.requireAt(skin[i].is_array() && !skin[i].empty(), pi, skin[i],
+                "must be a non-empty list of [spine, point, weight]");
+    std::vector<SkinInfluence> inf;
+    double sum = 0;
+    for (size_t k = 0; k < skin[i].size(); ++k) {
+      const nlohmann::json& e = skin[i][k];
+      const std::string pk = pi + "/" + std::to_string(k);
+      o.requireAt(e.is_array() && e.size() == 3 && e[0].is_number_integer() &&
+                      e[1].is_number_integer() && e[2].is_number(),
+                  pk, e, "must be [spine, point, weight]");
+      SkinInfluence s{e[0].get<int>(), e[1].get<int>(), e[2].get<double>()};
+      o.requireAt(s.spine >= 0 && s.spine < int(spines.size()), pk + "/0", e[0],
+                  "names no spine (the brush has " + std::to_string(spines.size()) + ")");
+      o.requireAt(s.point >= 0 && s.point <= spines[s.spine].jointCount(), pk + "/1", e[1],
+                  "names no point of spine " + std::to_string(s.spine) + " (0.." +
+                      std::to_string(spines[s.spine].jointCount()) + ")");
+      o.requireAt(std::isfinite(s.weight) && s.weight >= 0, pk + "/2", e[2],
+                  "must be a finite weight >= 0");
+      sum += s.weight;
+      inf.push_back(s);
+    }
+    o.requireAt(std::fabs(sum - 1) <= kSkinWeightSumTol, pi, skin[i],
+                "weights must sum to 1 (within 1e-3)");
+    sf.skin.push_back(inf);
+  }
+  sf.refinement_level = o.integer("refinement_level", 2);
+  o.require(sf.refinement_level >= 0 && sf.refinement_level <= kMaxRefinementLevel,
+            "refinement_level", "must be in [0, " + std::to_string(kMaxRefinementLevel) + "]");
+  o.rejectUnknownKeys();
+}
+
+void parseStrips(const JsonObject& o, StripSpec* out) {
+  StripSpec& st = *out;
+  st.count = o.integer("count");
+  o.require(st.count >= 1 && st.count <= kMaxStrips, "count",
+            "must be in [1, " + std::to_string(kMaxStrips) + "]");
+  st.root_width_mm = o.number("root_width_mm", st.root_width_mm);
+  o.require(st.root_width_mm > 0 && st.root_width_mm <= 5, "root_width_mm",
+            "must be in (0, 5] mm");
+  st.tip_width_mm = o.number("tip_width_mm", st.tip_width_mm);
+  o.require(st.tip_width_mm >= 0 && st.tip_width_mm <= st.root_width_mm, "tip_width_mm",
+            "must be in [0, root_width_mm]");
+  const int seed = o.integer("seed", 1);
+  o.require(seed >= 0, "seed", "must be >= 0");
+  st.seed = static_cast<std::uint64_t>(seed);
+  st.placement = o.string("placement", "auto");
+  o.require(st.placement == "auto" || st.placement == "line" || st.placement == "area",
+            "placement", "must be \"auto\", \"line\" or \"area\"");
+  st.length_jitter = o.number("length_jitter", 0.0);
+  o.require(st.length_jitter >= 0 && st.length_jitter < 1, "length_jitter", "must be in [0, 1)");
+  o.rejectUnknownKeys();
 }
 
 }  // namespace
@@ -125,6 +225,18 @@ Brush parseBrush(const std::string& text, const std::string& path) {
       a.rejectUnknownKeys();
     }
     f.rejectUnknownKeys();
+  }
+  if (top.has("surface")) parseSurface(top.object("surface"), b.spines, &b.surface);
+  if (top.has("strips")) {
+    parseStrips(top.object("strips"), &b.strips);
+    // Strips are interpolated between spine roots (§4.2.2): the roots must span
+    // at least a line.
+    double spread = 0;
+    for (const SpineSpec& sp : b.spines)
+      spread = std::max(spread, (sp.root_mm - b.spines[0].root_mm).head<2>().norm());
+    top.require(spread > kMinRootSpreadMm, "strips",
+                "need spine roots spread over at least 0.01 mm in x-y to place strips between "
+                "(all roots are in one point)");
   }
   if (top.has("paint")) {
     const JsonObject p = top.object("paint");

@@ -4,6 +4,7 @@
 // brush frame: origin at the ferrule mouth, hairs hanging along -z at rest.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,12 +36,54 @@ struct FrictionSpec {
   double anisotropy_exponent = 2;  // k of eq. 14, >= 1
 };
 
+// Limits of the geometry (paper §4): refinement level 4 of a 200-face cage is
+// already ~50k triangles; 1000 strips is five times the paper's 200.
+inline constexpr int kMaxRefinementLevel = 4;
+inline constexpr int kMaxStrips = 1000;
+inline constexpr int kMaxCageVertices = 4096;
+// Skin weights of a cage vertex must sum to 1 within this (weights are
+// written with a few decimals in brush files).
+inline constexpr double kSkinWeightSumTol = 1e-3;
+
+// One influence of linear-blend skinning: the cage vertex follows the frame of
+// spine `spine` at its point `point` (0 = root, n = tip): positioned at that
+// point, oriented as the segment that starts there (the last segment at the tip).
+struct SkinInfluence {
+  int spine = 0;
+  int point = 0;
+  double weight = 1;
+};
+
+// Optional Catmull-Clark surface (paper §4.1): a control cage in the brush frame
+// at rest, skinned to the spines and refined with OpenSubdiv.
+struct SurfaceSpec {
+  std::vector<Eigen::Vector3d> cage_mm;
+  std::vector<std::vector<int>> faces;              // 3 or 4 vertex indices each
+  std::vector<std::vector<SkinInfluence>> skin;     // per cage vertex
+  int refinement_level = 2;
+  bool present() const { return !cage_mm.empty(); }
+};
+
+// Optional bristle strips (paper §4.2): thin quad strips interpolated from the
+// spines, placed automatically (§4.2.2).
+struct StripSpec {
+  int count = 0;                 // 0 = none
+  double root_width_mm = 0.15;   // strip width at the root, tapering to
+  double tip_width_mm = 0.05;    // this at the tip
+  std::uint64_t seed = 1;        // placement is random but reproducible
+  std::string placement = "auto";  // auto (OBB decides) | line (1-D) | area (2-D)
+  double length_jitter = 0;      // strips end at (1 - U(0, jitter)) of the spine
+  bool present() const { return count > 0; }
+};
+
 struct Brush {
   std::string path;  // for messages
   std::string name;
   std::string description;
   std::vector<SpineSpec> spines;
   FrictionSpec friction;
+  SurfaceSpec surface;
+  StripSpec strips;
   double paint_capacity = 1.0;  // relative amount of paint the brush holds
 
   // Largest distance from the ferrule centre any hair can reach (mm).
