@@ -16,6 +16,7 @@ struct RenderArgs {
   double min_rate_hz = 120;
   double clip_mm = 0.1;
   int solver_max_iterations = 200;
+  std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::string colour = "#1c2433";      // paint (a blue-black ink)
   std::string background = "#f6f1e6";  // paper
   bool quiet = false;

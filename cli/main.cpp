@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
                      "Iteration limit per solve; a step that hits it counts as failed")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
+  render->add_option("--ipopt-option", r.ipopt_options,
+                     "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone");
   render->add_option("--px-per-mm", r.px_per_mm, "Canvas resolution (pixels per mm)")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 100.0));

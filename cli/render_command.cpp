@@ -89,6 +89,12 @@ int runRender(const RenderArgs& args) {
 
   IpoptSettings ipopt;
   ipopt.max_iterations = args.solver_max_iterations;
+  for (const std::string& kv : args.ipopt_options) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error(ExitCode::kUsage, "--ipopt-option " + kv + ": expected NAME=VALUE");
+    ipopt.extra_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+  }
   Canvas canvas(grid);
   render::StrokeRenderer renderer;
   Progress progress(!args.quiet);

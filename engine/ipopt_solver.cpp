@@ -4,11 +4,14 @@
 // spines instead of ~10 ms).
 
 #include <IpIpoptApplication.hpp>
+#include <IpRegOptions.hpp>
 #include <IpSolveStatistics.hpp>
 #include <IpTNLP.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
+#include "engine/error.h"
 #include "engine/spine_solver.h"
 
 namespace bristle {
@@ -233,6 +236,7 @@ class IpoptSolver : public SpineSolver {
     o.SetIntegerValue("print_level", 0);
     o.SetStringValue("hessian_approximation", "exact");
     o.SetStringValue("mu_strategy", "adaptive");
+    o.SetIntegerValue("mumps_scaling", 0);  // SOLVER-NOTES: ~8% fewer instructions
     o.SetNumericValue("tol", settings.tol);
     o.SetNumericValue("acceptable_tol", settings.acceptable_tol);
     o.SetIntegerValue("max_iter", settings.max_iterations);
@@ -243,6 +247,28 @@ class IpoptSolver : public SpineSolver {
                             "warm_start_slack_bound_frac", "warm_start_slack_bound_push",
                             "warm_start_mult_bound_push"})
       o.SetNumericValue(opt, 1e-9);
+    for (const auto& [name, value] : settings.extra_options) {
+      // Set each by its registered type (setting a wrong type makes Ipopt print
+      // to stdout); an unknown name or unparsable value is refused.
+      Ipopt::SmartPtr<const Ipopt::RegisteredOption> opt = app_->RegOptions()->GetOption(name);
+      bool ok = Ipopt::IsValid(opt);
+      char* end = nullptr;
+      if (ok && opt->Type() == Ipopt::OT_Integer) {
+        const long iv = std::strtol(value.c_str(), &end, 10);
+        ok = !value.empty() && *end == '\0' && opt->IsValidIntegerSetting(static_cast<int>(iv)) &&
+             o.SetIntegerValue(name, static_cast<int>(iv));
+      } else if (ok && opt->Type() == Ipopt::OT_Number) {
+        const double dv = std::strtod(value.c_str(), &end);
+        ok = !value.empty() && *end == '\0' && opt->IsValidNumberSetting(dv) &&
+             o.SetNumericValue(name, dv);
+      } else if (ok) {
+        ok = opt->IsValidStringSetting(value) && o.SetStringValue(name, value);
+      }
+      if (!ok && bad_option_.empty()) bad_option_ = name + "=" + value;
+      if (name == "mu_strategy" || name == "mu_init") user_mu_strategy_ = true;
+    }
+    if (!bad_option_.empty())
+      throw Error(ExitCode::kUsage, "Ipopt option " + bad_option_ + ": unknown name or bad value");
     initialized_ = app_->Initialize() == Ipopt::Solve_Succeeded;
   }
 
@@ -259,7 +285,16 @@ class IpoptSolver : public SpineSolver {
     bool warm = true;
     for (SpineSolution* s : solutions)
       warm = warm && s->lambda.size() == s->q.size() / 2;
-    app_->Options()->SetStringValue("warm_start_init_point", warm ? "yes" : "no");
+    Ipopt::OptionsList& o = *app_->Options();
+    o.SetStringValue("warm_start_init_point", warm ? "yes" : "no");
+    // Warm starts begin next to the optimum: a monotone barrier from a tiny mu
+    // finishes them with ~20% less work than the adaptive update (measured on
+    // the round brush's S-curve: same iterations, 4.7 s instead of 6.1 s of CPU).
+    // Cold starts keep the adaptive strategy, which is the robust one there.
+    if (!user_mu_strategy_) {
+      o.SetStringValue("mu_strategy", warm ? "monotone" : "adaptive");
+      o.SetNumericValue("mu_init", warm ? 1e-6 : 0.1);
+    }
     Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, warm);
     Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
     try {
@@ -283,6 +318,8 @@ class IpoptSolver : public SpineSolver {
  private:
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
   bool initialized_ = false;
+  std::string bad_option_;  // the first extra option Ipopt refused
+  bool user_mu_strategy_ = false;  // the user chose the barrier strategy
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/spine_energy.h"
@@ -54,7 +55,32 @@ struct IpoptSettings {
   double tol = 1e-8;             // ~3e-5 mm joint accuracy (SOLVER-NOTES.md)
   double acceptable_tol = 1e-5;
   int max_iterations = 200;
+  // Further Ipopt options as name/value text, applied last (e.g. for tuning
+  // experiments: {"mu_strategy", "monotone"}). Numbers and integers are parsed.
+  std::vector<std::pair<std::string, std::string>> extra_options;
 };
+// Throws bristle::Error(kUsage) when Ipopt refuses one of the extra options.
 std::unique_ptr<SpineSolver> makeIpoptSolver(const IpoptSettings& settings = {});
+
+}  // namespace bristle
+
+namespace bristle {
+
+// NLopt SLSQP backend (SOLVER-NOTES.md, "SLSQP"): one dense SQP per spine, with
+// the spine energy's gradient only (no Hessian). NLopt returns no multipliers:
+// normal forces come from the KKT conditions over the joints on the canvas.
+struct SlsqpSettings {
+  int max_evaluations = 200;          // objective evaluations per spine (~40 typical)
+  // Stop when a line search changes E by less (N mm). SLSQP restarts its BFGS
+  // Hessian at identity every solve, and its first steps along the stiff
+  // damping and friction terms can be tiny: at 1e-10 it stopped up to 1.4e-3 mm
+  // short of Ipopt's optimum (4e-7 N mm above it); 1e-13 stays within ~6e-5 mm
+  // for ~10% more evaluations, still 100x above the energy's round-off.
+  double ftol_abs_nmm = 1e-13;
+  double constraint_tol_mm = 1e-10;   // NLopt's feasibility tolerance on z_j >= 0
+  double feasibility_tol_mm = 1e-6;   // a result deeper below the canvas fails
+  double active_mm = 1e-6;            // joints this close to the canvas may carry force
+};
+std::unique_ptr<SpineSolver> makeSlsqpSolver(const SlsqpSettings& settings = {});
 
 }  // namespace bristle
