@@ -17,6 +17,7 @@ struct RenderArgs {
   double clip_mm = 0.1;
   int solver_max_iterations = 200;
   std::vector<std::string> ipopt_options;  // NAME=VALUE
+  std::vector<double> offset_mm;           // x, y, z added to every handle position
   std::string colour = "#1c2433";      // paint (a blue-black ink)
   std::string background = "#f6f1e6";  // paper
   bool quiet = false;

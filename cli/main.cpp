@@ -53,6 +53,10 @@ int main(int argc, char** argv) {
                      "Iteration limit per solve; a step that hits it counts as failed")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
+  render->add_option("--offset-mm", r.offset_mm,
+                     "Shift the trajectory by X Y Z mm (e.g. 0 0 10 to hold a longer brush "
+                     "higher)")
+      ->expected(3);
   render->add_option("--ipopt-option", r.ipopt_options,
                      "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone");
   render->add_option("--px-per-mm", r.px_per_mm, "Canvas resolution (pixels per mm)")

@@ -66,7 +66,12 @@ int runRender(const RenderArgs& args) {
     throw Error(ExitCode::kUsage, "--solver " + args.solver + ": available solvers: ipopt");
 
   const Brush brush = loadBrush(args.brush);
-  const Trajectory trajectory = loadTrajectory(args.trajectory);
+  Trajectory trajectory = loadTrajectory(args.trajectory);
+  if (args.offset_mm.size() == 3) {
+    const Eigen::Vector3d offset(args.offset_mm[0], args.offset_mm[1], args.offset_mm[2]);
+    if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");
+    for (TrajectorySample& s : trajectory.samples) s.pose.position_mm += offset;
+  }
   validateTrajectoryForBrush(trajectory, brush);
 
   render::StrokeOptions options;

@@ -193,8 +193,15 @@ TEST_CASE("round.json parses with the values in the file", "[readers]") {
   CHECK(b.spines[6].width_mm == std::vector<double>{2.4, 2.8, 2.5, 1.8, 0.5});
   CHECK(b.friction.mu_static == 0.45);
   CHECK(b.friction.mu_kinetic == 0.35);
-  CHECK(b.friction.anisotropy_strength == 0.0);  // defaults: no anisotropy block
+  CHECK(b.friction.anisotropy_strength == 0.3);
   CHECK(b.friction.anisotropy_exponent == 2.0);
+  // The cage: 5 rings of 10 around the spines plus the tip, skinned to them.
+  REQUIRE(b.surface.present());
+  CHECK(b.surface.cage_mm.size() == 51);
+  CHECK(b.surface.faces.size() == 50);
+  CHECK(b.surface.skin.size() == 51);
+  CHECK(b.surface.refinement_level == 2);
+  CHECK_FALSE(b.strips.present());
   CHECK(b.paint_capacity == 1.0);
   CHECK(b.reachMm() == Approx(21.7).margin(1e-3));  // spine 2: |root| = 1.7 mm
 }

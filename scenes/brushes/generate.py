@@ -1,0 +1,216 @@
+#!/usr/bin/env python3
+"""Regenerates the brush library in this folder (bristle-brush/1 JSON).
+
+Each brush is a few simulated spines (paper §3) plus its geometry (§4): a
+Catmull-Clark control cage skinned to the spines (§4.1) and/or bristle strips
+interpolated between them (§4.2). Sizes follow real brushes; stiffness,
+friction and damping follow the calibration of §5 (K 5-10 N mm/rad, stiffer at
+the ferrule; mu 0.3-0.5; D <= 0.01). Run: python3 generate.py
+"""
+import json
+import math
+import os
+import re
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def bend_towards(alpha, bends):
+    """Small-angle rest angles bending by b towards direction alpha in x-y:
+    theta bends towards +y, phi towards -x (paper eq. 10)."""
+    dx, dy = math.cos(alpha), math.sin(alpha)
+    return [[round(b * dy, 4), round(-b * dx, 4)] for b in bends]
+
+
+def spine(root, lengths, K, D, rest, widths):
+    return {"root_mm": [round(v, 4) for v in root], "segment_lengths_mm": lengths,
+            "stiffness_nmm_per_rad": K, "damping_nmm": D, "rest_angles_rad": rest,
+            "width_mm": widths}
+
+
+def rest_points(sp):
+    """Joint positions at rest in the brush frame (eq. 10-11, handle identity)."""
+    pts = [list(sp["root_mm"])]
+    R = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    for L, (th, ph) in zip(sp["segment_lengths_mm"], sp["rest_angles_rad"]):
+        ct, st, cp, s_p = math.cos(th), math.sin(th), math.cos(ph), math.sin(ph)
+        J = [[cp, s_p * st, s_p * ct], [0, ct, -st], [-s_p, cp * st, cp * ct]]
+        R = [[sum(R[i][k] * J[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+        d = [R[i][2] * -L for i in range(3)]
+        pts.append([pts[-1][i] + d[i] for i in range(3)])
+    return pts
+
+
+def tube_cage(spines, ring, half_x, half_y, tip_scale=0.35):
+    """A cage of rings around the spines, one ring per spine point level, closed
+    by a tip vertex. half_x/half_y(k) give extra half-extents of ring k beyond
+    the spread of the spine points. Every ring vertex is skinned to the two
+    spine points of its level nearest to it (weights ~ 1/d^2)."""
+    levels = len(spines[0]["segment_lengths_mm"]) + 1
+    pts = [rest_points(s) for s in spines]
+    verts, skin, faces = [], [], []
+    for k in range(levels):
+        level = [p[k] for p in pts]
+        cx = sum(p[0] for p in level) / len(level)
+        cy = sum(p[1] for p in level) / len(level)
+        cz = sum(p[2] for p in level) / len(level)
+        ax = max(abs(p[0] - cx) for p in level) + half_x(k)
+        ay = max(abs(p[1] - cy) for p in level) + half_y(k)
+        if k == levels - 1:
+            ax, ay = ax * tip_scale + 0.05, ay * tip_scale + 0.05
+        for r in range(ring):
+            t = 2 * math.pi * r / ring
+            v = [cx + ax * math.cos(t), cy + ay * math.sin(t), cz]
+            verts.append([round(c, 4) for c in v])
+            d = sorted((math.hypot(v[0] - p[0], v[1] - p[1]), s) for s, p in enumerate(level))
+            infl = d[:2] if len(d) > 1 else d
+            w = [1 / (di * di + 1e-6) for di, _ in infl]
+            tot = sum(w)
+            ws = [round(x / tot, 4) for x in w]
+            ws[0] = round(1 - sum(ws[1:]), 4)
+            skin.append([[s, k, wi] for (_, s), wi in zip(infl, ws) if wi > 0])
+    tip = [sum(p[-1][i] for p in pts) / len(pts) for i in range(3)]
+    tip[2] -= 0.3
+    verts.append([round(c, 4) for c in tip])
+    nearest = min(range(len(pts)), key=lambda s: math.hypot(pts[s][-1][0] - tip[0],
+                                                            pts[s][-1][1] - tip[1]))
+    skin.append([[nearest, levels - 1, 1.0]])
+    for k in range(levels - 1):
+        for r in range(ring):
+            a, b = k * ring + r, k * ring + (r + 1) % ring
+            faces.append([a, b, b + ring, a + ring])
+    t = len(verts) - 1
+    for r in range(ring):
+        a, b = (levels - 1) * ring + r, (levels - 1) * ring + (r + 1) % ring
+        faces.append([a, b, t])
+    return {"cage_vertices_mm": verts, "faces": faces, "skin": skin, "refinement_level": 2}
+
+
+def write(name, brush):
+    s = json.dumps(brush, indent=2)
+    # Keep short number arrays on one line.
+    s = re.sub(r'\[\s+([-0-9.e,\s]+?)\s+\]',
+               lambda m: '[' + ', '.join(x.strip() for x in m.group(1).split(',')) + ']', s)
+    s = re.sub(r'\[\s+(\[[-0-9.e, ]+\](?:,\s+\[[-0-9.e, ]+\])*)\s+\]',
+               lambda m: '[' + re.sub(r',\s+\[', ', [', m.group(1)) + ']', s)
+    with open(os.path.join(HERE, name + ".json"), "w") as f:
+        f.write(s + "\n")
+
+
+def base(name, description, spines, mu_s, mu_k, aniso=0.0):
+    return {"format": "bristle-brush/1", "name": name, "description": description,
+            "spines": spines,
+            "friction": {"mu_static": mu_s, "mu_kinetic": mu_k,
+                         "anisotropy": {"strength": aniso, "exponent": 2}}}
+
+
+def round_brush():
+    lengths, K, D = [6.0, 5.5, 5.0, 3.5], [10.0, 8.0, 6.5, 5.0], [0.008, 0.006, 0.005, 0.004]
+    sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0]],
+                [3.2, 3.6, 3.2, 2.4, 0.8])]
+    for k in range(6):
+        a = math.pi / 6 + k * math.pi / 3
+        sp.append(spine([1.7 * math.cos(a), 1.7 * math.sin(a), 0], lengths, K, D,
+                        bend_towards(a, [0.04, 0.0, -0.2, -0.12]), [2.4, 2.8, 2.5, 1.8, 0.5]))
+    b = base("round", "Round, size 8: 20 mm of hair, 5 mm across at the ferrule, fine point",
+             sp, 0.45, 0.35, 0.3)
+    belly = [0.9, 1.3, 1.1, 0.6, 0.2]
+    b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
+    b["paint"] = {"capacity": 1.0}
+    return b
+
+
+def flat_row(name, desc, width, thick, lengths, K, n_spines, strips, tip_curve=0.0,
+             surface=True, mu=(0.45, 0.35)):
+    D = [0.008] + [0.006] * (len(lengths) - 1)
+    sp = []
+    for i in range(n_spines):
+        x = -width / 2 + width * (i + 0.5) / n_spines
+        f = abs(x) / (width / 2)
+        # A filbert's outer hairs are shorter: the tip is an oval.
+        ls = [round(L * (1 - tip_curve * f * f), 3) for L in lengths]
+        rest = [[0.02, 0.0]] + [[0, 0]] * (len(lengths) - 1)
+        wseg = width / n_spines * 1.15
+        sp.append(spine([x, 0, 0], ls, K, D, rest,
+                        [round(wseg, 3)] * len(lengths) + [round(wseg * 0.7, 3)]))
+    b = base(name, desc, sp, *mu, 0.3)
+    if surface:
+        b["surface"] = tube_cage(sp, 12, lambda k: width / n_spines * 0.6,
+                                 lambda k: thick / 2 * (1 - 0.5 * k / len(lengths)),
+                                 tip_scale=0.9)
+    if strips:
+        b["strips"] = {"count": strips, "root_width_mm": 0.15, "tip_width_mm": 0.06,
+                       "seed": 11, "placement": "line", "length_jitter": 0.08}
+    b["paint"] = {"capacity": 1.2}
+    return b
+
+
+def badger():
+    lengths, K, D = [8.0, 7.0, 6.0, 4.0], [6.0, 5.5, 5.0, 5.0], [0.01] * 4
+    sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0]],
+                [5.0, 6.0, 5.0, 3.5, 1.2])]
+    for ring, (r, count) in enumerate([(3.2, 6), (6.0, 8)]):
+        for k in range(count):
+            a = 2 * math.pi * k / count + ring * 0.3
+            sp.append(spine([r * math.cos(a), r * math.sin(a), 0], lengths, K, D,
+                            bend_towards(a, [0.06 + 0.04 * ring, 0.0, -0.1, -0.05]),
+                            [3.5, 4.0, 3.5, 2.5, 1.0]))
+    b = base("badger", "Badger blender: dense and soft, 14 mm across, 25 mm of hair, domed",
+             sp, 0.4, 0.3, 0.2)
+    b["surface"] = tube_cage(sp, 12, lambda k: 1.2, lambda k: 1.2, tip_scale=0.7)
+    b["strips"] = {"count": 300, "root_width_mm": 0.12, "tip_width_mm": 0.05, "seed": 5,
+                   "placement": "area", "length_jitter": 0.15}
+    b["paint"] = {"capacity": 1.5}
+    return b
+
+
+def fan():
+    lengths, K, D = [8.0, 8.0, 6.0], [8.0, 6.0, 5.0], [0.004] * 3
+    sp = []
+    n = 7
+    for i in range(n):
+        x = -6 + 12 * i / (n - 1)
+        # Splayed: the hairs leave the flat ferrule fanning out to a ~30 mm span.
+        a = math.atan2(0, 1) if x >= 0 else math.pi
+        spread = abs(x) / 6 * 0.55
+        sp.append(spine([x, 0, 0], lengths, K, D, bend_towards(a, [spread, 0.0, 0.0]),
+                        [0.9, 0.8, 0.6, 0.3]))
+    b = base("fan", "Fan: a thin, splayed row of hair, ~30 mm span, 22 mm long", sp, 0.4, 0.3, 0.3)
+    b["strips"] = {"count": 160, "root_width_mm": 0.14, "tip_width_mm": 0.05, "seed": 3,
+                   "placement": "line", "length_jitter": 0.12}
+    b["paint"] = {"capacity": 0.8}
+    return b
+
+
+def calligraphy():
+    lengths = [7.0, 7.0, 6.5, 5.5, 4.0]
+    K, D = [9.0, 7.5, 6.0, 5.0, 5.0], [0.01, 0.008, 0.006, 0.005, 0.004]
+    sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0], [0, 0]],
+                [4.5, 5.5, 5.0, 3.5, 1.8, 0.4])]
+    for k in range(6):
+        a = math.pi / 6 + k * math.pi / 3
+        sp.append(spine([2.6 * math.cos(a), 2.6 * math.sin(a), 0], lengths, K, D,
+                        bend_towards(a, [0.05, 0.02, -0.15, -0.12, -0.08]),
+                        [3.2, 3.8, 3.4, 2.6, 1.2, 0.3]))
+    b = base("calligraphy", "Oriental calligraphy brush: 30 mm long, 8 mm at the ferrule, "
+             "fine tip, soft", sp, 0.4, 0.3, 0.4)
+    belly = [1.2, 1.8, 1.6, 1.0, 0.4, 0.1]
+    b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
+    b["strips"] = {"count": 150, "root_width_mm": 0.12, "tip_width_mm": 0.04, "seed": 9,
+                   "placement": "area", "length_jitter": 0.1}
+    b["paint"] = {"capacity": 1.3}
+    return b
+
+
+if __name__ == "__main__":
+    write("round", round_brush())
+    write("flat", flat_row("flat", "Flat, 1/2 inch: 12 mm wide, 16 mm long, square end",
+                           12.0, 3.0, [6.0, 5.5, 4.5], [10.0, 8.0, 6.0], 5, 120))
+    write("bright", flat_row("bright", "Bright: the flat's 12 mm width, 11 mm long, stiffer",
+                             12.0, 3.0, [4.5, 3.5, 3.0], [10.0, 9.0, 7.0], 5, 100))
+    write("filbert", flat_row("filbert", "Filbert: 10 mm wide, 15 mm long, oval tip",
+                              10.0, 3.0, [6.0, 5.0, 4.0], [10.0, 8.0, 6.0], 5, 120,
+                              tip_curve=0.35))
+    write("badger", badger())
+    write("fan", fan())
+    write("calligraphy", calligraphy())
