@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
   render->add_option("--forces", r.forces, "Write the force on the handle per step (CSV)");
   render->add_option("--solver", r.solver, "Spine solver")
       ->capture_default_str()
-      ->check(CLI::IsMember({"ipopt"}));
+      ->check(CLI::IsMember({"ipopt", "slsqp"}));
   render->add_option("--solver-max-iterations", r.solver_max_iterations,
                      "Iteration limit per solve; a step that hits it counts as failed")
       ->capture_default_str()

@@ -62,8 +62,8 @@ void printError(const std::string& message) { std::cerr << "bristle: " << messag
 int runRender(const RenderArgs& args) {
   const Rgb paint = colourArg("--colour", args.colour);
   const Rgb background = colourArg("--background", args.background);
-  if (args.solver != "ipopt")
-    throw Error(ExitCode::kUsage, "--solver " + args.solver + ": available solvers: ipopt");
+  if (args.solver != "ipopt" && args.solver != "slsqp")
+    throw Error(ExitCode::kUsage, "--solver " + args.solver + ": available: ipopt, slsqp");
 
   const Brush brush = loadBrush(args.brush);
   Trajectory trajectory = loadTrajectory(args.trajectory);
@@ -118,8 +118,11 @@ int runRender(const RenderArgs& args) {
                    "); continuing from its last good state");
     progress.update(step, steps);
   };
-  const render::StrokeResult result =
-      renderer.render(brush, trajectory, makeIpoptSolver(ipopt), options, &canvas, on_step);
+  // The chosen solver is the primary; a spine it fails on is tried with the other.
+  std::unique_ptr<SpineSolver> primary = makeIpoptSolver(ipopt), fallback = makeSlsqpSolver();
+  if (args.solver == "slsqp") std::swap(primary, fallback);
+  const render::StrokeResult result = renderer.render(
+      brush, trajectory, std::move(primary), options, &canvas, on_step, std::move(fallback));
 
   render::Image8 image;
   image.width = grid.width_px;

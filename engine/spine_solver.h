@@ -69,18 +69,21 @@ namespace bristle {
 // NLopt SLSQP backend (SOLVER-NOTES.md, "SLSQP"): one dense SQP per spine, with
 // the spine energy's gradient only (no Hessian). NLopt returns no multipliers:
 // normal forces come from the KKT conditions over the joints on the canvas.
+// Its SolveSummary::iterations counts energy evaluations; its status is
+// kAcceptable for NLopt's ROUNDOFF_LIMITED at a point on the canvas.
 struct SlsqpSettings {
   int max_evaluations = 200;          // objective evaluations per spine (~40 typical)
-  // Stop when a line search changes E by less (N mm). SLSQP restarts its BFGS
-  // Hessian at identity every solve, and its first steps along the stiff
-  // damping and friction terms can be tiny: at 1e-10 it stopped up to 1.4e-3 mm
-  // short of Ipopt's optimum (4e-7 N mm above it); 1e-13 stays within ~6e-5 mm
-  // for ~10% more evaluations, still 100x above the energy's round-off.
+  // Stop when a line search changes E by less (N mm). SLSQP's quasi-Newton
+  // Hessian starts at identity every solve and can take a step of tiny progress
+  // well before the optimum: at 1e-10 it stopped up to 1.4e-3 mm short of
+  // Ipopt's optimum (4e-7 N mm above it) in a steady drag; 1e-13 stays within
+  // ~6e-5 mm for ~10% more evaluations, 100x above the energy's round-off.
   double ftol_abs_nmm = 1e-13;
   double constraint_tol_mm = 1e-10;   // NLopt's feasibility tolerance on z_j >= 0
   double feasibility_tol_mm = 1e-6;   // a result deeper below the canvas fails
   double active_mm = 1e-6;            // joints this close to the canvas may carry force
 };
+// Throws bristle::Error(kUsage) naming a setting that is out of range.
 std::unique_ptr<SpineSolver> makeSlsqpSolver(const SlsqpSettings& settings = {});
 
 }  // namespace bristle

@@ -122,8 +122,9 @@ void StrokeRenderer::paintStep(const Brush& brush, const BrushState& state,
 StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajectory,
                                     std::unique_ptr<SpineSolver> solver,
                                     const StrokeOptions& options, Canvas* canvas,
-                                    const StepCallback& on_step) {
-  Simulation sim(brush, options.sim, std::move(solver));
+                                    const StepCallback& on_step,
+                                    std::unique_ptr<SpineSolver> fallback) {
+  Simulation sim(brush, options.sim, std::move(solver), std::move(fallback));
   const std::vector<double> times = planStepTimes(trajectory, brush, options.sim);
   StrokeResult result;
   const int steps = static_cast<int>(times.size());

@@ -43,7 +43,8 @@ class StrokeRenderer {
   // Simulates the brush along the trajectory and paints into canvas.
   StrokeResult render(const Brush& brush, const Trajectory& trajectory,
                       std::unique_ptr<SpineSolver> solver, const StrokeOptions& options,
-                      Canvas* canvas, const StepCallback& on_step = {});
+                      Canvas* canvas, const StepCallback& on_step = {},
+                      std::unique_ptr<SpineSolver> fallback = nullptr);
 
   // Footprint of one brush state on the canvas grid (for tests and previews).
   // Returns false when nothing touches the canvas.
