@@ -120,10 +120,11 @@ Scenario pressThenDrag(const Brush& brush) {
   return sc;
 }
 
-// Forwards to Ipopt and adds the time spent inside solve() to a total.
+// Forwards to Ipopt (or SLSQP) and adds the time spent inside solve() to a total.
 class TimedSolver : public SpineSolver {
  public:
-  explicit TimedSolver(double* total_s) : inner_(makeIpoptSolver()), total_s_(total_s) {}
+  TimedSolver(double* total_s, bool slsqp)
+      : inner_(slsqp ? makeSlsqpSolver() : makeIpoptSolver()), total_s_(total_s) {}
   SolveSummary solve(std::span<const SpineProblem* const> problems,
                      std::span<SpineSolution* const> solutions) override {
     const Clock::time_point t0 = Clock::now();
@@ -160,8 +161,8 @@ struct Samples {
     state.counters[prefix + "steps"] = double(step_us.size());
     state.counters[prefix + "median_us"] = percentile(step_us, 50);
     state.counters[prefix + "p95_us"] = percentile(step_us, 95);
-    state.counters[prefix + "ipopt_median_us"] = percentile(solve_us, 50);
-    state.counters[prefix + "ipopt_p95_us"] = percentile(solve_us, 95);
+    state.counters[prefix + "solver_median_us"] = percentile(solve_us, 50);
+    state.counters[prefix + "solver_p95_us"] = percentile(solve_us, 95);
     state.counters[prefix + "iter_mean"] = iterations.empty() ? 0 : it_sum / iterations.size();
     state.counters[prefix + "iter_median"] = percentile(iterations, 50);
     state.counters[prefix + "failed"] = failed;
@@ -172,8 +173,9 @@ struct Samples {
 // solve; at the end of the range it starts over with a fresh simulation.
 class Runner {
  public:
-  Runner(Brush brush, int begin, int end)
-      : brush_(std::move(brush)), sc_(pressThenDrag(brush_)), begin_(begin), end_(end) {}
+  Runner(Brush brush, int begin, int end, bool slsqp)
+      : brush_(std::move(brush)), sc_(pressThenDrag(brush_)), begin_(begin), end_(end),
+        slsqp_(slsqp) {}
 
   // Spines touching the canvas when the timed range begins (after a restart).
   int spinesInContactAtBegin() {
@@ -208,7 +210,7 @@ class Runner {
  private:
   void restart() {
     sim_ = std::make_unique<Simulation>(brush_, SimOptions{},
-                                        std::make_unique<TimedSolver>(&solve_s_));
+                                        std::make_unique<TimedSolver>(&solve_s_, slsqp_));
     sim_->reset(sc_.poses[0], 0);
     for (int i = 1; i < begin_; ++i) sim_->step(sc_.poses[i], i * kStepDtS);
     next_ = begin_;
@@ -217,6 +219,7 @@ class Runner {
   Brush brush_;
   Scenario sc_;
   int begin_, end_, next_ = 0;
+  bool slsqp_ = false;
   double solve_s_ = 0;
   std::unique_ptr<Simulation> sim_;
 };
@@ -235,31 +238,32 @@ void timeSteps(benchmark::State& state, Runner& runner) {
   samples.report(state);
 }
 
-// One spine of 3 or 4 joints; range(1): 0 = pressing, 1 = dragging.
+// One spine of 3 or 4 joints; range(1): 0 = pressing, 1 = dragging;
+// range(2): 0 = Ipopt, 1 = SLSQP.
 void BM_SpineStep(benchmark::State& state) {
   const bool drag = state.range(1) != 0;
   const Brush brush = makeBrush(1, static_cast<int>(state.range(0)));
-  Runner runner(brush, drag ? 1 + kPressSteps : 1, drag ? 1 + kPressSteps + kDragSteps
-                                                        : 1 + kPressSteps);
+  Runner runner(brush, drag ? 1 + kPressSteps : 1,
+                drag ? 1 + kPressSteps + kDragSteps : 1 + kPressSteps, state.range(2) != 0);
   timeSteps(state, runner);
 }
 BENCHMARK(BM_SpineStep)
-    ->ArgNames({"joints", "drag"})
-    ->ArgsProduct({{3, 4}, {0, 1}})
+    ->ArgNames({"joints", "drag", "slsqp"})
+    ->ArgsProduct({{3, 4}, {0, 1}, {0, 1}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 
 // Whole-brush steps while dragging: copies of the 4-joint spine, all pressed.
 void BM_BrushDragStep(benchmark::State& state) {
   Runner runner(makeBrush(static_cast<int>(state.range(0)), 4), 1 + kPressSteps,
-                1 + kPressSteps + kDragSteps);
+                1 + kPressSteps + kDragSteps, state.range(1) != 0);
   const int touching = runner.spinesInContactAtBegin();
   timeSteps(state, runner);
   state.counters["in_contact"] = touching;
 }
 BENCHMARK(BM_BrushDragStep)
-    ->ArgName("spines")
-    ->Arg(1)->Arg(5)->Arg(10)->Arg(20)
+    ->ArgNames({"spines", "slsqp"})
+    ->ArgsProduct({{1, 5, 10, 20}, {0, 1}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 
@@ -276,7 +280,7 @@ void BM_RoundSCurve(benchmark::State& state) {
   double total_s = 0;
   for (auto _ : state) {
     double solve_s = 0, stroke_s = 0;
-    Simulation sim(brush, options, std::make_unique<TimedSolver>(&solve_s));
+    Simulation sim(brush, options, std::make_unique<TimedSolver>(&solve_s, state.range(0) != 0));
     sim.reset(traj.poseAt(times.front()), times.front());
     for (size_t i = 1; i < times.size(); ++i) {
       const SimStats before = sim.stats();
@@ -305,6 +309,8 @@ void BM_RoundSCurve(benchmark::State& state) {
   state.counters["steps_per_s"] = total_s > 0 ? steps / total_s : 0;
 }
 BENCHMARK(BM_RoundSCurve)
+    ->ArgName("slsqp")
+    ->Arg(0)->Arg(1)
     ->Iterations(3)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
