@@ -107,6 +107,9 @@ void Simulation::setFriction(int s, const std::vector<bool>& sliding,
     const double mu = sliding[j] ? brush_.friction.mu_kinetic : brush_.friction.mu_static;
     p.friction_n[j] = mu * prev.solution.normal_force_n[j];
   }
+  const bool touching = std::any_of(p.friction_n.begin(), p.friction_n.end(),
+                                    [](double f) { return f > 0; });
+  p.eps_damp_rad = touching ? kSmoothDampContactRad : kSmoothDampRad;
 }
 
 void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial) {
