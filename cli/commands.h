@@ -26,6 +26,9 @@ int runRender(const RenderArgs& args);
 
 int runValidate(const std::vector<std::string>& files);
 
+// Lists the brushes (*.json) of a library folder.
+int runBrushes(const std::string& library_dir);
+
 // Prints "bristle: <message>" on stderr.
 void printError(const std::string& message);
 

@@ -82,6 +82,13 @@ int main(int argc, char** argv) {
   CLI::App* validate = app.add_subcommand("validate", "Check brush (.json) and trajectory (.csv) files");
   validate->add_option("files", files, "Files to check")->required();
 
+  // The library ships in the source tree; BRISTLE_BRUSHES points elsewhere.
+  std::string library = std::getenv("BRISTLE_BRUSHES") ? std::getenv("BRISTLE_BRUSHES")
+                                                        : BRISTLE_SOURCE_DIR "/scenes/brushes";
+  CLI::App* brushes = app.add_subcommand("brushes", "List the brush library, one line each");
+  brushes->add_option("--library", library, "Folder of brush files (default: $BRISTLE_BRUSHES "
+                                            "or the source tree's scenes/brushes)");
+
   std::string help_topic;
   CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
   help->add_option("command", help_topic, "Command to explain");
@@ -102,14 +109,15 @@ int main(int argc, char** argv) {
   try {
     if (render->parsed()) return bristle::cli::runRender(r);
     if (validate->parsed()) return bristle::cli::runValidate(files);
+    if (brushes->parsed()) return bristle::cli::runBrushes(library);
     if (help->parsed() && !help_topic.empty()) {
-      for (CLI::App* sub : {render, validate}) {
+      for (CLI::App* sub : {render, validate, brushes}) {
         if (sub->get_name() == help_topic) {
           std::cout << sub->help();
           return 0;
         }
       }
-      printError("help: unknown command '" + help_topic + "' (commands: render, validate)");
+      printError("help: unknown command '" + help_topic + "' (commands: render, validate, brushes)");
       return static_cast<int>(bristle::ExitCode::kUsage);
     }
     std::cout << app.help();

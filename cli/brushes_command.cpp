@@ -1,0 +1,69 @@
+// `bristle brushes`: the brush library, one line per brush with its size.
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <vector>
+
+#include "cli/commands.h"
+#include "engine/brush.h"
+#include "engine/error.h"
+
+namespace bristle::cli {
+namespace {
+
+// Hair length and the width/thickness of the hair bundle at the ferrule (mm).
+struct BrushSize {
+  double length_mm = 0, width_mm = 0, thickness_mm = 0;
+};
+BrushSize sizeOf(const Brush& b) {
+  BrushSize s;
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (const SpineSpec& sp : b.spines) {
+    s.length_mm = std::max(s.length_mm, sp.lengthMm());
+    const double r = 0.5 * sp.width_mm[0];
+    x0 = std::min(x0, sp.root_mm.x() - r);
+    x1 = std::max(x1, sp.root_mm.x() + r);
+    y0 = std::min(y0, sp.root_mm.y() - r);
+    y1 = std::max(y1, sp.root_mm.y() + r);
+  }
+  s.width_mm = std::max(x1 - x0, y1 - y0);
+  s.thickness_mm = std::min(x1 - x0, y1 - y0);
+  return s;
+}
+
+}  // namespace
+
+int runBrushes(const std::string& library_dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(library_dir, ec))
+    throw Error(ExitCode::kNoInput, library_dir + ": cannot read: not a directory");
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(library_dir, ec))
+    if (e.path().extension() == ".json") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  int code = 0;
+  for (const fs::path& f : files) {
+    try {
+      const Brush b = loadBrush(f.string());
+      const BrushSize s = sizeOf(b);
+      std::string geometry = b.surface.present() ? "surface" : "";
+      if (b.strips.present())
+        geometry += (geometry.empty() ? "" : " + ") + std::to_string(b.strips.count) + " strips";
+      if (geometry.empty()) geometry = "spine tubes";
+      char line[256];
+      std::snprintf(line, sizeof line, "%-12s %4.1f mm long, %4.1f x %3.1f mm at the ferrule, %2zu spines, %-22s",
+                    b.name.c_str(), s.length_mm, s.width_mm, s.thickness_mm, b.spines.size(),
+                    geometry.c_str());
+      std::cout << line << b.description << "\n";
+    } catch (const Error& e) {
+      printError(e.what());
+      if (code == 0) code = static_cast<int>(e.code());
+    }
+  }
+  return code;
+}
+
+}  // namespace bristle::cli
