@@ -245,3 +245,52 @@ TEST_CASE("every accepted solve is a KKT point of its problem", "[phenomena][sol
   CHECK(checked > 100);
   CHECK(worst < kKktTol);
 }
+
+TEST_CASE("a straight spine pressed straight down buckles the same way every time",
+          "[phenomena][buckling]") {
+  // No rest curvature at all: the canvas constraint has no gradient at the
+  // straight pose (a buckling point). The solve starts from a 1e-3 rad bend
+  // towards +y of the brush, so the spine bends that way, reproducibly.
+  auto press = [](const Pose& start) {
+    const SpineSpec spine = makeSpine({5, 5, 5}, {9, 7, 5});
+    const Brush brush = makeBrush({spine}, 0.4, 0.3);
+    Simulation sim(brush, SimOptions{}, makeIpoptSolver());
+    double t = 0;
+    sim.reset(start, t);
+    Pose down = start;
+    down.position_mm.z() -= 7;
+    moveHandle(sim, start, down, &t);
+    REQUIRE(sim.state().spines[0].summary.usable());
+    REQUIRE(sim.state().anyContact());
+    return sim.state().spines[0];
+  };
+  const SpineState a = press(poseAt(0, 0, 16));
+  const SpineState b = press(poseAt(0, 0, 16));
+  CHECK(a.solution.q == b.solution.q);
+  // The tip went towards +y (theta > 0 bends towards +y, eq. 10) and did not twist sideways.
+  CHECK(a.joints_mm.back().y() > 3.0);
+  CHECK(std::fabs(a.joints_mm.back().x()) < 1e-6);
+  // With the handle turned 90 degrees about z, the bend turns with the brush.
+  Pose turned = poseAt(0, 0, 16);
+  turned.rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ());
+  const SpineState c = press(turned);
+  CHECK(c.joints_mm.back().x() < -3.0);
+}
+
+TEST_CASE("every brush of the library has the paper's §5 parameters", "[phenomena][calibration]") {
+  for (const char* name : {"round", "flat", "bright", "filbert", "badger", "fan", "calligraphy"}) {
+    const Brush brush =
+        loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/" + name + ".json");
+    INFO(name);
+    for (const SpineSpec& s : brush.spines)
+      for (size_t k = 0; k < s.stiffness_nmm_per_rad.size(); ++k) {
+        CHECK(s.stiffness_nmm_per_rad[k] >= 5);   // K 5-10 N mm/rad
+        CHECK(s.stiffness_nmm_per_rad[k] <= 10);
+        if (k > 0) CHECK(s.stiffness_nmm_per_rad[k] <= s.stiffness_nmm_per_rad[k - 1]);
+        CHECK(s.damping_nmm[k] <= 0.01);          // D up to about 0.01
+      }
+    CHECK(brush.friction.mu_static >= 0.3);       // mu 0.3-0.5
+    CHECK(brush.friction.mu_static <= 0.5);
+    CHECK(brush.friction.mu_kinetic >= 0.3);
+  }
+}
