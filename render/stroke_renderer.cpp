@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "engine/error.h"
-#include "engine/spine_strips.h"
 
 namespace bristle::render {
 
@@ -38,10 +37,11 @@ CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
 StrokeRenderer::StrokeRenderer() : renderer_(2048) {}
 StrokeRenderer::~StrokeRenderer() = default;
 
-bool StrokeRenderer::footprint(const Brush& brush, const BrushState& state,
+bool StrokeRenderer::footprint(BrushGeometry& geometry, const BrushState& state,
                                const CanvasGrid& grid, double clip_mm, FootprintImage* out) {
-  std::vector<BrushVertex> tris;
-  buildSpineGeometry(brush, state, &tris);
+  std::vector<BrushVertex>& tris = triangles_;
+  tris.clear();
+  geometry.build(state, &tris);
   // The window is the bounding box of the triangles that dip below the clip plane.
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   vertices_.clear();
@@ -101,10 +101,10 @@ constexpr int kMaxSplitDepth = 5;
 
 }  // namespace
 
-void StrokeRenderer::paintStep(const Brush& brush, const BrushState& state,
+void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState& state,
                                const StrokeOptions& options, Canvas* canvas, bool* touched) {
   const CanvasGrid& grid = canvas->grid();
-  if (!footprint(brush, state, grid, options.clip_mm, &image_)) return;
+  if (!footprint(geometry, state, grid, options.clip_mm, &image_)) return;
   // Pixel offset of the window in the canvas.
   const int c0 = static_cast<int>(std::lround(grid.colOf(image_.window.x0_mm)));
   const int r0 = static_cast<int>(
@@ -124,6 +124,7 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
                                     const StrokeOptions& options, Canvas* canvas,
                                     const StepCallback& on_step,
                                     std::unique_ptr<SpineSolver> fallback) {
+  BrushGeometry geometry(brush);
   Simulation sim(brush, options.sim, std::move(solver), std::move(fallback));
   const std::vector<double> times = planStepTimes(trajectory, brush, options.sim);
   StrokeResult result;
@@ -143,12 +144,12 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
       self(self, tm, t1, depth + 1);
       return;
     }
-    paintStep(brush, sim.state(), options, canvas, &result.touched);
+    paintStep(geometry, sim.state(), options, canvas, &result.touched);
     if (on_step) on_step(sim.state(), planned, steps);
   };
 
   sim.reset(trajectory.poseAt(times.front()), times.front());
-  paintStep(brush, sim.state(), options, canvas, &result.touched);
+  paintStep(geometry, sim.state(), options, canvas, &result.touched);
   if (on_step) on_step(sim.state(), 0, steps);
   for (planned = 1; planned < steps; ++planned)
     advance(advance, times[planned - 1], times[planned], 0);

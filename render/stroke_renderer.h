@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 
+#include "engine/brush_geometry.h"
 #include "engine/canvas.h"
 #include "engine/simulation.h"
 #include "render/footprint_renderer.h"
@@ -48,15 +49,16 @@ class StrokeRenderer {
 
   // Footprint of one brush state on the canvas grid (for tests and previews).
   // Returns false when nothing touches the canvas.
-  bool footprint(const Brush& brush, const BrushState& state, const CanvasGrid& grid,
+  bool footprint(BrushGeometry& geometry, const BrushState& state, const CanvasGrid& grid,
                  double clip_mm, FootprintImage* out);
 
  private:
-  void paintStep(const Brush& brush, const BrushState& state, const StrokeOptions& options,
-                 Canvas* canvas, bool* touched);
+  void paintStep(BrushGeometry& geometry, const BrushState& state,
+                 const StrokeOptions& options, Canvas* canvas, bool* touched);
 
   FootprintRenderer renderer_;
   FootprintImage image_;
+  std::vector<BrushVertex> triangles_;
   std::vector<FootprintVertex> vertices_;
 };
 

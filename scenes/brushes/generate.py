@@ -41,23 +41,26 @@ def rest_points(sp):
     return pts
 
 
-def tube_cage(spines, ring, half_x, half_y, tip_scale=0.35):
+def tube_cage(spines, ring, half_x, half_y):
     """A cage of rings around the spines, one ring per spine point level, closed
-    by a tip vertex. half_x/half_y(k) give extra half-extents of ring k beyond
-    the spread of the spine points. Every ring vertex is skinned to the two
-    spine points of its level nearest to it (weights ~ 1/d^2)."""
+    by a tip vertex. half_x/half_y(k) give the half-extents of ring k beyond the
+    spread of the spine points. Catmull-Clark pulls a ring of m vertices in to
+    (4 + 2 cos(2 pi/m)) / 6 of its radius, so rings are grown by the inverse and
+    the smooth surface encloses the spines. Every ring vertex is skinned to the
+    two spine points of its level nearest to it (weights ~ 1/d^2); the tip
+    vertex, half a tip width beyond the lowest tip, to all tips equally, so
+    that the surface's end stays over the spines however they splay."""
     levels = len(spines[0]["segment_lengths_mm"]) + 1
     pts = [rest_points(s) for s in spines]
+    grow = 6 / (4 + 2 * math.cos(2 * math.pi / ring))
     verts, skin, faces = [], [], []
     for k in range(levels):
         level = [p[k] for p in pts]
         cx = sum(p[0] for p in level) / len(level)
         cy = sum(p[1] for p in level) / len(level)
         cz = sum(p[2] for p in level) / len(level)
-        ax = max(abs(p[0] - cx) for p in level) + half_x(k)
-        ay = max(abs(p[1] - cy) for p in level) + half_y(k)
-        if k == levels - 1:
-            ax, ay = ax * tip_scale + 0.05, ay * tip_scale + 0.05
+        ax = (max(abs(p[0] - cx) for p in level) + half_x(k)) * grow
+        ay = (max(abs(p[1] - cy) for p in level) + half_y(k)) * grow
         for r in range(ring):
             t = 2 * math.pi * r / ring
             v = [cx + ax * math.cos(t), cy + ay * math.sin(t), cz]
@@ -69,12 +72,14 @@ def tube_cage(spines, ring, half_x, half_y, tip_scale=0.35):
             ws = [round(x / tot, 4) for x in w]
             ws[0] = round(1 - sum(ws[1:]), 4)
             skin.append([[s, k, wi] for (_, s), wi in zip(infl, ws) if wi > 0])
-    tip = [sum(p[-1][i] for p in pts) / len(pts) for i in range(3)]
-    tip[2] -= 0.3
+    tips = [p[-1] for p in pts]
+    tip = [sum(t[i] for t in tips) / len(tips) for i in range(3)]
+    tip[2] = min(t[2] for t in tips) - 0.5 * max(half_x(levels - 1), 0.2)
     verts.append([round(c, 4) for c in tip])
-    nearest = min(range(len(pts)), key=lambda s: math.hypot(pts[s][-1][0] - tip[0],
-                                                            pts[s][-1][1] - tip[1]))
-    skin.append([[nearest, levels - 1, 1.0]])
+    n = len(spines)
+    ws = [round(1 / n, 4)] * n
+    ws[0] = round(1 - sum(ws[1:]), 4)
+    skin.append([[s, levels - 1, ws[s]] for s in range(n)])
     for k in range(levels - 1):
         for r in range(ring):
             a, b = k * ring + r, k * ring + (r + 1) % ring
@@ -114,7 +119,7 @@ def round_brush():
                         bend_towards(a, [0.04, 0.0, -0.2, -0.12]), [2.4, 2.8, 2.5, 1.8, 0.5]))
     b = base("round", "Round, size 8: 20 mm of hair, 5 mm across at the ferrule, fine point",
              sp, 0.45, 0.35, 0.3)
-    belly = [0.9, 1.3, 1.1, 0.6, 0.2]
+    belly = [0.9, 1.3, 1.1, 0.6, 0.25]
     b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
     b["paint"] = {"capacity": 1.0}
     return b
@@ -136,8 +141,7 @@ def flat_row(name, desc, width, thick, lengths, K, n_spines, strips, tip_curve=0
     b = base(name, desc, sp, *mu, 0.3)
     if surface:
         b["surface"] = tube_cage(sp, 12, lambda k: width / n_spines * 0.6,
-                                 lambda k: thick / 2 * (1 - 0.5 * k / len(lengths)),
-                                 tip_scale=0.9)
+                                 lambda k: thick / 2 * (1 - 0.5 * k / len(lengths)))
     if strips:
         b["strips"] = {"count": strips, "root_width_mm": 0.15, "tip_width_mm": 0.06,
                        "seed": 11, "placement": "line", "length_jitter": 0.08}
@@ -157,7 +161,7 @@ def badger():
                             [3.5, 4.0, 3.5, 2.5, 1.0]))
     b = base("badger", "Badger blender: dense and soft, 14 mm across, 25 mm of hair, domed",
              sp, 0.4, 0.3, 0.2)
-    b["surface"] = tube_cage(sp, 12, lambda k: 1.2, lambda k: 1.2, tip_scale=0.7)
+    b["surface"] = tube_cage(sp, 12, lambda k: 1.2, lambda k: 1.2)
     b["strips"] = {"count": 300, "root_width_mm": 0.12, "tip_width_mm": 0.05, "seed": 5,
                    "placement": "area", "length_jitter": 0.15}
     b["paint"] = {"capacity": 1.5}
@@ -173,8 +177,9 @@ def fan():
         # Splayed: the hairs leave the flat ferrule fanning out to a ~30 mm span.
         a = math.atan2(0, 1) if x >= 0 else math.pi
         spread = abs(x) / 6 * 0.55
+        # Each spine is one hair of the fan: as thin as its strips.
         sp.append(spine([x, 0, 0], lengths, K, D, bend_towards(a, [spread, 0.0, 0.0]),
-                        [0.9, 0.8, 0.6, 0.3]))
+                        [0.2, 0.18, 0.14, 0.06]))
     b = base("fan", "Fan: a thin, splayed row of hair, ~30 mm span, 22 mm long", sp, 0.4, 0.3, 0.3)
     b["strips"] = {"count": 160, "root_width_mm": 0.14, "tip_width_mm": 0.05, "seed": 3,
                    "placement": "line", "length_jitter": 0.12}
@@ -194,7 +199,7 @@ def calligraphy():
                         [3.2, 3.8, 3.4, 2.6, 1.2, 0.3]))
     b = base("calligraphy", "Oriental calligraphy brush: 30 mm long, 8 mm at the ferrule, "
              "fine tip, soft", sp, 0.4, 0.3, 0.4)
-    belly = [1.2, 1.8, 1.6, 1.0, 0.4, 0.1]
+    belly = [1.2, 1.8, 1.6, 1.0, 0.4, 0.2]
     b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
     b["strips"] = {"count": 150, "root_width_mm": 0.12, "tip_width_mm": 0.04, "seed": 9,
                    "placement": "area", "length_jitter": 0.1}

@@ -1,0 +1,36 @@
+#include "engine/brush_geometry.h"
+
+#include "engine/bristle_strips.h"
+#include "engine/brush_surface.h"
+
+namespace bristle {
+
+BrushGeometry::BrushGeometry(const Brush& brush) : brush_(&brush) {
+  if (brush.surface.present()) surface_ = std::make_unique<BrushSurface>(brush);
+  if (brush.strips.present()) strips_ = std::make_unique<StripLayout>(layoutStrips(brush));
+}
+BrushGeometry::~BrushGeometry() = default;
+BrushGeometry::BrushGeometry(BrushGeometry&&) noexcept = default;
+BrushGeometry& BrushGeometry::operator=(BrushGeometry&&) noexcept = default;
+
+void BrushGeometry::buildSurface(const BrushState& state, std::vector<BrushVertex>* triangles) {
+  if (surface_) surface_->update(state, triangles);
+  // The simulated spines are hairs too: dressed in their own width they mark
+  // the paper wherever the solver puts them in contact, also where an
+  // approximating surface (§4.1) rounds off inside them, at a splayed tip.
+  buildSpineGeometry(*brush_, state, triangles);
+}
+
+void BrushGeometry::buildStrips(const BrushState& state, std::vector<BrushVertex>* triangles) {
+  if (!strips_) return;
+  const size_t first = triangles->size();
+  bristle::buildStrips(*brush_, *strips_, state, triangles);
+  for (size_t i = first; i < triangles->size(); ++i) (*triangles)[i].u += kStripTextureOffsetU;
+}
+
+void BrushGeometry::build(const BrushState& state, std::vector<BrushVertex>* triangles) {
+  buildSurface(state, triangles);
+  buildStrips(state, triangles);
+}
+
+}  // namespace bristle

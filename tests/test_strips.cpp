@@ -1,0 +1,363 @@
+// Bristle strips (paper §4.2): placement and weights (§4.2.2, eqs. 16-20),
+// canvas-facing geometry and rendering order (§4.2.1), checked against the
+// definitions themselves: convex weights that reproduce the root, strips on the
+// segment field of their spines, a Delaunay triangulation, normals towards -z.
+
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "engine/bristle_strips.h"
+#include "test_helpers.h"
+
+using namespace bristle;
+using namespace bristle::testing;
+
+namespace {
+
+// The weight problem is solved to machine precision; 1e-9 leaves room for the
+// rounding of a sum of up to 64 terms of order 1.
+constexpr double kWeightSumTol = 1e-9;
+constexpr double kRootTolMm = 1e-6;  // eq. 20 at s = 0, the brief's contract
+// Vertices are floats: 30 mm * 2^-24 = 2e-6 mm, plus the sums that made them.
+constexpr double kFloatTolMm = 1e-5;
+
+Brush roundBrush(int count = 200, std::uint64_t seed = 7) {
+  Brush b = loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/round.json");
+  b.strips.count = count;
+  b.strips.seed = seed;
+  return b;
+}
+
+// Spines rooted at the given x-y points, all with the same lengths and rest shape.
+Brush brushAt(const std::vector<Eigen::Vector2d>& roots, int count = 100) {
+  std::vector<SpineSpec> spines;
+  for (const Eigen::Vector2d& r : roots) {
+    SpineSpec s = makeSpine({5, 4, 3}, {8, 6, 4}, 0.005, Eigen::Vector3d(r.x(), r.y(), 0));
+    s.rest_angles_rad = {{0.2, 0.1}, {0.15, 0}, {0.1, -0.05}};  // curved, all alike
+    spines.push_back(s);
+  }
+  Brush b = makeBrush(spines, 0.4, 0.3);
+  b.strips.count = count;
+  return b;
+}
+
+BrushState restState(const Brush& brush, const Pose& pose) {
+  Simulation sim(brush, SimOptions{}, makeIpoptSolver());
+  sim.reset(pose, 0);
+  return sim.state();
+}
+
+// A point of a spine polyline at arc-length parameter s (eq. 16's p_i(s)).
+Eigen::Vector3d spineAt(const SpineSpec& spec, const std::vector<Eigen::Vector3d>& x, double s) {
+  double target = s * spec.lengthMm(), acc = 0;
+  for (int k = 0; k < spec.jointCount(); ++k) {
+    const double len = spec.segment_lengths_mm[k];
+    if (target <= acc + len || k + 1 == spec.jointCount())
+      return x[k] + std::clamp((target - acc) / len, 0.0, 1.0) * (x[k + 1] - x[k]);
+    acc += len;
+  }
+  return x.back();
+}
+
+// One emitted strip: its layout index (from u) and left/right edge per sample.
+struct Emitted {
+  int strip;
+  std::vector<Eigen::Vector3d> left, right;
+  Eigen::Vector3d centre(int k) const { return 0.5 * (left[k] + right[k]); }
+};
+Eigen::Vector3d pos(const BrushVertex& v) { return {v.x_mm, v.y_mm, v.z_mm}; }
+std::vector<Emitted> decode(const StripLayout& l, const std::vector<BrushVertex>& tris) {
+  const int quads = l.samples() - 1;
+  std::vector<Emitted> out;
+  for (int j = 0; j < l.count; ++j) {
+    const BrushVertex* q = &tris[static_cast<size_t>(j) * quads * 6];
+    Emitted e{static_cast<int>(std::lround(q[0].u * l.count - 0.5)), {}, {}};
+    for (int k = 0; k < quads; ++k) e.left.push_back(pos(q[6 * k])), e.right.push_back(pos(q[6 * k + 1]));
+    e.left.push_back(pos(q[6 * quads - 1])), e.right.push_back(pos(q[6 * quads - 4]));
+    out.push_back(e);
+  }
+  return out;
+}
+
+void checkWeights(const Brush& brush, const StripLayout& l) {
+  for (int j = 0; j < l.count; ++j) {
+    double sum = 0;
+    Eigen::Vector2d p = Eigen::Vector2d::Zero();
+    for (int i = 0; i < l.spines; ++i) {
+      REQUIRE(l.weight(j, i) >= 0);  // eq. 19
+      sum += l.weight(j, i);
+      p += l.weight(j, i) * brush.spines[i].root_mm.head<2>();
+    }
+    CHECK(std::abs(sum - 1) < kWeightSumTol);          // eq. 18
+    CHECK((p - l.roots_mm[j]).norm() < kRootTolMm);    // eq. 20 at s = 0
+  }
+}
+
+}  // namespace
+
+TEST_CASE("strip weights are convex and reproduce their roots", "[strips]") {
+  checkWeights(roundBrush(), layoutStrips(roundBrush()));
+  const Brush flat = brushAt({{-4, 0}, {-2, 0}, {0, 0}, {2, 0}, {4, 0}});
+  checkWeights(flat, layoutStrips(flat));
+  std::mt19937_64 rng(3);
+  std::vector<Eigen::Vector2d> scattered;
+  for (int i = 0; i < 12; ++i)
+    scattered.emplace_back((rng() % 1000) * 0.006 - 3, (rng() % 1000) * 0.004 - 2);
+  const Brush irregular = brushAt(scattered, 500);
+  checkWeights(irregular, layoutStrips(irregular));
+}
+
+TEST_CASE("the weight problem has the known and the optimal answers", "[strips]") {
+  Eigen::MatrixXd cross(2, 4);
+  cross << -1, 1, 0, 0, 0, 0, 1, -1;
+  const Eigen::VectorXd start = (Eigen::VectorXd(4) << 0.5, 0.5, 0, 0).finished();
+  // By symmetry the centre of a cross takes a quarter of each spine.
+  const Eigen::VectorXd centre = solveStripWeights(cross, Eigen::Vector2d(0, 0), start);
+  CHECK((centre.array() - 0.25).abs().maxCoeff() < kWeightSumTol);
+  // A root on a spine root belongs to that spine alone (eq. 17's zero coefficient).
+  const Eigen::VectorXd on = solveStripWeights(cross, Eigen::Vector2d(0, 1),
+                                               (Eigen::VectorXd(4) << 0, 0, 1, 0).finished());
+  CHECK(on == (Eigen::VectorXd(4) << 0, 0, 1, 0).finished());
+
+  // KKT conditions of eqs. 17-20 at the random roots among 9 spines: some
+  // lambda with c_i w_i = a_i . lambda where w_i > 0 and a_i . lambda <= 0
+  // where w_i = 0, a_i = (1, p_i - p), c_i = |p_i - p|^2.
+  constexpr double kKktTol = 1e-9;
+  const Brush b = brushAt({{0, 0}, {3, 0}, {0, 3}, {3, 3}, {1, 1.2}, {2.2, 0.4}, {0.3, 2},
+                           {1.5, 2.8}, {2.9, 1.6}}, 300);
+  const StripLayout l = layoutStrips(b);
+  Eigen::MatrixXd roots(2, l.spines);
+  for (int i = 0; i < l.spines; ++i) roots.col(i) = b.spines[i].root_mm.head<2>();
+  int zero_weights = 0;
+  for (int j = 0; j < l.count; ++j) {
+    const Eigen::Vector2d p = l.roots_mm[j];
+    Eigen::MatrixXd rows(0, 3);
+    Eigen::VectorXd rhs(0);
+    for (int i = 0; i < l.spines; ++i) {
+      if (l.weight(j, i) <= 0) continue;
+      rows.conservativeResize(rows.rows() + 1, 3);
+      rhs.conservativeResize(rhs.size() + 1);
+      const Eigen::Vector2d d = roots.col(i) - p;
+      rows.row(rows.rows() - 1) << 1, d.x(), d.y();
+      rhs[rhs.size() - 1] = d.squaredNorm() * l.weight(j, i);
+    }
+    const Eigen::Vector3d lambda = rows.completeOrthogonalDecomposition().solve(rhs);
+    CHECK((rows * lambda - rhs).lpNorm<Eigen::Infinity>() < kKktTol);
+    for (int i = 0; i < l.spines; ++i) {
+      if (l.weight(j, i) > 0) continue;
+      ++zero_weights;
+      CHECK(Eigen::Vector3d(1, roots(0, i) - p.x(), roots(1, i) - p.y()).dot(lambda) < kKktTol);
+    }
+  }
+  CHECK(zero_weights > 0);  // the bounds (eq. 19) were active somewhere
+
+  // 1e-7 mm above a spine root the coefficients span 14 decades: still exact.
+  Eigen::MatrixXd column(2, 3);
+  column << 0, 0, 1, 0, 1, 0;
+  const Eigen::Vector2d near(0, 1e-7);
+  const Eigen::VectorXd wn = solveStripWeights(
+      column, near, (Eigen::VectorXd(3) << 1 - 1e-7, 1e-7, 0).finished());
+  CHECK((column * wn - near).norm() < kRootTolMm);
+  CHECK(wn[0] > 0.999999);
+  CHECK(std::abs(wn.sum() - 1) < kWeightSumTol);
+}
+
+TEST_CASE("strip placement is reproducible and stays inside the root hull", "[strips]") {
+  const Brush round = roundBrush();
+  const StripLayout a = layoutStrips(round), b = layoutStrips(round);
+  const StripLayout c = layoutStrips(roundBrush(200, 8));
+  REQUIRE_FALSE(a.one_dimensional);
+  // Same seed, same bits (== on doubles compares every bit of a non-NaN value).
+  CHECK(a.weights == b.weights);
+  CHECK(a.length_factor == b.length_factor);
+  int moved = 0;
+  for (int j = 0; j < a.count; ++j) {
+    CHECK(a.roots_mm[j] == b.roots_mm[j]);
+    moved += a.roots_mm[j] != c.roots_mm[j];
+  }
+  CHECK(moved == a.count);  // another seed moves every root
+
+  // Delaunay (§4.2.2): no spine root strictly inside a triangle's circumcircle,
+  // and the triangles tile the hull of the roots (a centre and a hexagonal ring).
+  constexpr double kCircleTolMm = 1e-9;
+  std::vector<Eigen::Vector2d> r;
+  for (const SpineSpec& s : round.spines) r.push_back(s.root_mm.head<2>());
+  double area = 0;
+  for (const Eigen::Vector3i& t : a.triangles) {
+    const Eigen::Vector2d p0 = r[t[0]], e1 = r[t[1]] - p0, e2 = r[t[2]] - p0;
+    const double det = 2 * (e1.x() * e2.y() - e1.y() * e2.x());
+    const Eigen::Vector2d cc = p0 + Eigen::Vector2d(e2.y() * e1.squaredNorm() - e1.y() * e2.squaredNorm(),
+                                                    e1.x() * e2.squaredNorm() - e2.x() * e1.squaredNorm()) / det;
+    for (const Eigen::Vector2d& q : r) CHECK((q - cc).norm() >= (p0 - cc).norm() - kCircleTolMm);
+    area += 0.5 * std::abs(det / 2);
+  }
+  std::vector<Eigen::Vector2d> hull(r.begin() + 1, r.end());  // the ring, by angle
+  std::sort(hull.begin(), hull.end(), [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+    return std::atan2(p.y(), p.x()) < std::atan2(q.y(), q.x());
+  });
+  double hull_area = 0;  // shoelace
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d &p = hull[i], &q = hull[(i + 1) % hull.size()];
+    hull_area += 0.5 * (p.x() * q.y() - q.x() * p.y());
+  }
+  CHECK(area == Approx(hull_area).epsilon(1e-12));
+
+  // Every root lies in a triangle (barycentric coordinates >= 0).
+  constexpr double kInsideTol = 1e-12;
+  for (const Eigen::Vector2d& p : a.roots_mm) {
+    bool inside = false;
+    for (const Eigen::Vector3i& t : a.triangles) {
+      Eigen::Matrix2d m;
+      m << r[t[1]] - r[t[0]], r[t[2]] - r[t[0]];
+      const Eigen::Vector2d bc = m.inverse() * (p - r[t[0]]);
+      inside |= bc.minCoeff() >= -kInsideTol && bc.sum() <= 1 + kInsideTol;
+    }
+    CHECK(inside);
+  }
+}
+
+TEST_CASE("strip roots are uniform over the hull area", "[strips]") {
+  // Rectangle [0,4] x [0,1] with an off-centre fifth root: its four triangles
+  // have areas 0.5, 1, 1, 1.5, so only area-weighted triangle choice plus
+  // uniform barycentric sampling puts half the roots left of x = 2.
+  Brush b = brushAt({{0, 0}, {4, 0}, {4, 1}, {0, 1}, {1, 0.5}}, kMaxStrips);
+  b.strips.placement = "area";
+  b.strips.length_jitter = 0.3;
+  const StripLayout l = layoutStrips(b);
+  REQUIRE(l.triangles.size() == 4);
+  int left = 0;
+  for (const Eigen::Vector2d& p : l.roots_mm) left += p.x() < 2;
+  // Binomial(1000, 0.5): sigma = 0.016; 0.06 is ~4 sigma.
+  CHECK(std::abs(left / double(l.count) - 0.5) < 0.06);
+  for (double f : l.length_factor) CHECK((f > 1 - 0.3 && f <= 1));
+}
+
+TEST_CASE("thin root layouts place strips along the best-fit line", "[strips]") {
+  SECTION("collinear roots (a flat or fan brush)") {
+    const Brush flat = brushAt({{-4, -1}, {-2, -0.5}, {0, 0}, {2, 0.5}, {4, 1}});
+    Brush forced = flat;
+    forced.strips.placement = "area";  // no triangle to sample in: still 1-D
+    CHECK(layoutStrips(forced).one_dimensional);
+    const StripLayout l = layoutStrips(flat);
+    CHECK(l.one_dimensional);
+    CHECK(l.triangles.empty());
+    const Eigen::Vector2d d = l.line_to_mm - l.line_from_mm;
+    CHECK(d.norm() == Approx(std::sqrt(68.0)));
+    for (const Eigen::Vector2d& p : l.roots_mm) {
+      const double t = (p - l.line_from_mm).dot(d) / d.squaredNorm();
+      CHECK((l.line_from_mm + t * d - p).norm() < kRootTolMm);
+      CHECK((t >= -1e-12 && t <= 1 + 1e-12));
+    }
+  }
+  SECTION("a box 5% as wide as it is long is thin; 'area' overrides") {
+    Brush thin = brushAt({{-4, 0}, {-2, 0.4}, {0, 0}, {2, 0.4}, {4, 0}});
+    CHECK(layoutStrips(thin).one_dimensional);
+    thin.strips.placement = "area";
+    CHECK_FALSE(layoutStrips(thin).one_dimensional);
+  }
+  SECTION("'line' forces 1-D placement on a round brush") {
+    Brush round = roundBrush();
+    round.strips.placement = "line";
+    const StripLayout l = layoutStrips(round);
+    CHECK(l.one_dimensional);
+    checkWeights(round, l);
+  }
+}
+
+TEST_CASE("at rest every strip lies on the segment field of its spines", "[strips]") {
+  Brush round = roundBrush();
+  round.strips.length_jitter = 0.25;
+  const StripLayout l = layoutStrips(round);
+  Pose pose = poseAt(30, 40, 25);
+  pose.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 0).normalized());
+  const BrushState st = restState(round, pose);
+  std::vector<BrushVertex> tris;
+  buildStrips(round, l, st, &tris);
+  REQUIRE(l.samples() == 5);  // round: four equal-proportion segments per spine
+  REQUIRE(tris.size() == 3 * static_cast<size_t>(2 * (l.samples() - 1) * l.count));
+  // No bend at rest, whatever the handle pose: layout order.
+  CHECK(stripBendDirection(l, st).norm() < kStripBendEpsMm);
+  const std::vector<Emitted> strips = decode(l, tris);
+  for (int o = 0; o < l.count; ++o) {
+    const Emitted& e = strips[o];
+    CHECK(e.strip == o);
+    for (int k = 0; k < l.samples(); ++k) {
+      const double s = l.length_factor[e.strip] * l.sample_s[k];
+      Eigen::Vector3d expect = Eigen::Vector3d::Zero();  // eq. 16
+      for (int i = 0; i < l.spines; ++i)
+        expect += l.weight(e.strip, i) * spineAt(round.spines[i], st.spines[i].joints_mm, s);
+      CHECK((e.centre(k) - expect).norm() < kFloatTolMm);
+    }
+  }
+}
+
+TEST_CASE("strips between parallel spines are parallel to them", "[strips]") {
+  const Brush b = brushAt({{-2, -1}, {2, -1}, {0, 1.5}, {0.5, -0.2}}, 50);
+  const StripLayout l = layoutStrips(b);
+  const BrushState st = restState(b, poseAt(0, 0, 20));
+  std::vector<BrushVertex> tris;
+  buildStrips(b, l, st, &tris);
+  // Every spine has the same curved rest shape: a strip is that curve moved to
+  // its root, p(s) - p(0) = p_0(s) - p_0(0).
+  const std::vector<Eigen::Vector3d>& x0 = st.spines[0].joints_mm;
+  for (const Emitted& e : decode(l, tris))
+    for (int k = 0; k < l.samples(); ++k) {
+      const Eigen::Vector3d shape = spineAt(b.spines[0], x0, l.sample_s[k]) - x0[0];
+      CHECK((e.centre(k) - e.centre(0) - shape).norm() < kFloatTolMm);
+    }
+}
+
+TEST_CASE("strips lying flat face the canvas with the specified widths", "[strips]") {
+  Brush b = brushAt({{-2, 0}, {2, 0}, {0, 2}}, 40);
+  b.strips.root_width_mm = 0.3;
+  b.strips.tip_width_mm = 0.1;
+  b.strips.length_jitter = 0.4;
+  const StripLayout l = layoutStrips(b);
+  // Spines laid flat on the canvas plane z = 0.5, fanned out in x-y.
+  BrushState st = restState(b, poseAt(0, 0, 20));
+  for (int i = 0; i < l.spines; ++i) {
+    const Eigen::Vector3d dir = Eigen::Vector3d(1, 0.3 * i - 0.3, 0).normalized();
+    std::vector<Eigen::Vector3d>& x = st.spines[i].joints_mm;
+    x[0] = Eigen::Vector3d(b.spines[i].root_mm.x(), b.spines[i].root_mm.y(), 0.5);
+    for (int k = 0; k < b.spines[i].jointCount(); ++k)
+      x[k + 1] = x[k] + b.spines[i].segment_lengths_mm[k] * dir;
+  }
+  std::vector<BrushVertex> tris;
+  buildStrips(b, l, st, &tris);
+  REQUIRE(tris.size() == 3 * static_cast<size_t>(l.triangleCount()));
+  constexpr double kFlatNormalZ = 0.9999;  // float vertices; the fan turns < 0.6 rad
+  for (size_t t = 0; t < tris.size(); t += 3) {
+    const Eigen::Vector3d n =
+        (pos(tris[t + 1]) - pos(tris[t])).cross(pos(tris[t + 2]) - pos(tris[t])).normalized();
+    CHECK(n.z() < -kFlatNormalZ);  // counter-clockwise seen from the canvas
+  }
+  for (const Emitted& e : decode(l, tris)) {
+    CHECK((e.right.front() - e.left.front()).norm() == Approx(0.3).margin(kFloatTolMm));
+    CHECK((e.right.back() - e.left.back()).norm() == Approx(0.1).margin(kFloatTolMm));
+  }
+}
+
+TEST_CASE("strips are drawn back to front along the bend direction", "[strips]") {
+  const Brush round = roundBrush();
+  const StripLayout l = layoutStrips(round);
+  // Press the round brush and drag it towards -x: the hairs trail towards +x.
+  Simulation sim(round, SimOptions{}, makeIpoptSolver());
+  double t = 0;
+  sim.reset(poseAt(0, 0, 20.5), t);
+  for (int i = 1; i <= 20; ++i) sim.step(poseAt(0, 0, 20.5 - 0.2 * i), t += 0.01);
+  for (int i = 1; i <= 20; ++i) sim.step(poseAt(-0.2 * i, 0, 16.5), t += 0.01);
+  REQUIRE(sim.state().anyContact());
+  const Eigen::Vector2d bend = stripBendDirection(l, sim.state());
+  INFO("bend " << bend.transpose());
+  CHECK(bend.x() > 1);  // mm of mean tip deflection, well clear of noise
+  std::vector<BrushVertex> tris;
+  buildStrips(round, l, sim.state(), &tris);
+  const Eigen::Vector2d d = bend.normalized();
+  const std::vector<Emitted> strips = decode(l, tris);
+  // Decreasing root . d: the side bent towards first, the canvas-facing
+  // (leading) side last.
+  for (size_t o = 1; o < strips.size(); ++o)
+    CHECK(l.roots_mm[strips[o - 1].strip].dot(d) >= l.roots_mm[strips[o].strip].dot(d));
+}
