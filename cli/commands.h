@@ -26,6 +26,17 @@ int runRender(const RenderArgs& args);
 
 int runValidate(const std::vector<std::string>& files);
 
+struct PreviewArgs {
+  std::string brush, trajectory, output;
+  double at_s = 0;
+  std::vector<double> offset_mm;
+  int width_px = 800, height_px = 600;
+  double px_per_mm = 8;
+  double clip_mm = 0.1;
+  bool quiet = false;
+};
+int runPreview(const PreviewArgs& args);
+
 // Lists the brushes (*.json) of a library folder.
 int runBrushes(const std::string& library_dir);
 

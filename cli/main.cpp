@@ -89,6 +89,24 @@ int main(int argc, char** argv) {
   brushes->add_option("--library", library, "Folder of brush files (default: $BRISTLE_BRUSHES "
                                             "or the source tree's scenes/brushes)");
 
+  bristle::cli::PreviewArgs pv;
+  CLI::App* preview = app.add_subcommand("preview", "Draw a brush in 3D, at rest or at a time of a trajectory");
+  preview->footer(
+      "Examples:\n"
+      "  bristle preview scenes/brushes/fan.json -o fan.png\n"
+      "  bristle preview scenes/brushes/round.json --trajectory scenes/trajectories/s-curve.csv \\\n"
+      "      --at 1.2 -o round-1.2s.png\n"
+      "The inset shows the footprint: what of the brush touches the paper.");
+  preview->add_option("brush", pv.brush, "Brush file (bristle-brush/1 JSON)")->required();
+  preview->add_option("-o,--output", pv.output, "Output PNG")->required();
+  preview->add_option("--trajectory", pv.trajectory, "Simulate along this trajectory ...");
+  preview->add_option("--at", pv.at_s, "... up to this time (s)")->capture_default_str();
+  preview->add_option("--offset-mm", pv.offset_mm, "Shift the trajectory by X Y Z mm")->expected(3);
+  preview->add_option("--width", pv.width_px, "Image width (px)")->capture_default_str()->check(CLI::Range(64, 4096));
+  preview->add_option("--height", pv.height_px, "Image height (px)")->capture_default_str()->check(CLI::Range(64, 4096));
+  preview->add_option("--px-per-mm", pv.px_per_mm, "Footprint resolution")->capture_default_str()->check(CLI::Range(0.5, 100.0));
+  preview->add_flag("-q,--quiet", pv.quiet, "No output path on stdout");
+
   std::string help_topic;
   CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
   help->add_option("command", help_topic, "Command to explain");
@@ -110,14 +128,15 @@ int main(int argc, char** argv) {
     if (render->parsed()) return bristle::cli::runRender(r);
     if (validate->parsed()) return bristle::cli::runValidate(files);
     if (brushes->parsed()) return bristle::cli::runBrushes(library);
+    if (preview->parsed()) return bristle::cli::runPreview(pv);
     if (help->parsed() && !help_topic.empty()) {
-      for (CLI::App* sub : {render, validate, brushes}) {
+      for (CLI::App* sub : {render, validate, brushes, preview}) {
         if (sub->get_name() == help_topic) {
           std::cout << sub->help();
           return 0;
         }
       }
-      printError("help: unknown command '" + help_topic + "' (commands: render, validate, brushes)");
+      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes)");
       return static_cast<int>(bristle::ExitCode::kUsage);
     }
     std::cout << app.help();

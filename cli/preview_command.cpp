@@ -1,0 +1,89 @@
+// `bristle preview B.json [--trajectory T.csv --at 1.2] -o brush.png`: the brush
+// in 3D (surface, strips, spines, ferrule), at rest or deformed at a time of a
+// trajectory, with its footprint as an inset. For people designing brushes.
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "engine/brush.h"
+#include "engine/brush_geometry.h"
+#include "engine/error.h"
+#include "engine/simulation.h"
+#include "engine/trajectory.h"
+#include "render/png_io.h"
+#include "render/preview_renderer.h"
+#include "render/stroke_renderer.h"
+
+namespace bristle::cli {
+
+int runPreview(const PreviewArgs& args) {
+  const Brush brush = loadBrush(args.brush);
+  BrushGeometry geometry(brush);
+  Simulation sim(brush, SimOptions{}, makeIpoptSolver(), makeSlsqpSolver());
+  double t_s = 0;
+  if (args.trajectory.empty()) {
+    // At rest, held vertically with the tips 2 mm above the paper.
+    Pose rest;
+    rest.position_mm = Eigen::Vector3d(0, 0, brush.reachMm() + 2);
+    sim.reset(rest, 0);
+  } else {
+    Trajectory traj = loadTrajectory(args.trajectory);
+    if (args.offset_mm.size() == 3)
+      for (TrajectorySample& s : traj.samples)
+        s.pose.position_mm += Eigen::Vector3d(args.offset_mm[0], args.offset_mm[1],
+                                              args.offset_mm[2]);
+    validateTrajectoryForBrush(traj, brush);
+    if (args.at_s < traj.startTime() || args.at_s > traj.endTime())
+      throw Error(ExitCode::kUsage, "--at " + std::to_string(args.at_s) +
+                                        ": outside the trajectory's time span [" +
+                                        std::to_string(traj.startTime()) + ", " +
+                                        std::to_string(traj.endTime()) + "] s");
+    const std::vector<double> times = planStepTimes(traj, brush, SimOptions{});
+    sim.reset(traj.poseAt(times.front()), times.front());
+    for (size_t i = 1; i < times.size() && times[i - 1] < args.at_s; ++i) {
+      const double t = std::min(times[i], args.at_s);
+      sim.step(traj.poseAt(t), t);
+    }
+    t_s = sim.state().t_s;
+  }
+  const BrushState& st = sim.state();
+
+  render::PreviewScene scene;
+  geometry.buildSurface(st, &scene.surface);
+  geometry.buildStrips(st, &scene.strips);
+  for (const SpineState& s : st.spines) scene.spines.push_back(s.joints_mm);
+  scene.handle = st.handle;
+
+  // Footprint on a canvas window around the handle.
+  const double half_mm = brush.reachMm() + 2;
+  CanvasGrid grid;
+  grid.px_per_mm = args.px_per_mm;
+  grid.x0_mm = st.handle.position_mm.x() - half_mm;
+  grid.y0_mm = st.handle.position_mm.y() - half_mm;
+  grid.width_px = grid.height_px = static_cast<int>(std::ceil(2 * half_mm * grid.px_per_mm));
+  render::StrokeRenderer footprints;
+  render::FootprintImage fp;
+  if (footprints.footprint(geometry, st, grid, args.clip_mm, &fp)) scene.footprint = &fp;
+
+  char title[256];
+  std::snprintf(title, sizeof title, "%s: %zu spines%s%s, %s", brush.name.c_str(),
+                brush.spines.size(), brush.surface.present() ? ", surface" : "",
+                brush.strips.present()
+                    ? (", " + std::to_string(brush.strips.count) + " strips").c_str()
+                    : "",
+                args.trajectory.empty() ? "at rest" : ("t = " + std::to_string(t_s).substr(0, 5) + " s").c_str());
+  scene.title = title;
+  render::PreviewOptions opt;
+  opt.width_px = args.width_px;
+  opt.height_px = args.height_px;
+  const render::Image8 image = render::renderPreview(scene, opt);
+  render::writePng(args.output, image, {{"Software", "bristle preview"}, {"bristle:brush", brush.name}});
+  if (!args.quiet) std::cout << args.output << "\n";
+  return 0;
+}
+
+}  // namespace bristle::cli
