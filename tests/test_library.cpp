@@ -1,0 +1,211 @@
+// The brush library and its footprints (paper §4): what the footprint of each
+// kind of brush must look like, and that every brush paints.
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+
+#include "engine/brush_geometry.h"
+#include "engine/simulation.h"
+#include "render/stroke_renderer.h"
+
+using namespace bristle;
+
+namespace {
+
+Brush library(const std::string& name) {
+  return loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/" + name + ".json");
+}
+
+Pose at(double x, double y, double z, double tilt_about_x_rad = 0) {
+  Pose p;
+  p.position_mm = Eigen::Vector3d(x, y, z);
+  p.rotation = Eigen::AngleAxisd(tilt_about_x_rad, Eigen::Vector3d::UnitX());
+  return p;
+}
+
+// Longest hair of the brush (mm): with the handle tilted by a, the hairs first
+// touch the paper when the ferrule is about length * cos(a) above it.
+double hairLength(const Brush& b) {
+  double l = 0;
+  for (const SpineSpec& s : b.spines) l = std::max(l, s.lengthMm());
+  return l;
+}
+
+void moveTo(Simulation& sim, const Pose& to, double step_mm = 0.2) {
+  const Pose from = sim.state().handle;
+  const int n = std::max(1, int(std::ceil((to.position_mm - from.position_mm).norm() / step_mm)));
+  for (int i = 1; i <= n; ++i)
+    sim.step(interpolatePose(from, to, double(i) / n), sim.state().t_s + 0.01);
+}
+
+// A canvas window of 80 x 80 mm at 8 px/mm centred on the origin.
+CanvasGrid window() {
+  CanvasGrid g;
+  g.x0_mm = g.y0_mm = -40;
+  g.width_px = g.height_px = 640;
+  g.px_per_mm = 8;
+  return g;
+}
+
+// Covered pixels of the footprint of a state.
+long coverage(render::StrokeRenderer& r, BrushGeometry& geo, const BrushState& st) {
+  render::FootprintImage fp;
+  if (!r.footprint(geo, st, window(), 0.1, &fp)) return 0;
+  long n = 0;
+  for (size_t i = 3; i < fp.texels.size(); i += 4) n += fp.texels[i] > 0;
+  return n;
+}
+
+// Connected groups (4-neighbour) of covered footprint pixels.
+int marks(const render::FootprintImage& fp) {
+  const int w = fp.window.width_px, h = fp.window.height_px;
+  std::vector<int> label(size_t(w) * h, 0);
+  int count = 0;
+  std::vector<int> stack;
+  for (int start = 0; start < w * h; ++start) {
+    if (label[start] || fp.texels[size_t(start) * 4 + 3] <= 0) continue;
+    ++count;
+    stack.push_back(start);
+    label[start] = count;
+    while (!stack.empty()) {
+      const int p = stack.back();
+      stack.pop_back();
+      const int c = p % w, r = p / w;
+      for (const auto& [dc, dr] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int cc = c + dc, rr = r + dr;
+        if (cc < 0 || rr < 0 || cc >= w || rr >= h) continue;
+        const int q = rr * w + cc;
+        if (label[q] || fp.texels[size_t(q) * 4 + 3] <= 0) continue;
+        label[q] = count;
+        stack.push_back(q);
+      }
+    }
+  }
+  return count;
+}
+
+}  // namespace
+
+TEST_CASE("the round brush's footprint grows with press depth", "[library][footprint]") {
+  ::unsetenv("GALLIUM_DRIVER");
+  const Brush brush = library("round");
+  BrushGeometry geo(brush);
+  render::StrokeRenderer r;
+  Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
+  sim.reset(at(0, 0, brush.reachMm() + 1, 0.35), 0);
+  long last = -1;
+  for (double depth : {1.0, 3.0, 5.0, 7.0}) {
+    moveTo(sim, at(0, 0, 18.8 - depth, 0.35));
+    const long area = coverage(r, geo, sim.state());
+    INFO("depth " << depth << " mm: " << area << " px");
+    CHECK(area > last);
+    last = area;
+  }
+  CHECK(last > 400);  // > 6 mm^2 at 8 px/mm: a real blot, not a speck
+}
+
+TEST_CASE("a flat dragged broadside is at least three times wider than edge-on",
+          "[library][footprint]") {
+  ::unsetenv("GALLIUM_DRIVER");
+  const Brush brush = library("flat");
+  // The flat's hairs lie in a row along the brush's x axis. Dragging along y
+  // sweeps the whole row (broadside); along x, only its thickness (edge-on).
+  auto strokeWidth = [&](bool broadside) {
+    BrushGeometry geo(brush);
+    render::StrokeRenderer r;
+    Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
+    // Lean the handle against the motion so the hairs trail.
+    Pose start = at(0, 0, brush.reachMm() + 1);
+    start.rotation = broadside ? Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitX())
+                               : Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
+    sim.reset(start, 0);
+    Pose down = start;
+    down.position_mm.z() = hairLength(brush) * std::cos(0.3) - 5;
+    moveTo(sim, down);
+    Pose end = down;
+    (broadside ? end.position_mm.y() : end.position_mm.x()) += 10;
+    moveTo(sim, end);
+    // Width across the motion of the current footprint.
+    render::FootprintImage fp;
+    REQUIRE(r.footprint(geo, sim.state(), window(), 0.1, &fp));
+    double lo = 1e9, hi = -1e9;
+    for (int row = 0; row < fp.window.height_px; ++row)
+      for (int c = 0; c < fp.window.width_px; ++c) {
+        if (fp.at(c, row)[3] <= 0) continue;
+        const double x = fp.window.x0_mm + (c + 0.5) / 8.0;
+        const double y = fp.window.y0_mm + (fp.window.height_px - row - 0.5) / 8.0;
+        const double across = broadside ? x : y;
+        lo = std::min(lo, across);
+        hi = std::max(hi, across);
+      }
+    return hi - lo;
+  };
+  const double broad = strokeWidth(true), edge = strokeWidth(false);
+  INFO("broadside " << broad << " mm, edge-on " << edge << " mm");
+  CHECK(broad >= 3 * edge);
+  CHECK(broad >= 10);  // about the 12 mm of the brush
+}
+
+TEST_CASE("a fan brush's footprint is many separate marks", "[library][footprint]") {
+  ::unsetenv("GALLIUM_DRIVER");
+  const Brush brush = library("fan");
+  BrushGeometry geo(brush);
+  render::StrokeRenderer r;
+  Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
+  Pose start = at(0, 0, brush.reachMm() + 1);
+  start.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX());
+  sim.reset(start, 0);
+  Pose down = start;
+  down.position_mm.z() = hairLength(brush) * std::cos(0.4) - 5;
+  moveTo(sim, down);
+  render::FootprintImage fp;
+  REQUIRE(r.footprint(geo, sim.state(), window(), 0.1, &fp));
+  const int n = marks(fp);
+  INFO(n << " separate marks");
+  CHECK(n >= 10);
+}
+
+TEST_CASE("every library brush presses, drags, lifts and leaves a stroke", "[library]") {
+  ::unsetenv("GALLIUM_DRIVER");
+  for (const char* name : {"round", "flat", "bright", "filbert", "badger", "fan", "calligraphy"}) {
+    INFO(name);
+    const Brush brush = library(name);
+    BrushGeometry geo(brush);
+    render::StrokeRenderer r;
+    Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
+    const double top = brush.reachMm() + 1, down = hairLength(brush) * std::cos(0.3) - 5;
+    sim.reset(at(0, 0, top, 0.3), 0);
+    long painted = 0;
+    for (const Pose& p : {at(0, 0, down, 0.3), at(0, 12, down, 0.3), at(0, 12, top, 0.3)}) {
+      const Pose from = sim.state().handle;
+      for (int i = 1; i <= 30; ++i) {
+        sim.step(interpolatePose(from, p, i / 30.0), sim.state().t_s + 0.01);
+        painted += coverage(r, geo, sim.state());
+      }
+    }
+    // Summed over the 90 steps. The fan touches with hair tips 0.06 mm wide, under
+    // a pixel at 8 px/mm, and leaves least: a few hundred pixel-steps.
+    CHECK(painted > 200);
+    CHECK(sim.stats().failed_steps == 0);
+    CHECK_FALSE(sim.state().anyContact());
+  }
+}
+
+TEST_CASE("the footprint of a fixed pose is the same in two runs", "[library][determinism]") {
+  ::unsetenv("GALLIUM_DRIVER");
+  auto run = [] {
+    const Brush brush = library("calligraphy");
+    BrushGeometry geo(brush);
+    render::StrokeRenderer r;
+    Simulation sim(brush, SimOptions{}, makeIpoptSolver());
+    sim.reset(at(0, 0, brush.reachMm() + 1, 0.3), 0);
+    moveTo(sim, at(0, 0, hairLength(brush) * std::cos(0.3) - 6, 0.3));
+    render::FootprintImage fp;
+    REQUIRE(r.footprint(geo, sim.state(), window(), 0.1, &fp));
+    return std::hash<std::string_view>{}(std::string_view(
+        reinterpret_cast<const char*>(fp.texels.data()), fp.texels.size() * sizeof(float)));
+  };
+  CHECK(run() == run());
+}
