@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "engine/brush.h"
+#include "engine/brush_geometry.h"
 #include "engine/error.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
@@ -22,7 +23,13 @@ int runValidate(const std::vector<std::string>& files) {
                   << t.endTime() - t.startTime() << " s)\n";
       } else {
         const Brush b = loadBrush(f);
-        std::cout << f << ": ok (brush '" << b.name << "', " << b.spines.size() << " spines)\n";
+        // Building the geometry checks what the reader cannot: the cage's
+        // topology (OpenSubdiv; non-manifold cages) and the strip layout.
+        const BrushGeometry geometry(b);
+        std::cout << f << ": ok (brush '" << b.name << "', " << b.spines.size() << " spines"
+                  << (b.surface.present() ? ", surface" : "")
+                  << (b.strips.present() ? ", " + std::to_string(b.strips.count) + " strips" : "")
+                  << ")\n";
       }
     } catch (const Error& e) {
       printError(e.what());

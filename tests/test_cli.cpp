@@ -297,6 +297,17 @@ TEST_CASE("bad input gets its exit code and a one-line message naming the field"
     CHECK_FALSE(std::filesystem::exists(tr));
     CHECK(std::filesystem::is_empty(dir.path()));
   }
+  SECTION("a non-manifold cage: 65 naming /surface (validate and render)") {
+    nlohmann::json doc = nlohmann::json::parse(brush_text);
+    doc["surface"]["faces"].push_back({0, 1, 11});  // a third face on edge (0, 1)
+    const std::string b = dir.write("nm.json", doc.dump());
+    RunResult r = runBristle("validate '" + b + "'");
+    CHECK(r.code == 65);
+    CHECK_THAT(r.err, Contains("nm.json: /surface/faces/") && Contains("non-manifold"));
+    r = render(b, good_traj, out);
+    CHECK(r.code == 65);
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
   SECTION("usage errors: 64") {
     CHECK(runBristle("render --brush x.json").code == 64);
     CHECK(runBristle("render --brush a --trajectory b -o c --px-per-mm -3").code == 64);

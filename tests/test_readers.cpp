@@ -782,3 +782,68 @@ TEST_CASE("buttons must be a non-negative integer bitmask", "[readers]") {
   CHECK(parseTrajectory(withButtons("5"), "t.csv").samples[1].buttons == 5);
   CHECK(parseTrajectory(withButtons("0"), "t.csv").samples[1].buttons == 0);
 }
+
+// ------------------------------------------------------- brush geometry sections
+
+namespace {
+// kBrush with a small valid surface (a quad strip around the two spines) and strips.
+std::string brushWithGeometry() {
+  nlohmann::json doc = nlohmann::json::parse(kBrush);
+  doc["surface"] = {
+      {"cage_vertices_mm", {{-1, -1, 0}, {2, -1, 0}, {2, 1, 0}, {-1, 1, 0}, {0, 0, -9}}},
+      {"faces", {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}},
+      {"skin", {{{0, 0, 1.0}}, {{1, 0, 1.0}}, {{1, 0, 0.5}, {0, 0, 0.5}}, {{0, 0, 1}}, {{0, 2, 1}}}},
+      {"refinement_level", 1}};
+  doc["strips"] = {{"count", 40}, {"seed", 3}, {"placement", "line"}};
+  return doc.dump();
+}
+std::string geometryWith(const std::string& pointer, const nlohmann::json& value) {
+  nlohmann::json doc = nlohmann::json::parse(brushWithGeometry());
+  doc[nlohmann::json::json_pointer(pointer)] = value;
+  return doc.dump();
+}
+}  // namespace
+
+TEST_CASE("surface and strips sections parse", "[readers][geometry]") {
+  const Brush b = parseBrush(brushWithGeometry(), "brush.json");
+  REQUIRE(b.surface.present());
+  CHECK(b.surface.cage_mm.size() == 5);
+  CHECK(b.surface.faces.size() == 4);
+  CHECK(b.surface.skin[2].size() == 2);
+  CHECK(b.surface.refinement_level == 1);
+  REQUIRE(b.strips.present());
+  CHECK(b.strips.count == 40);
+  CHECK(b.strips.seed == 3);
+  CHECK(b.strips.placement == "line");
+}
+
+TEST_CASE("bad surface and strips sections are 65 naming the field", "[readers][geometry]") {
+  // Face indices out of range.
+  CHECK_BRUSH_ERROR(geometryWith("/surface/faces/1/2", 5), "/surface/faces/1/2", "vertex index");
+  // A face of 2 or 5 vertices, or one that repeats a vertex.
+  CHECK_BRUSH_ERROR(geometryWith("/surface/faces/0", {0, 1}), "/surface/faces/0", "3 or 4");
+  CHECK_BRUSH_ERROR(geometryWith("/surface/faces/0", {0, 1, 1}), "/surface/faces/0", "repeats");
+  // Skin weights that do not sum to 1, or that name a missing spine or point.
+  CHECK_BRUSH_ERROR(geometryWith("/surface/skin/2", {{1, 0, 0.5}, {0, 0, 0.4}}), "/surface/skin/2",
+                    "sum to 1");
+  CHECK_BRUSH_ERROR(geometryWith("/surface/skin/0", {{7, 0, 1.0}}), "/surface/skin/0/0/0",
+                    "names no spine");
+  CHECK_BRUSH_ERROR(geometryWith("/surface/skin/0", {{0, 3, 1.0}}), "/surface/skin/0/0/1",
+                    "names no point");
+  CHECK_BRUSH_ERROR(geometryWith("/surface/skin", {{{0, 0, 1.0}}}), "/surface/skin",
+                    "one list");
+  CHECK_BRUSH_ERROR(geometryWith("/surface/refinement_level", 5), "/surface/refinement_level",
+                    "[0, 4]");
+  CHECK_BRUSH_ERROR(geometryWith("/surface/creases", 1), "/surface/creases", "unknown key");
+  // Strip counts above the documented limit, bad widths and placements.
+  CHECK_BRUSH_ERROR(geometryWith("/strips/count", kMaxStrips + 1), "/strips/count", "1, 1000");
+  CHECK_BRUSH_ERROR(geometryWith("/strips/count", 0), "/strips/count", "1, 1000");
+  CHECK_BRUSH_ERROR(geometryWith("/strips/tip_width_mm", 1.0), "/strips/tip_width_mm",
+                    "root_width_mm");
+  CHECK_BRUSH_ERROR(geometryWith("/strips/placement", "grid"), "/strips/placement", "auto");
+  // A degenerate root layout: every root in one point.
+  nlohmann::json doc = nlohmann::json::parse(brushWithGeometry());
+  doc["spines"][1]["root_mm"] = {0, 0, 0};
+  doc.erase("surface");
+  CHECK_BRUSH_ERROR(doc.dump(), "/strips", "one point");
+}
