@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "engine/brush.h"
+#include "engine/brush_geometry.h"
+#include "engine/simulation.h"
 #include "engine/trajectory.h"
 #include "render/footprint_renderer.h"
 #include "render/stroke_renderer.h"
@@ -147,6 +149,86 @@ BENCHMARK(BM_StrokeRender)
     ->Iterations(3)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
+
+// A pressed state of a library brush, tilted 0.3 rad and pressed 6 mm; the
+// calligraphy brush is given 200 strips (the paper's "as many as 200").
+BrushState pressedState(const Brush& brush) {
+  Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
+  double length = 0;
+  for (const SpineSpec& s : brush.spines) length = std::max(length, s.lengthMm());
+  Pose p;
+  p.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX());
+  p.position_mm = Eigen::Vector3d(0, 0, brush.reachMm() + 1);
+  sim.reset(p, 0);
+  const double top = p.position_mm.z(), bottom = length * std::cos(0.3) - 6;
+  for (int i = 1; i <= 60; ++i) {
+    p.position_mm.z() = top + (bottom - top) * i / 60;
+    sim.step(p, 0.01 * i);
+  }
+  return sim.state();
+}
+
+Brush benchBrush(int which) {
+  const std::string dir = BRISTLE_SOURCE_DIR;
+  Brush b = loadBrush(dir + (which == 0 ? "/scenes/brushes/round.json"
+                                        : "/scenes/brushes/calligraphy.json"));
+  if (which == 1) b.strips.count = 200;
+  return b;
+}
+
+// Geometry update per step (paper §4): skinning + subdivision (+ 200 strips).
+// range(0): 0 = round (surface), 1 = calligraphy (surface + 200 strips).
+void BM_BrushGeometry(benchmark::State& state) {
+  const Brush brush = benchBrush(static_cast<int>(state.range(0)));
+  BrushGeometry geometry(brush);
+  const BrushState st = pressedState(brush);
+  std::vector<BrushVertex> tris;
+  std::vector<double> us;
+  for (auto _ : state) {
+    tris.clear();
+    const Clock::time_point t0 = Clock::now();
+    geometry.build(st, &tris);
+    const double dt = seconds(t0, Clock::now());
+    state.SetIterationTime(dt);
+    us.push_back(1e6 * dt);
+  }
+  state.counters["triangles"] = double(tris.size() / 3);
+  reportPercentiles(state, us, "");
+}
+BENCHMARK(BM_BrushGeometry)->ArgName("strips200")->Arg(0)->Arg(1)->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
+
+// Geometry + footprint render + readback of the pressed calligraphy brush with
+// 200 strips; range(0) = px per mm, which sets the footprint window's size.
+void BM_GeometryAndFootprint(benchmark::State& state) {
+  const Brush brush = benchBrush(1);
+  BrushGeometry geometry(brush);
+  const BrushState st = pressedState(brush);
+  CanvasGrid grid;
+  grid.px_per_mm = double(state.range(0));
+  grid.x0_mm = grid.y0_mm = -40;
+  grid.width_px = grid.height_px = static_cast<int>(80 * grid.px_per_mm);
+  StrokeRenderer renderer;
+  FootprintImage fp;
+  std::vector<double> us;
+  for (auto _ : state) {
+    const Clock::time_point t0 = Clock::now();
+    const bool touched = renderer.footprint(geometry, st, grid, kClipMm, &fp);
+    const double dt = seconds(t0, Clock::now());
+    if (!touched) {
+      state.SkipWithError("no footprint");
+      break;
+    }
+    state.SetIterationTime(dt);
+    us.push_back(1e6 * dt);
+  }
+  state.counters["window_px"] = double(fp.window.width_px) * fp.window.height_px;
+  state.counters["window_w"] = fp.window.width_px;
+  state.counters["window_h"] = fp.window.height_px;
+  reportPercentiles(state, us, "");
+}
+BENCHMARK(BM_GeometryAndFootprint)->ArgName("px_per_mm")->Arg(8)->Arg(16)->Arg(32)->Arg(56)
+    ->UseManualTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
