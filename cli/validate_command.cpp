@@ -22,6 +22,13 @@ int runValidate(const std::vector<std::string>& files) {
         std::cout << f << ": ok (trajectory, " << t.samples.size() << " samples, "
                   << t.endTime() - t.startTime() << " s)\n";
       } else {
+        // Every problem of the file at once, one line each.
+        const std::vector<std::string> problems = checkBrush(f);
+        for (const std::string& p : problems) printError(p);
+        if (!problems.empty()) {
+          if (code == 0) code = static_cast<int>(ExitCode::kDataError);
+          continue;
+        }
         const Brush b = loadBrush(f);
         // Building the geometry checks what the reader cannot: the cage's
         // topology (OpenSubdiv; non-manifold cages) and the strip layout.

@@ -184,29 +184,52 @@ double Brush::reachMm() const {
   return r;
 }
 
-Brush parseBrush(const std::string& text, const std::string& path) {
+Brush parseBrush(const std::string& text, const std::string& path,
+                 std::vector<std::string>* problems) {
   const nlohmann::json doc = parseJsonText(text, path);
   const JsonObject top(doc, "", path);
   Brush b;
   b.path = path;
-  const std::string format = top.string("format");
-  top.require(format == kFormat, "format",
-              "unknown format version (expected \"bristle-brush/1\")");
-  b.name = top.string("name");
-  top.require(!b.name.empty(), "name", "must not be empty");
-  b.description = top.string("description", "");
+  // With `problems`, each independent part (the header, every spine, each
+  // section) reports its first problem and reading goes on with the next part.
+  auto part = [&](const auto& read) {
+    if (!problems) return read();
+    try {
+      read();
+    } catch (const Error& e) {
+      problems->push_back(e.what());
+    }
+  };
+  part([&] {
+    const std::string format = top.string("format");
+    top.require(format == kFormat, "format",
+                "unknown format version (expected \"bristle-brush/1\")");
+  });
+  part([&] {
+    b.name = top.string("name");
+    top.require(!b.name.empty(), "name", "must not be empty");
+    b.description = top.string("description", "");
+  });
 
-  const std::vector<JsonObject> spines = top.objects("spines");
-  top.require(!spines.empty() && spines.size() <= static_cast<size_t>(kMaxSpines), "spines",
-              "must have 1.." + std::to_string(kMaxSpines) + " spines");
+  std::vector<JsonObject> spines;
+  part([&] {
+    spines = top.objects("spines");
+    top.require(!spines.empty() && spines.size() <= static_cast<size_t>(kMaxSpines), "spines",
+                "must have 1.." + std::to_string(kMaxSpines) + " spines");
+  });
+  bool spines_ok = !spines.empty();
   for (const JsonObject& s : spines) {
-    b.spines.push_back(parseSpine(s));
-    top.requireAt(b.spines.back().root_mm.z() <= 0, s.childPointer("root_mm") + "/2",
-                  b.spines.back().root_mm.z(),
-                  "roots sit at or inside the ferrule mouth (z <= 0 in the brush frame)");
+    const size_t before = problems ? problems->size() : 0;
+    part([&] {
+      b.spines.push_back(parseSpine(s));
+      top.requireAt(b.spines.back().root_mm.z() <= 0, s.childPointer("root_mm") + "/2",
+                    b.spines.back().root_mm.z(),
+                    "roots sit at or inside the ferrule mouth (z <= 0 in the brush frame)");
+    });
+    if (problems && problems->size() != before) spines_ok = false;
   }
 
-  if (top.has("friction")) {
+  if (top.has("friction")) part([&] {
     const JsonObject f = top.object("friction");
     FrictionSpec& fr = b.friction;
     fr.mu_static = f.number("mu_static");
@@ -225,10 +248,13 @@ Brush parseBrush(const std::string& text, const std::string& path) {
       a.rejectUnknownKeys();
     }
     f.rejectUnknownKeys();
-  }
-  if (top.has("surface")) parseSurface(top.object("surface"), b.spines, &b.surface);
-  if (top.has("strips")) {
+  });
+  // The geometry refers to the spines: it is only checked against sound ones.
+  if (top.has("surface") && spines_ok)
+    part([&] { parseSurface(top.object("surface"), b.spines, &b.surface); });
+  if (top.has("strips")) part([&] {
     parseStrips(top.object("strips"), &b.strips);
+    if (!spines_ok) return;
     // Strips are interpolated between spine roots (§4.2.2): the roots must span
     // at least a line.
     double spread = 0;
@@ -237,17 +263,25 @@ Brush parseBrush(const std::string& text, const std::string& path) {
     top.require(spread > kMinRootSpreadMm, "strips",
                 "need spine roots spread over at least 0.01 mm in x-y to place strips between "
                 "(all roots are in one point)");
-  }
-  if (top.has("paint")) {
+  });
+  if (top.has("paint")) part([&] {
     const JsonObject p = top.object("paint");
     b.paint_capacity = p.number("capacity", 1.0);
     p.require(b.paint_capacity > 0, "capacity", "must be > 0");
     p.rejectUnknownKeys();
-  }
-  top.rejectUnknownKeys();
+  });
+  for (const char* key : {"surface", "strips"})  // known even when skipped above
+    if (top.has(key)) top.raw(key);
+  part([&] { top.rejectUnknownKeys(); });
   return b;
 }
 
 Brush loadBrush(const std::string& path) { return parseBrush(readTextFile(path), path); }
+
+std::vector<std::string> checkBrush(const std::string& path) {
+  std::vector<std::string> problems;
+  parseBrush(readTextFile(path), path, &problems);
+  return problems;
+}
 
 }  // namespace bristle

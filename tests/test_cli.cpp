@@ -308,6 +308,19 @@ TEST_CASE("bad input gets its exit code and a one-line message naming the field"
     CHECK(r.code == 65);
     CHECK_FALSE(std::filesystem::exists(out));
   }
+  SECTION("validate lists every problem of a brush at once") {
+    nlohmann::json doc = nlohmann::json::parse(brush_text);
+    doc["spines"][1]["segment_lengths_mm"][0] = -1;
+    doc["spines"][3]["stiffness_nmm_per_rad"][2] = 0;
+    doc["friction"]["mu_kinetic"] = 0.9;
+    doc["colour"] = "red";
+    const RunResult r = runBristle("validate '" + dir.write("many.json", doc.dump()) + "'");
+    CHECK(r.code == 65);
+    CHECK_THAT(r.err, Contains("/spines/1/segment_lengths_mm/0") &&
+                          Contains("/spines/3/stiffness_nmm_per_rad/2") &&
+                          Contains("/friction/mu_kinetic") && Contains("/colour"));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 4);
+  }
   SECTION("usage errors: 64") {
     CHECK(runBristle("render --brush x.json").code == 64);
     CHECK(runBristle("render --brush a --trajectory b -o c --px-per-mm -3").code == 64);
