@@ -224,7 +224,7 @@ Brush parseBrush(const std::string& text, const std::string& path,
       b.spines.push_back(parseSpine(s));
       top.requireAt(b.spines.back().root_mm.z() <= 0, s.childPointer("root_mm") + "/2",
                     b.spines.back().root_mm.z(),
-                    "roots sit at or inside the ferrule mouth (z <= 0 in the brush frame)");
+                    "must be <= 0 (z <= 0: roots sit at the ferrule mouth or below it, where the hairs hang)");
     });
     if (problems && problems->size() != before) spines_ok = false;
   }
