@@ -20,6 +20,7 @@
 #include <type_traits>
 
 #include "render/gl_context.h"
+#include "render/gl_program.h"
 
 namespace bristle::render {
 
@@ -66,48 +67,10 @@ layout(location = 0) out vec4 texel;
 void main() { texel = vec4(uv, depth_mm, 1.0); }
 )";
 
-void checkGl(const char* what) {
-  const GLenum error = glGetError();
-  if (error != GL_NO_ERROR) {
-    char message[160];
-    std::snprintf(message, sizeof message, "footprint renderer: GL error 0x%04x after %s",
-                  error, what);
-    throw std::runtime_error(message);
-  }
-}
-
-GLuint compileShader(GLenum type, const char* source) {
-  const GLuint shader = glCreateShader(type);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    char log[1024] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    glDeleteShader(shader);
-    throw std::runtime_error(std::string("footprint shader does not compile: ") + log);
-  }
-  return shader;
-}
+void checkGl(const char* what) { render::checkGl("footprint renderer", what); }
 
 GLuint linkProgram() {
-  const GLuint vs = compileShader(GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fs = compileShader(GL_FRAGMENT_SHADER, kFragmentShader);
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  glDeleteShader(vs);  // flagged; freed with the program
-  glDeleteShader(fs);
-  GLint ok = GL_FALSE;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    char log[1024] = {};
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    throw std::runtime_error(std::string("footprint shaders do not link: ") + log);
-  }
-  return program;
+  return render::linkProgram("footprint renderer", kVertexShader, kFragmentShader);
 }
 
 }  // namespace
