@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_stats.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/simulation.h"
@@ -25,7 +26,9 @@ namespace {
 
 using namespace bristle;
 using namespace bristle::render;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
+using bench::percentile;
+using bench::seconds;
 
 constexpr double kPxPerMm = 8;       // the CLI's default canvas resolution
 constexpr double kClipMm = 0.1;      // StrokeOptions' default contact band
@@ -33,18 +36,6 @@ constexpr int kGridQuads = 50;       // 50 x 50 quads = 5000 triangles
 constexpr double kWaveMm = 8;        // wavelength of the test surface
 constexpr double kAmplitudeMm = 0.5; // about half the surface lies below the clip plane
 
-double seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
-
-// Median and nearest-rank p95 of samples (sorted in place); 0 when empty.
-double percentile(std::vector<double>& v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  if (p == 50 && v.size() % 2 == 0) return 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-  const size_t rank = static_cast<size_t>(std::ceil(p / 100 * double(v.size())));
-  return v[std::clamp<size_t>(rank, 1, v.size()) - 1];
-}
 
 void reportPercentiles(benchmark::State& state, std::vector<double>& us,
                        const std::string& prefix) {

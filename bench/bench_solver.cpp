@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_stats.h"
 #include "engine/brush.h"
 #include "engine/simulation.h"
 #include "engine/spine_kinematics.h"
@@ -25,7 +26,9 @@
 namespace {
 
 using namespace bristle;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
+using bench::percentile;
+using bench::seconds;
 
 // The spine of SOLVER-NOTES.md's probes and of the paper's §6 anchor: 4 mm
 // segments, K 10 -> 5 N mm/rad root to tip, D 0.005 N mm, mu 0.4, handle tilted
@@ -43,18 +46,6 @@ constexpr double kDragStepMm = 0.2;
 constexpr double kDiscRadiusMm = 2;  // roots of multi-spine brushes spread on this disc
 constexpr double kStepDtS = 0.01;
 
-double seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
-
-// Median and nearest-rank p95 of samples (sorted in place); 0 when empty.
-double percentile(std::vector<double>& v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  if (p == 50 && v.size() % 2 == 0) return 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-  const size_t rank = static_cast<size_t>(std::ceil(p / 100 * double(v.size())));
-  return v[std::clamp<size_t>(rank, 1, v.size()) - 1];
-}
 
 SpineSpec makeSpine(int joints, const Eigen::Vector3d& root_mm) {
   SpineSpec s;

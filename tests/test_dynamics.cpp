@@ -10,20 +10,6 @@
 using namespace bristle;
 using namespace bristle::testing;
 
-namespace {
-
-// Runs the handle in a straight line from a to b in steps of at most 0.1 mm.
-void moveHandle(Simulation& sim, const Pose& a, const Pose& b, double* t) {
-  const double dist = (b.position_mm - a.position_mm).norm();
-  const int n = std::max(1, static_cast<int>(std::ceil(dist / 0.1)));
-  for (int i = 1; i <= n; ++i) {
-    *t += 0.01;
-    sim.step(interpolatePose(a, b, double(i) / n), *t);
-  }
-}
-
-}  // namespace
-
 TEST_CASE("one joint pressed into the canvas reaches the closed-form equilibrium",
           "[dynamics]") {
   // Frictionless (mu = 0), undamped: the tip slides until the constraint alone

@@ -4,7 +4,11 @@
 #include <string>
 #include <vector>
 
+#include <algorithm>
+#include <cmath>
+
 #include "engine/brush.h"
+#include "engine/simulation.h"
 #include "engine/trajectory.h"
 
 namespace bristle::testing {
@@ -36,6 +40,15 @@ inline Pose poseAt(double x, double y, double z) {
   Pose p;
   p.position_mm = Eigen::Vector3d(x, y, z);
   return p;
+}
+
+// Moves the handle in a straight line from a to b in steps of at most step_mm,
+// 0.01 s apart.
+inline void moveHandle(Simulation& sim, const Pose& a, const Pose& b, double* t,
+                       double step_mm = 0.1) {
+  const double dist = (b.position_mm - a.position_mm).norm();
+  const int n = std::max(1, static_cast<int>(std::ceil(dist / step_mm)));
+  for (int i = 1; i <= n; ++i) sim.step(interpolatePose(a, b, double(i) / n), *t += 0.01);
 }
 
 }  // namespace bristle::testing

@@ -21,13 +21,6 @@ Pose tilted(double x, double y, double z, double tilt_about_y_rad) {
   return p;
 }
 
-// Moves the handle in a straight line in steps of at most `step_mm`.
-void moveHandle(Simulation& sim, const Pose& a, const Pose& b, double* t, double step_mm = 0.1) {
-  const double dist = (b.position_mm - a.position_mm).norm();
-  const int n = std::max(1, static_cast<int>(std::ceil(dist / step_mm)));
-  for (int i = 1; i <= n; ++i) sim.step(interpolatePose(a, b, double(i) / n), *t += 0.01);
-}
-
 double tangentialRatio(const BrushState& st) {
   return st.force_n.head<2>().norm() / st.force_n.z();
 }
