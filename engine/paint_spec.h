@@ -1,0 +1,45 @@
+#pragma once
+// What a scene says about paint, as plain data (the scene reader fills it, the
+// paint model in engine/paint*.h acts on it). The paint model follows the paper's
+// painting system (dAb, IMPaSTo): paint is a texture on the brush, moved both ways
+// between brush and canvas through the footprint.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace bristle {
+
+// How a brush is loaded before a stroke.
+struct PaintLoad {
+  enum class Mode {
+    kSolid,   // one paint everywhere
+    kAcross,  // 2-3 paints side by side across the brush's width axis (One-Stroke)
+    kTip,     // paints[0] in the body, paints[1] on the last tip_length of the hairs
+  };
+  Mode mode = Mode::kSolid;
+  // Each a pigment name from the pigment table ("ultramarine", "cadmium-yellow",
+  // ...) or a colour "#rrggbb" (an opaque paint of that colour).
+  std::vector<std::string> paints;
+  double amount = 1.0;      // fraction of the brush's paint_capacity, in (0, 1]
+  double tip_length = 0.3;  // kTip: fraction of the hair length, from the tip
+  // Thinner paint (more medium) flows more freely and covers less: in [0, 1].
+  double dilution = 0.0;
+};
+
+// The paper's surface: a seeded height field that decides contact where the
+// brush barely touches (dry brush catches only the tooth).
+struct PaperSpec {
+  std::string colour = "#f5f1e6";
+  double tooth_depth_mm = 0.03;  // peak-to-valley height of the grain
+  double tooth_scale_mm = 0.4;   // feature size of the grain
+  std::uint64_t seed = 1;
+};
+
+// How pigments combine on the canvas and on the brush.
+enum class MixModel {
+  kKubelkaMunk,  // K and S per channel, layers composited (the default)
+  kLinearRgb,    // linear-light RGB averaging (fallback, for comparison)
+};
+
+}  // namespace bristle
