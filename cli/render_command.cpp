@@ -206,6 +206,11 @@ int runRender(const RenderArgs& args) {
                  "bristle: %d steps (%d solved, %d stiction re-solves, %d rescued by the "
                  "fallback solver), %ld solver iterations\n",
                  st.steps, st.solved_steps, st.resolves, st.fallback_solves, st.iterations);
+    std::fprintf(stderr,
+                 "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up; %.3g of %.3g mm^3 "
+                 "left on the brush\n",
+                 result.deposited_mm3, result.picked_up_mm3, paint.totalVolumeMm3(),
+                 paint.capacityMm3() * args.amount);
     std::cout << args.output << "\n";
   }
   return 0;

@@ -382,8 +382,11 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
       const size_t i = canvas.index(col, row);
       // The brush reaches the paper where it dips below the paper's surface: the
       // peaks (tooth 1) at the top of the contact band, the valleys tooth_depth lower.
-      const float contact =
+      // Contact saturates (x (2 - x)): hairs bend and spread as they press, so a
+      // hair half-way into the band already lays down three quarters of its paint.
+      const float x =
           std::clamp((px[2] - tooth_depth * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
+      const float contact = x * (2 - x);
       if (contact <= 0) continue;
       const int t = map.texel(px[0], px[1]);
       const float th = threshold[t];
@@ -438,24 +441,52 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
     stats.picked_up_mm3 += in_sum[t];
   }
 
-  // 4. Reservoir: paint creeps along each column towards texels that lost it.
-  if (params.reservoir_flow > 0)
-    for (int col = 0; col < BrushTexelMap::kColumns; ++col)
-      for (int row = 0; row + 1 < BrushTexelMap::kRows; ++row) {
-        PaintCell& a = brush.cell(row * BrushTexelMap::kColumns + col);
-        PaintCell& b = brush.cell((row + 1) * BrushTexelMap::kColumns + col);
-        const float q = static_cast<float>(params.reservoir_flow * 0.5) *
-                        (a.volume_mm3 - b.volume_mm3);
-        if (q > 0) {
-          const Optics o = a.optics;
-          a.volume_mm3 -= q;
-          mixInto(b, b.volume_mm3, o, q);
-        } else if (q < 0) {
-          const Optics o = b.optics;
-          b.volume_mm3 += q;
-          mixInto(a, a.volume_mm3, o, -q);
+  // 4. Reservoir: within each column (one lateral position of the hair bundle)
+  // paint flows from texels holding more than the column's mean towards those
+  // holding less, a fraction reservoir_flow of the difference per step. The
+  // givers' paint is pooled, so the receivers get the givers' mixture.
+  if (params.reservoir_flow > 0) {
+    constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
+    const float phi = static_cast<float>(std::clamp(params.reservoir_flow, 0.0, 1.0));
+    for (int col = 0; col < C; ++col) {
+      double mean = 0;
+      for (int row = 0; row < R; ++row) mean += brush.cell(row * C + col).volume_mm3;
+      mean /= R;
+      double pool = 0, pool_k[3] = {0, 0, 0}, pool_s[3] = {0, 0, 0}, want = 0;
+      for (int row = 0; row < R; ++row) {
+        PaintCell& cell = brush.cell(row * C + col);
+        const double excess = cell.volume_mm3 - mean;
+        if (excess > 0) {
+          const float give = static_cast<float>(phi * excess);
+          cell.volume_mm3 -= give;
+          pool += give;
+          for (int k = 0; k < 3; ++k) {
+            pool_k[k] += double(give) * cell.optics.k[k];
+            pool_s[k] += double(give) * cell.optics.s[k];
+          }
+        } else {
+          want += phi * -excess;
         }
       }
+      if (pool <= 0 || want <= 0) continue;
+      Optics pooled;
+      for (int k = 0; k < 3; ++k) {
+        pooled.k[k] = static_cast<float>(pool_k[k] / pool);
+        pooled.s[k] = static_cast<float>(pool_s[k] / pool);
+      }
+      // Receivers share the pool in proportion to their shortfall (pool == want up to
+      // rounding; scaling by pool / want keeps the sum exact).
+      const double scale = pool / want;
+      for (int row = 0; row < R; ++row) {
+        PaintCell& cell = brush.cell(row * C + col);
+        // Only texels that were below the mean before the givers gave (a giver
+        // ends at or above the mean, so "below the mean" still picks them).
+        if (cell.volume_mm3 >= mean) continue;
+        const float take = static_cast<float>(phi * (mean - cell.volume_mm3) * scale);
+        mixInto(cell, cell.volume_mm3, pooled, take);
+      }
+    }
+  }
   return stats;
 }
 

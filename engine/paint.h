@@ -189,9 +189,12 @@ struct TransferParams {
   // spent brush marks only the paper's peaks and the hardest-pressed hairs.
   double dry_load = 0.5;
   double dry_threshold = 0.85;
-  // Paint flows down each column of the brush texture towards texels that lost
-  // paint (the belly feeds the tip): this fraction of the difference per step.
-  double reservoir_flow = 0.05;
+  // Paint flows within each column of the brush texture (one lateral position of
+  // the bundle) towards texels that lost paint, the belly feeding the tip by
+  // capillarity: this fraction of each texel's difference from the column mean
+  // per step. Strong enough that the hairs in contact do not run dry while the
+  // rest of the bundle is full (a contact row drains ~50% per step without it).
+  double reservoir_flow = 0.2;
 };
 
 struct TransferStats {
