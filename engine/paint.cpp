@@ -366,7 +366,8 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   const BrushTexelMap& map = brush.map();
   const double area_px = canvas.pixelAreaMm2();
   const double texel_area = map.texelAreaMm2();
-  const float tooth_depth = static_cast<float>(canvas.paper().tooth_depth_mm);
+  const float valley_reach =
+      static_cast<float>(canvas.paper().tooth_depth_mm * params.hair_bridging);
   const float inv_clip = static_cast<float>(1.0 / params.clip_mm);
 
   // Per texel: how far it has run dry -> the contact it needs before it deposits.
@@ -399,11 +400,14 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
       if (col < 0 || col >= g.width_px) continue;
       const size_t i = canvas.index(col, row);
       // The brush reaches the paper where it dips below the paper's surface: the
-      // peaks (tooth 1) at the top of the contact band, the valleys tooth_depth lower.
+      // peaks (tooth 1) at the top of the contact band, the valleys lower. Hairs
+      // bridge the grain rather than follow it: reaching the floor of a valley
+      // tooth_depth deep takes hair_bridging times that much pressing (footprint
+      // depth), so a light touch catches only the peaks.
       // Contact saturates (x (2 - x)): hairs bend and spread as they press, so a
       // hair half-way into the band already lays down three quarters of its paint.
-      const float x =
-          std::clamp((px[2] - tooth_depth * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
+      const float x = std::clamp(
+          (px[2] - valley_reach * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
       const float contact = x * (2 - x);
       if (contact <= 0) continue;
       const int t = map.texel(px[0], px[1]);

@@ -176,6 +176,13 @@ struct FootprintView {
 struct TransferParams {
   // The contact band (mm): brush geometry this far into the band presses fully.
   double clip_mm = 0.1;
+  // Pressing (footprint depth, mm) it takes for hairs to reach the floor of the
+  // paper's grain, in units of the grain's depth. A hair spans several grain
+  // features (tooth_scale ~ 0.4 mm against hairs ~0.1 mm thick and far longer)
+  // and bends into a valley only under load; 8x lets a firm stroke (depth
+  // ~1 mm where spines press) fill the grain while a stroke that barely touches
+  // (depth ~0.1 - 0.3 mm) marks only its peaks on a 0.05 mm grain.
+  double hair_bridging = 8.0;
   // Per step, a touching texel hands this fraction of a full load's film to each
   // pixel under it, in proportion to contact, while it has paint (at most
   // max_out_fraction of what it holds) ...

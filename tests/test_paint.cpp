@@ -243,7 +243,7 @@ TEST_CASE("Transfer conserves paint: brush + wet canvas is constant", "[paint][t
   // Float cells: each update rounds a cell's volume by ~6e-8 of itself; a few
   // thousand updates of a random-walking error stay far below 1e-5 of the total.
   constexpr double kConservationTol = 1e-5;
-  const Footprint fp(64, 12, 0.8f, 0.08f);
+  const Footprint fp(64, 12, 0.8f, 0.5f);  // pressed: the hairs reach into the grain
   double deposited = 0, picked = 0;
   // The brush goes down the canvas and back up over its own wet paint.
   for (int step = 0; step < 280; ++step) {
@@ -268,7 +268,7 @@ TEST_CASE("Transfer conserves paint: brush + wet canvas is constant", "[paint][t
 TEST_CASE("Transfer: a clean brush picks up wet paint and carries it on", "[paint][transfer]") {
   const Brush brush = fivesSpineBrush();
   PaintCanvas canvas(grid(64, 200), PaperSpec{}, MixModel::kKubelkaMunk);
-  const Footprint fp(48, 10, 0.8f, 0.1f);
+  const Footprint fp(48, 10, 0.8f, 0.5f);
   {
     BrushPaint yellow(brush);
     yellow.load(solid("cadmium-yellow"), MixModel::kKubelkaMunk, "t");
@@ -323,7 +323,7 @@ TEST_CASE("Transfer: a brush running dry leaves less and less, then only scratch
   Footprint fp(80, 24, 0.85f, 0.0f);
   for (int r = 0; r < fp.height; ++r)
     for (int c = 0; c < fp.width; ++c)
-      fp.texels[(r * fp.width + c) * 4 + 2] = 0.04f + 0.06f * std::fabs(std::sin(0.7f * c));
+      fp.texels[(r * fp.width + c) * 4 + 2] = 0.3f + 0.4f * std::fabs(std::sin(0.7f * c));
   const double start_mm3 = paint.totalVolumeMm3();
   for (int row = 0; row < 400; ++row) transfer(fp.at(8, row), paint, canvas, TransferParams{});
   const int first = covered(canvas, 10, 110), middle = covered(canvas, 150, 250),
@@ -360,8 +360,11 @@ TEST_CASE("Transfer: light pressure on toothy paper catches the peaks only",
     for (int row = 0; row < 100; ++row) transfer(fp.at(8, row), paint, canvas, TransferParams{});
     return covered(canvas, 8, 100, 1e-4);
   };
-  const double light_toothy = coverage(0.02f, 0.05), light_smooth = coverage(0.02f, 0.0);
-  const double firm_toothy = coverage(0.1f, 0.05), firm_smooth = coverage(0.1f, 0.0);
+  // Footprint depths: a brush that barely touches (0.1 mm) and one whose hairs are
+  // pressed well into the paper (0.6 mm, TransferParams::hair_bridging x tooth
+  // reaches 0.4 mm).
+  const double light_toothy = coverage(0.1f, 0.05), light_smooth = coverage(0.1f, 0.0);
+  const double firm_toothy = coverage(0.6f, 0.05), firm_smooth = coverage(0.6f, 0.0);
   INFO(light_toothy << " " << light_smooth << " " << firm_toothy << " " << firm_smooth);
   CHECK(light_toothy < 0.6 * light_smooth);
   CHECK(firm_toothy > 0.95 * firm_smooth);
