@@ -1,8 +1,8 @@
 // NLopt SLSQP backend: one optimisation per spine (the spines of a brush are
 // independent problems, and SLSQP's QP is dense, so small problems suit it),
 // using the energy's value and gradient, on Hessian-scaled angles (see
-// Callbacks). About 13 energy evaluations per 4-joint spine while dragging,
-// ~0.03-0.04 ms, against Ipopt's ~2 ms per whole-brush step (PERFORMANCE.md).
+// Callbacks). About 9 energy evaluations per 4-joint spine while dragging,
+// ~0.02-0.03 ms, against Ipopt's ~2 ms per whole-brush step (PERFORMANCE.md).
 // Ipopt stays the reference; tests/test_solvers.cpp checks that the two agree.
 
 #include <Eigen/Dense>
@@ -226,16 +226,22 @@ class SlsqpSolver : public SpineSolver {
     // before it is floored: 1e-4 bounds the scale spread at 100x, the range of
     // the stiffness profiles and friction terms of the brush library.
     constexpr double kMinCurvatureRatio = 1e-4;
-    // The curvature of the smoothed kinks (|dq| of joint damping over 1e-5 rad,
-    // D / eps ~ 500 N mm/rad against K ~ 10) holds only within eps of the last
-    // step's angles; scaling by it would make every step start 50x too short. The
-    // scale is taken with the damping smoothed over kScaleDampRad, wide enough to
-    // span a step's motion, so it reflects springs, contact and friction.
+    // The curvature of the smoothed kinks holds only within their smoothing width
+    // of the last step: joint damping's |dq| over 1e-5 rad (D / eps ~ 500 N mm/rad
+    // against K ~ 10) and friction's |dx| over 1e-3 mm (mu Fn / eps). Scaling by
+    // it would make every step start far too short, so the scale is taken with
+    // both smoothed wide enough to span a step's motion, and reflects springs,
+    // contact and the average friction drag. Measured on bench_solver's probes
+    // (evaluations per step, dragging / pressing, 4 joints): unscaled 40 / 52;
+    // damping widened only 13 / 60 (the exact Hessian failed a cold press);
+    // both widened, friction to 0.2 mm 11.8 / 40, 1 mm 9.3 / 36, 5 mm 10.0 / 32.
     constexpr double kScaleDampRad = 0.05;
+    constexpr double kScaleFrictionMm = 1.0;
     const int nv = p.vars();
     hess_.resize(size_t(nv) * nv);
     scale_problem_ = p;
     scale_problem_.eps_damp_rad = std::max(p.eps_damp_rad, kScaleDampRad);
+    scale_problem_.eps_mm = std::max(p.eps_mm, kScaleFrictionMm);
     spineEnergy(scale_problem_, q.data(), &fk_, nullptr, nullptr, hess_.data());
     auto curvature = [&](int v) {
       const double c = std::fabs(hess_[v * nv + v]);
