@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
   render->add_flag("-q,--quiet", r.quiet, "No progress, no output path on stdout");
 
   std::vector<std::string> files;
-  CLI::App* validate = app.add_subcommand("validate", "Check brush (.json) and trajectory (.csv) files");
+  CLI::App* validate = app.add_subcommand("validate", "Check brush and scene (.json) and trajectory (.csv) files");
   validate->add_option("files", files, "Files to check")->required();
 
   // The library ships in the source tree; BRISTLE_BRUSHES points elsewhere.
