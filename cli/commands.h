@@ -8,6 +8,8 @@
 namespace bristle::cli {
 
 struct RenderArgs {
+  std::string scene;  // positional: a bristle-scene/1 file instead of --brush/--trajectory
+  std::vector<std::string> given;  // the options given on the command line ("--trace", ...)
   std::string brush, trajectory, output;
   std::string trace, forces;  // optional outputs
   std::string solver = "ipopt";
@@ -23,6 +25,8 @@ struct RenderArgs {
   bool quiet = false;
 };
 int runRender(const RenderArgs& args);
+// A whole scene (called by runRender when args.scene is set).
+int runRenderScene(const RenderArgs& args);
 
 int runValidate(const std::vector<std::string>& files);
 

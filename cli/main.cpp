@@ -44,9 +44,9 @@ int main(int argc, char** argv) {
       "  bristle render --brush scenes/brushes/round.json \\\n"
       "      --trajectory scenes/trajectories/s-curve.csv -o s.png --trace s.jsonl\n"
       "The canvas is sized to everything the brush can reach plus a 5 mm margin.");
-  render->add_option("--brush", r.brush, "Brush file (bristle-brush/1 JSON)")->required();
-  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV)")
-      ->required();
+  render->add_option("scene", r.scene, "A scene (bristle-scene/1 JSON): a whole painting");
+  render->add_option("--brush", r.brush, "Brush file (bristle-brush/1 JSON)");
+  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV)");
   render->add_option("-o,--output", r.output, "Output PNG")->required();
   render->add_option("--trace", r.trace, "Write the per-step trace (JSON lines)");
   render->add_option("--forces", r.forces, "Write the force on the handle per step (CSV)");
@@ -129,7 +129,11 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (render->parsed()) return bristle::cli::runRender(r);
+    if (render->parsed()) {
+      for (const CLI::Option* o : render->get_options())
+        if (o->count() > 0 && !o->get_positional()) r.given.push_back(o->get_name());
+      return bristle::cli::runRender(r);
+    }
     if (validate->parsed()) return bristle::cli::runValidate(files);
     if (brushes->parsed()) return bristle::cli::runBrushes(library);
     if (preview->parsed()) return bristle::cli::runPreview(pv);

@@ -60,6 +60,10 @@ std::string canvasText(const CanvasGrid& g) {
 void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
 
 int runRender(const RenderArgs& args) {
+  if (!args.scene.empty()) return runRenderScene(args);
+  if (args.brush.empty() || args.trajectory.empty())
+    throw Error(ExitCode::kUsage,
+                "render: give a SCENE.json, or --brush and --trajectory (see bristle render --help)");
   const Rgb paint = colourArg("--colour", args.colour);
   const Rgb background = colourArg("--background", args.background);
   if (args.solver != "ipopt" && args.solver != "slsqp")
