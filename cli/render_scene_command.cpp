@@ -44,6 +44,14 @@ class SceneProgress {
   std::chrono::steady_clock::time_point last_{};
 };
 
+// Was a stroke (its pointer, "/strokes/3") already named in a warning?
+bool warnedAbout(const std::vector<std::string>& warnings, const std::string& pointer) {
+  const std::string tag = ": " + pointer + ":";
+  for (const std::string& w : warnings)
+    if (w.find(tag) != std::string::npos) return true;
+  return false;
+}
+
 void checkSceneOptions(const RenderArgs& args) {
   for (const std::string& given : args.given) {
     bool ok = false;
@@ -62,7 +70,8 @@ int runRenderScene(const RenderArgs& args) {
   checkSceneOptions(args);
   if (args.output.empty()) throw Error(ExitCode::kUsage, "render: -o/--output is required");
   const Scene scene = loadScene(args.scene);
-  for (const std::string& w : sceneWarnings(scene)) printError("warning: " + w);
+  const std::vector<std::string> warnings = sceneWarnings(scene);
+  for (const std::string& w : warnings) printError("warning: " + w);
 
   checkCanCreate(args.output);
   std::unique_ptr<AtomicOutput> trace;
@@ -92,8 +101,9 @@ int runRenderScene(const RenderArgs& args) {
                     {"bristle:scene", scene.name}});
   if (trace) trace->commit();
 
+  // Strokes out of reach were named before the run; the others are news.
   for (int i : result.untouched)
-    printError("warning: " + scene.path + ": " + scene.strokes[size_t(i)].pointer +
+    if (!warnedAbout(warnings, scene.strokes[size_t(i)].pointer)) printError("warning: " + scene.path + ": " + scene.strokes[size_t(i)].pointer +
                ": the brush never touched the canvas (trajectory " +
                scene.strokes[size_t(i)].trajectory_path + ")");
   if (result.stats.failed_steps > 0)
