@@ -5,6 +5,10 @@
 #include <string>
 #include <vector>
 
+namespace bristle {
+struct CanvasGrid;
+}
+
 namespace bristle::cli {
 
 struct RenderArgs {
@@ -20,7 +24,17 @@ struct RenderArgs {
   int solver_max_iterations = 200;
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::vector<double> offset_mm;           // x, y, z added to every handle position
-  std::string colour = "#1c2433";      // paint (a blue-black ink)
+  // Paint (issue 5): comma-separated pigment names or #rrggbb colours.
+  std::string paint = "#1c2433";       // a blue-black ink
+  std::string load = "solid";          // solid | across | tip
+  double amount = 1.0;                 // fraction of the brush's paint capacity
+  double tip_length = 0.3;             // --load tip: share of the hair length
+  std::string mix = "km";              // km | rgb
+  double paper_tooth_mm = 0.03;
+  double paper_scale_mm = 0.4;
+  unsigned long long paper_seed = 1;
+  bool impasto = false;
+  int bits = 8;
   std::string background = "#f6f1e6";  // paper
   bool quiet = false;
 };
@@ -43,6 +57,9 @@ int runPreview(const PreviewArgs& args);
 
 // Lists the brushes (*.json) of a library folder.
 int runBrushes(const std::string& library_dir);
+
+// The PNG text "bristle:canvas": where the image lies on the canvas (mm).
+std::string canvasText(const CanvasGrid& grid);
 
 // Prints "bristle: <message>" on stderr.
 void printError(const std::string& message);

@@ -12,9 +12,12 @@
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/canvas.h"
+#include "engine/paint.h"
+#include "engine/pigments.h"
 #include "engine/error.h"
 #include "engine/trace.h"
 #include "engine/trajectory.h"
+#include "render/compose.h"
 #include "render/png_io.h"
 #include "render/stroke_renderer.h"
 
@@ -40,12 +43,63 @@ class Progress {
   std::chrono::steady_clock::time_point last_{};
 };
 
-Rgb colourArg(const std::string& option, const std::string& text) {
-  Rgb c;
-  if (!parseHexColour(text, &c))
-    throw Error(ExitCode::kUsage, option + " = '" + text + "': must be a colour like #1c2433");
-  return c;
+// Paint options are input data: a paint, colour or amount that makes no sense
+// is a data error (65), named by its option.
+PaintLoad paintLoadArgs(const RenderArgs& args, MixModel model) {
+  PaintLoad load;
+  load.mode = args.load == "across" ? PaintLoad::Mode::kAcross
+              : args.load == "tip"  ? PaintLoad::Mode::kTip
+                                    : PaintLoad::Mode::kSolid;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = args.paint.find(',', start);
+    load.paints.push_back(args.paint.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  for (const std::string& p : load.paints) {
+    Optics optics;
+    std::string why;
+    if (!resolvePaint(p, model, &optics, &why))
+      throw Error(ExitCode::kDataError, "--paint " + args.paint + ": " + why);
+  }
+  const size_t lo = load.mode == PaintLoad::Mode::kAcross ? 2 : 1;
+  const size_t hi = load.mode == PaintLoad::Mode::kSolid ? 1 : load.mode == PaintLoad::Mode::kTip ? 2 : 3;
+  if (load.paints.size() < lo || load.paints.size() > hi)
+    throw Error(ExitCode::kDataError,
+                "--paint " + args.paint + ": --load " + args.load + " takes " +
+                    std::to_string(lo) + (hi > lo ? " to " + std::to_string(hi) : "") +
+                    " paints, got " + std::to_string(load.paints.size()));
+  if (!(args.amount > 0 && args.amount <= 1))
+    throw Error(ExitCode::kDataError, "--amount " + std::to_string(args.amount) +
+                                          ": must be in (0, 1], a fraction of the brush's "
+                                          "paint capacity");
+  if (!(args.tip_length >= 0 && args.tip_length <= 1))
+    throw Error(ExitCode::kDataError, "--tip-length: must be in [0, 1]");
+  load.amount = args.amount;
+  load.tip_length = args.tip_length;
+  return load;
 }
+
+PaperSpec paperArgs(const RenderArgs& args) {
+  PaperSpec paper;
+  Rgb c;
+  if (!parseHexColour(args.background, &c))
+    throw Error(ExitCode::kDataError,
+                "--background " + args.background + ": must be a colour like #f6f1e6");
+  if (!(args.paper_tooth_mm >= 0 && args.paper_tooth_mm <= 1))
+    throw Error(ExitCode::kDataError, "--paper-tooth: must be in [0, 1] mm");
+  if (!(args.paper_scale_mm > 0 && args.paper_scale_mm <= 100))
+    throw Error(ExitCode::kDataError, "--paper-scale: must be in (0, 100] mm");
+  paper.colour = args.background;
+  paper.tooth_depth_mm = args.paper_tooth_mm;
+  paper.tooth_scale_mm = args.paper_scale_mm;
+  paper.seed = args.paper_seed;
+  return paper;
+}
+
+
+}  // namespace
 
 // World placement of the image, so that pixels can be mapped back to canvas mm.
 std::string canvasText(const CanvasGrid& g) {
@@ -55,8 +109,6 @@ std::string canvasText(const CanvasGrid& g) {
   return buf;
 }
 
-}  // namespace
-
 void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
 
 int runRender(const RenderArgs& args) {
@@ -64,8 +116,9 @@ int runRender(const RenderArgs& args) {
   if (args.brush.empty() || args.trajectory.empty())
     throw Error(ExitCode::kUsage,
                 "render: give a SCENE.json, or --brush and --trajectory (see bristle render --help)");
-  const Rgb paint = colourArg("--colour", args.colour);
-  const Rgb background = colourArg("--background", args.background);
+  const MixModel mix = args.mix == "rgb" ? MixModel::kLinearRgb : MixModel::kKubelkaMunk;
+  const PaintLoad load = paintLoadArgs(args, mix);
+  const PaperSpec paper = paperArgs(args);
   if (args.solver != "ipopt" && args.solver != "slsqp")
     throw Error(ExitCode::kUsage, "--solver " + args.solver + ": available: ipopt, slsqp");
 
@@ -104,7 +157,9 @@ int runRender(const RenderArgs& args) {
       throw Error(ExitCode::kUsage, "--ipopt-option " + kv + ": expected NAME=VALUE");
     ipopt.extra_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
   }
-  Canvas canvas(grid);
+  PaintCanvas canvas(grid, paper, mix);
+  BrushPaint paint(brush);
+  paint.load(load, mix, "--paint");
   render::StrokeRenderer renderer;
   Progress progress(!args.quiet);
   int failed_reported = 0;
@@ -126,17 +181,19 @@ int runRender(const RenderArgs& args) {
   std::unique_ptr<SpineSolver> primary = makeIpoptSolver(ipopt), fallback = makeSlsqpSolver();
   if (args.solver == "slsqp") std::swap(primary, fallback);
   const render::StrokeResult result = renderer.render(
-      brush, trajectory, std::move(primary), options, &canvas, on_step, std::move(fallback));
+      brush, trajectory, std::move(primary), options, &canvas, &paint, on_step,
+      std::move(fallback));
 
-  render::Image8 image;
-  image.width = grid.width_px;
-  image.height = grid.height_px;
-  image.channels = 3;
-  image.pixels = canvas.composeRgb8(paint, background);
-  render::writePng(args.output, image,
-                   {{"Software", std::string("bristle ") + kVersion},
-                    {"bristle:brush", brush.name},
-                    {"bristle:canvas", canvasText(grid)}});
+  render::ComposeOptions compose;
+  compose.impasto = args.impasto;
+  render::PngText text = render::provenanceText({args.brush, args.trajectory});
+  text.push_back({"bristle:brush", brush.name});
+  text.push_back({"bristle:canvas", canvasText(grid)});
+  text.push_back({"bristle:paint", args.paint + " load=" + args.load + " mix=" + args.mix});
+  if (args.bits == 16)
+    render::writePng(args.output, render::composeRgb16(canvas, compose), text);
+  else
+    render::writePng(args.output, render::composeRgb8(canvas, compose), text);
   if (trace) trace->commit();
   if (forces) forces->commit();
 
@@ -154,6 +211,11 @@ int runRender(const RenderArgs& args) {
                  "bristle: %d steps (%d solved, %d stiction re-solves, %d rescued by the "
                  "fallback solver), %ld solver iterations\n",
                  st.steps, st.solved_steps, st.resolves, st.fallback_solves, st.iterations);
+    std::fprintf(stderr,
+                 "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up; %.3g of %.3g mm^3 "
+                 "left on the brush\n",
+                 result.deposited_mm3, result.picked_up_mm3, paint.totalVolumeMm3(),
+                 paint.capacityMm3() * args.amount);
     std::cout << args.output << "\n";
   }
   return 0;

@@ -14,6 +14,7 @@
 #include "engine/error.h"
 #include "engine/scene.h"
 #include "engine/trace.h"
+#include "render/compose.h"
 #include "render/png_io.h"
 #include "render/scene_renderer.h"
 
@@ -77,8 +78,7 @@ int runRenderScene(const RenderArgs& args) {
   std::unique_ptr<AtomicOutput> trace;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
 
-  const CanvasGrid grid = render::sceneGrid(scene);
-  Canvas canvas(grid);
+  PaintCanvas canvas = render::makeSceneCanvas(scene);
   SceneProgress progress(!args.quiet);
   const int strokes = static_cast<int>(scene.strokes.size());
   auto on_step = [&](int stroke, const BrushState& st, long step, long steps) {
@@ -88,17 +88,16 @@ int runRenderScene(const RenderArgs& args) {
   };
   const render::SceneResult result = render::renderScene(scene, {}, &canvas, on_step);
 
-  Rgb ink{0.11, 0.14, 0.2};
-  const std::string& first = scene.strokes.front().paint.paints.front();
-  if (!first.empty() && first[0] == '#') parseHexColour(first, &ink);
-  render::Image8 image;
-  image.width = grid.width_px;
-  image.height = grid.height_px;
-  image.channels = 3;
-  image.pixels = canvas.composeRgb8(ink, scene.canvas.background);
-  render::writePng(args.output, image,
-                   {{"Software", std::string("bristle ") + kVersion},
-                    {"bristle:scene", scene.name}});
+  render::ComposeOptions compose;
+  compose.impasto = args.impasto;
+  // The hash covers the scene and every brush and trajectory it read.
+  render::PngText text = render::provenanceText(scene.inputs);
+  text.push_back({"bristle:scene", scene.name});
+  text.push_back({"bristle:canvas", canvasText(canvas.grid())});
+  if (args.bits == 16)
+    render::writePng(args.output, render::composeRgb16(canvas, compose), text);
+  else
+    render::writePng(args.output, render::composeRgb8(canvas, compose), text);
   if (trace) trace->commit();
 
   // Strokes out of reach were named before the run; the others are news.
@@ -118,6 +117,8 @@ int runRenderScene(const RenderArgs& args) {
                  "the fallback solver), %ld solver iterations\n",
                  strokes, st.steps, st.solved_steps, st.resolves, st.fallback_solves,
                  st.iterations);
+    std::fprintf(stderr, "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up\n",
+                 result.deposited_mm3, result.picked_up_mm3);
     std::cout << args.output << "\n";
   }
   return 0;

@@ -11,6 +11,7 @@
 
 #include "engine/error.h"
 #include "engine/json_reader.h"
+#include "engine/pigments.h"
 #include "engine/text_file.h"
 
 namespace bristle {
@@ -25,13 +26,6 @@ constexpr double kMaxToothDepthMm = 1.0;
 constexpr double kMinRateHz = 1, kMaxRateHz = 10000;
 constexpr double kMinStepMm = 0.01, kMaxStepMm = 5;
 
-// The pigment names a paint may use. The one list the reader checks against;
-// it names the entries of the pigment table (engine/pigments.h, docs/paint.md).
-constexpr const char* kPigments[] = {
-    "titanium-white", "ivory-black",   "ultramarine",      "phthalo-blue",
-    "cadmium-yellow", "cadmium-red",   "alizarin-crimson", "burnt-sienna",
-    "yellow-ochre",   "viridian",      "sumi-ink",
-};
 
 std::string fmt(double v) {
   std::ostringstream ss;
@@ -254,17 +248,10 @@ CanvasGrid SceneCanvas::grid() const {
   return g;
 }
 
-bool isKnownPigment(const std::string& name) {
-  for (const char* p : kPigments)
-    if (name == p) return true;
-  return false;
-}
+// The pigment table (engine/pigments.h) is the one list of paint names.
+bool isKnownPigment(const std::string& name) { return findPigment(name) != nullptr; }
 
-std::string knownPigmentList() {
-  std::string out;
-  for (const char* p : kPigments) out += (out.empty() ? "" : ", ") + std::string(p);
-  return out;
-}
+std::string knownPigmentList() { return pigmentNames(); }
 
 bool looksLikeScene(const std::string& text) {
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);

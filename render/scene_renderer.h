@@ -5,7 +5,7 @@
 
 #include <functional>
 
-#include "engine/canvas.h"
+#include "engine/paint.h"
 #include "engine/scene.h"
 #include "engine/simulation.h"
 
@@ -24,6 +24,8 @@ using SceneStepCallback =
 
 struct SceneResult {
   SimStats stats;               // summed over the strokes
+  double deposited_mm3 = 0;     // paint laid down by all strokes
+  double picked_up_mm3 = 0;     // wet paint the brushes took up from the canvas
   std::vector<int> untouched;   // strokes whose brush never touched the canvas
   long planned_steps = 0;
 };
@@ -31,8 +33,14 @@ struct SceneResult {
 // The canvas of a scene (its size and resolution, origin at world 0, 0).
 CanvasGrid sceneGrid(const Scene& scene);
 
-// Paints every stroke of the scene onto canvas (whose grid is sceneGrid(scene)).
-SceneResult renderScene(const Scene& scene, const SceneRenderOptions& options, Canvas* canvas,
-                        const SceneStepCallback& on_step = {});
+// A fresh canvas for the scene: its grid, paper and mix model.
+PaintCanvas makeSceneCanvas(const Scene& scene);
+
+// Paints every stroke of the scene onto canvas (made by makeSceneCanvas), in
+// order: each stroke's brush is cleaned and loaded afresh from its PaintLoad,
+// the canvas dries first where the stroke asks (dry_before), and wet paint left
+// by earlier strokes is picked up and carried on by later ones.
+SceneResult renderScene(const Scene& scene, const SceneRenderOptions& options,
+                        PaintCanvas* canvas, const SceneStepCallback& on_step = {});
 
 }  // namespace bristle::render
