@@ -229,7 +229,7 @@ TEST_CASE("bad values are 65 naming the JSON pointer and the rule", "[scene]") {
       {"no strokes", [](json& j) { j["strokes"] = json::array(); },
        "scene.json: /strokes = []: ", "must have 1..10000 strokes"},
       {"zero width", [](json& j) { j["canvas"]["size_mm"][0] = 0; },
-       "scene.json: /canvas/size_mm/0 = 0: ", "must be > 0"},
+       "scene.json: /canvas/size_mm/0 = 0.0: ", "must be > 0"},
       {"dry_before not a bool", [](json& j) { j["strokes"][0]["dry_before"] = "yes"; },
        "scene.json: /strokes/0/dry_before = \"yes\": ", "must be true or false"},
       {"offset of three", [](json& j) { j["strokes"][1]["placement"]["offset_mm"] = {1, 2, 3}; },

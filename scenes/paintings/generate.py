@@ -217,11 +217,11 @@ def petals():
     ring = 34.0
     t_vine = write_trajectory(d + "vine.csv", [
         "A 70 degree arc of radius 34 mm about (0, 0), the flat on its chisel edge."],
-        stroke(vine_keys(ring, 0, 70), 45, "flat", tilt_deg=15))
+        stroke(vine_keys(ring, 0, 70), 45, "flat", tilt_deg=12, lean_deg=125))
     t_dot = write_trajectory(d + "dot.csv", [
         "A round brush dabbed down and lifted at (0, 0): the flower's centre."],
-        stroke([(0, 0, 0.5, 0), (0.4, 0.2, 3.0, 0), (0.2, 0.5, 3.0, 0), (0, 0.2, 1.0, 0)],
-               10, "round"))
+        stroke([(0, 0, 0.5, 0), (0.4, 0.2, 2.5, 0), (0.2, 0.5, 2.5, 0), (0, 0.2, 1.0, 0)],
+               10, "round", tilt_deg=12, lean_deg=45))
 
     cx, cy = 60.0, 58.0
     red_white = {"mode": "across", "paints": ["cadmium-red", "titanium-white"], "amount": 1.0}
