@@ -5,9 +5,15 @@
 #include <string>
 #include <vector>
 
+namespace bristle {
+struct CanvasGrid;
+}
+
 namespace bristle::cli {
 
 struct RenderArgs {
+  std::string scene;  // positional: a bristle-scene/1 file instead of --brush/--trajectory
+  std::vector<std::string> given;  // the options given on the command line ("--trace", ...)
   std::string brush, trajectory, output;
   std::string trace, forces;  // optional outputs
   std::string solver = "ipopt";
@@ -33,6 +39,8 @@ struct RenderArgs {
   bool quiet = false;
 };
 int runRender(const RenderArgs& args);
+// A whole scene (called by runRender when args.scene is set).
+int runRenderScene(const RenderArgs& args);
 
 int runValidate(const std::vector<std::string>& files);
 
@@ -49,6 +57,9 @@ int runPreview(const PreviewArgs& args);
 
 // Lists the brushes (*.json) of a library folder.
 int runBrushes(const std::string& library_dir);
+
+// The PNG text "bristle:canvas": where the image lies on the canvas (mm).
+std::string canvasText(const CanvasGrid& grid);
 
 // Prints "bristle: <message>" on stderr.
 void printError(const std::string& message);

@@ -38,9 +38,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(0, 1);
 
   bristle::cli::RenderArgs r;
-  CLI::App* render = app.add_subcommand("render", "Render a stroke: a brush along a trajectory");
+  CLI::App* render = app.add_subcommand("render", "Render a scene, or a stroke: a brush along a trajectory");
   render->footer(
-      "Example:\n"
+      "Examples:\n"
+      "  bristle render scenes/paintings/petals.json -o petals.png --impasto\n"
       "  bristle render --brush scenes/brushes/round.json \\\n"
       "      --trajectory scenes/trajectories/s-curve.csv -o s.png --trace s.jsonl\n"
       "  bristle render --brush scenes/brushes/flat.json --trajectory T.csv -o petal.png \\\n"
@@ -50,9 +51,9 @@ int main(int argc, char** argv) {
       "The canvas is sized to everything the brush can reach plus a 5 mm margin.\n"
       "Paints: a pigment name (see docs/paint.md: ultramarine, cadmium-yellow, titanium-white,\n"
       "sumi-ink, ...) or #rrggbb.");
-  render->add_option("--brush", r.brush, "Brush file (bristle-brush/1 JSON)")->required();
-  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV)")
-      ->required();
+  render->add_option("scene", r.scene, "A scene (bristle-scene/1 JSON): a whole painting");
+  render->add_option("--brush", r.brush, "Brush file (bristle-brush/1 JSON)");
+  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV)");
   render->add_option("-o,--output", r.output, "Output PNG")->required();
   render->add_option("--trace", r.trace, "Write the per-step trace (JSON lines)");
   render->add_option("--forces", r.forces, "Write the force on the handle per step (CSV)");
@@ -115,7 +116,7 @@ int main(int argc, char** argv) {
   render->add_flag("-q,--quiet", r.quiet, "No progress, no output path on stdout");
 
   std::vector<std::string> files;
-  CLI::App* validate = app.add_subcommand("validate", "Check brush (.json) and trajectory (.csv) files");
+  CLI::App* validate = app.add_subcommand("validate", "Check brush and scene (.json) and trajectory (.csv) files");
   validate->add_option("files", files, "Files to check")->required();
 
   // The library ships in the source tree; BRISTLE_BRUSHES points elsewhere.
@@ -161,7 +162,11 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (render->parsed()) return bristle::cli::runRender(r);
+    if (render->parsed()) {
+      for (const CLI::Option* o : render->get_options())
+        if (o->count() > 0 && !o->get_positional()) r.given.push_back(o->get_name());
+      return bristle::cli::runRender(r);
+    }
     if (validate->parsed()) return bristle::cli::runValidate(files);
     if (brushes->parsed()) return bristle::cli::runBrushes(library);
     if (preview->parsed()) return bristle::cli::runPreview(pv);

@@ -98,6 +98,9 @@ PaperSpec paperArgs(const RenderArgs& args) {
   return paper;
 }
 
+
+}  // namespace
+
 // World placement of the image, so that pixels can be mapped back to canvas mm.
 std::string canvasText(const CanvasGrid& g) {
   char buf[160];
@@ -106,11 +109,13 @@ std::string canvasText(const CanvasGrid& g) {
   return buf;
 }
 
-}  // namespace
-
 void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
 
 int runRender(const RenderArgs& args) {
+  if (!args.scene.empty()) return runRenderScene(args);
+  if (args.brush.empty() || args.trajectory.empty())
+    throw Error(ExitCode::kUsage,
+                "render: give a SCENE.json, or --brush and --trajectory (see bristle render --help)");
   const MixModel mix = args.mix == "rgb" ? MixModel::kLinearRgb : MixModel::kKubelkaMunk;
   const PaintLoad load = paintLoadArgs(args, mix);
   const PaperSpec paper = paperArgs(args);
