@@ -9,6 +9,7 @@
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/canvas.h"
@@ -40,30 +41,22 @@ class Progress {
   std::chrono::steady_clock::time_point last_{};
 };
 
-Rgb colourArg(const std::string& option, const std::string& text) {
-  Rgb c;
-  if (!parseHexColour(text, &c))
-    throw Error(ExitCode::kUsage, option + " = '" + text + "': must be a colour like #1c2433");
-  return c;
-}
-
-// World placement of the image, so that pixels can be mapped back to canvas mm.
-std::string canvasText(const CanvasGrid& g) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "x0_mm=%.6f y0_mm=%.6f px_per_mm=%.6f width_px=%d height_px=%d",
-                g.x0_mm, g.y0_mm, g.px_per_mm, g.width_px, g.height_px);
-  return buf;
-}
-
 }  // namespace
 
 void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
 
 int runRender(const RenderArgs& args) {
-  const Rgb paint = colourArg("--colour", args.colour);
-  const Rgb background = colourArg("--background", args.background);
-  if (args.solver != "ipopt" && args.solver != "slsqp")
-    throw Error(ExitCode::kUsage, "--solver " + args.solver + ": available: ipopt, slsqp");
+  StrokePngOptions png;
+  png.solver = args.solver;
+  png.solver_max_iterations = args.solver_max_iterations;
+  png.ipopt_options = args.ipopt_options;
+  png.px_per_mm = args.px_per_mm;
+  png.clip_mm = args.clip_mm;
+  png.max_step_mm = args.max_step_mm;
+  png.min_rate_hz = args.min_rate_hz;
+  png.colour = args.colour;
+  png.background = args.background;
+  checkStrokePngOptions(png);
 
   const Brush brush = loadBrush(args.brush);
   Trajectory trajectory = loadTrajectory(args.trajectory);
@@ -73,13 +66,7 @@ int runRender(const RenderArgs& args) {
     for (TrajectorySample& s : trajectory.samples) s.pose.position_mm += offset;
   }
   validateTrajectoryForBrush(trajectory, brush);
-
-  render::StrokeOptions options;
-  options.px_per_mm = args.px_per_mm;
-  options.clip_mm = args.clip_mm;
-  options.sim.max_step_mm = args.max_step_mm;
-  options.sim.min_rate_hz = args.min_rate_hz;
-  const CanvasGrid grid = render::canvasForStroke(brush, trajectory, options);
+  render::canvasForStroke(brush, trajectory, strokeOptions(png));  // fails early if too large
 
   // Fail before the long run if an output cannot be created; each output is
   // written to a temporary file and renamed only when everything succeeded.
@@ -92,16 +79,6 @@ int runRender(const RenderArgs& args) {
     forces->stream().precision(9);
   }
 
-  IpoptSettings ipopt;
-  ipopt.max_iterations = args.solver_max_iterations;
-  for (const std::string& kv : args.ipopt_options) {
-    const size_t eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error(ExitCode::kUsage, "--ipopt-option " + kv + ": expected NAME=VALUE");
-    ipopt.extra_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
-  }
-  Canvas canvas(grid);
-  render::StrokeRenderer renderer;
   Progress progress(!args.quiet);
   int failed_reported = 0;
   constexpr int kMaxFailureLines = 5;  // then only the summary
@@ -118,21 +95,8 @@ int runRender(const RenderArgs& args) {
                    "); continuing from its last good state");
     progress.update(step, steps);
   };
-  // The chosen solver is the primary; a spine it fails on is tried with the other.
-  std::unique_ptr<SpineSolver> primary = makeIpoptSolver(ipopt), fallback = makeSlsqpSolver();
-  if (args.solver == "slsqp") std::swap(primary, fallback);
-  const render::StrokeResult result = renderer.render(
-      brush, trajectory, std::move(primary), options, &canvas, on_step, std::move(fallback));
-
-  render::Image8 image;
-  image.width = grid.width_px;
-  image.height = grid.height_px;
-  image.channels = 3;
-  image.pixels = canvas.composeRgb8(paint, background);
-  render::writePng(args.output, image,
-                   {{"Software", std::string("bristle ") + kVersion},
-                    {"bristle:brush", brush.name},
-                    {"bristle:canvas", canvasText(grid)}});
+  const render::StrokeResult result =
+      renderStrokePng(brush, trajectory, png, args.output, on_step);
   if (trace) trace->commit();
   if (forces) forces->commit();
 

@@ -1,0 +1,39 @@
+#pragma once
+// The one way a stroke becomes a PNG: `bristle render --brush --trajectory`,
+// `bristle record --png` and `bristle replay` all come through here, so a
+// replayed session renders exactly what the live run rendered. (The paint
+// model will replace the inside of this function; callers stay as they are.)
+
+#include <string>
+#include <vector>
+
+#include "engine/brush.h"
+#include "engine/trajectory.h"
+#include "render/stroke_renderer.h"
+
+namespace bristle::cli {
+
+struct StrokePngOptions {
+  std::string solver = "ipopt";  // primary; the other one is the fallback
+  int solver_max_iterations = 200;
+  std::vector<std::string> ipopt_options;  // NAME=VALUE
+  double px_per_mm = 8;
+  double clip_mm = 0.1;
+  double max_step_mm = 0.25;
+  double min_rate_hz = 120;
+  std::string colour = "#1c2433";
+  std::string background = "#f6f1e6";
+};
+
+// Checks the options (kUsage) before anything long runs.
+void checkStrokePngOptions(const StrokePngOptions& options);
+
+render::StrokeOptions strokeOptions(const StrokePngOptions& options);
+
+// Simulates the brush along the trajectory, paints and writes the PNG at
+// output (atomically). on_step sees every simulation step.
+render::StrokeResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
+                                     const StrokePngOptions& options, const std::string& output,
+                                     const render::StepCallback& on_step = {});
+
+}  // namespace bristle::cli
