@@ -31,7 +31,10 @@ Eigen::Vector3d ForceSafety::filter(double t_s, const Eigen::Vector3d& raw_n, do
   if (motor_hot) flags_ |= kSafetyHot;
   const double mag = f.norm();
   if (mag > limit) {
-    f *= limit / mag;
+    // A hair inside the limit, so rounding never lands a clamped force above
+    // it (the device would flag HD_EXCEEDED_MAX_FORCE).
+    constexpr double kClampMargin = 1e-9;
+    f *= limit * (1 - kClampMargin) / mag;
     flags_ |= kSafetyClamped;
   }
   return f;
