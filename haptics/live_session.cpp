@@ -139,6 +139,7 @@ LiveResult runLiveSession(const Brush& brush, Device* device, SessionWriter* wri
   auto drain = [&] {
     while (servo.samples().pop(&smp)) {
       writer->add(smp);
+      if (options.tick_wall_ns != nullptr) options.tick_wall_ns->push_back(smp.wall_ns);
       const double f = Eigen::Vector3d(smp.force_n[0], smp.force_n[1], smp.force_n[2]).norm();
       r.max_force_n = std::max(r.max_force_n, f);
     }

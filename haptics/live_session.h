@@ -10,6 +10,7 @@
 #include <atomic>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "engine/brush.h"
 #include "engine/simulation.h"
@@ -29,6 +30,9 @@ struct LiveOptions {
   // Set (e.g. by a SIGINT handler) to end the session cleanly.
   const std::atomic<bool>* interrupt = nullptr;
   std::function<void(const std::string&)> notice;  // one-line messages
+  // If set, receives every servo tick's wall-clock start (CLOCK_MONOTONIC ns),
+  // in order, for period and jitter measurements (bench/bench_servo.cpp).
+  std::vector<std::int64_t>* tick_wall_ns = nullptr;
 };
 
 struct LiveResult {

@@ -1,5 +1,7 @@
 #include "haptics/none_device.h"
 
+#include <pthread.h>
+#include <sched.h>
 #include <time.h>
 
 #include <cmath>
@@ -23,6 +25,13 @@ void NoneDevice::stop() {
 }
 
 void NoneDevice::run(TickFn tick, void* ctx) {
+  // A servo thread wants the CPU the moment its deadline comes: real-time
+  // FIFO priority when the system grants it (root, or CAP_SYS_NICE / an
+  // rtprio limit), else it runs at normal priority, which jitters under load
+  // (docs/PERFORMANCE.md). The OpenHaptics scheduler does the same for itself.
+  sched_param sp{};
+  sp.sched_priority = kRealtimePriority;
+  realtime_ = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
   const long period_ns = std::lround(1e9 / options_.rate_hz);
   timespec next{};
   clock_gettime(CLOCK_MONOTONIC, &next);

@@ -36,6 +36,9 @@ class NoneDevice : public Device {
   // The forces it was sent: how many, and the largest magnitude.
   long forcesReceived() const { return forces_.load(); }
   double maxForceN() const { return max_force_n_.load(); }
+  // Whether the servo thread got real-time (SCHED_FIFO) priority.
+  bool realtime() const { return realtime_.load(); }
+  static constexpr int kRealtimePriority = 80;  // below the kernel's own (99)
 
  private:
   void run(TickFn tick, void* ctx);
@@ -47,6 +50,7 @@ class NoneDevice : public Device {
   long tick_ = 0;  // servo thread only
   std::atomic<long> forces_{0};
   std::atomic<double> max_force_n_{0};
+  std::atomic<bool> realtime_{false};
 };
 
 }  // namespace bristle::haptics
