@@ -144,8 +144,21 @@ LiveResult runLiveSession(const Brush& brush, Device* device, SessionWriter* wri
       r.max_force_n = std::max(r.max_force_n, f);
     }
   };
+  // A servo loop that has not ticked for this long has lost its device.
+  constexpr auto kStalled = std::chrono::seconds(2);
+  std::uint64_t last_ticks = 0;
+  auto last_progress = std::chrono::steady_clock::now();
+  bool stalled = false;
   while (!servo.finished()) {
     if (options.interrupt != nullptr && options.interrupt->load()) servo.requestStop();
+    const auto now = std::chrono::steady_clock::now();
+    if (servo.ticks() != last_ticks) {
+      last_ticks = servo.ticks();
+      last_progress = now;
+    } else if (now - last_progress > kStalled) {
+      stalled = true;
+      break;
+    }
     drain();
     writer->flushIfDue();
     if (!told_wait && sim.waitedForClearance() && sim.frames() == 0 && options.notice) {
@@ -159,6 +172,12 @@ LiveResult runLiveSession(const Brush& brush, Device* device, SessionWriter* wri
   drain();
   r.end = servo.end();
   r.error = servo.fatalError();
+  if (stalled) {
+    r.end = ServoLoop::End::kDeviceError;
+    r.error.code = 0xffff;
+    r.error.fatal = true;
+    r.error.message = "the servo loop stopped ticking for 2 s (device scheduler stalled)";
+  }
   r.servo_ticks = servo.ticks();
   r.dropped_samples = servo.samples().dropped();
   r.device_errors = servo.deviceErrors();

@@ -44,8 +44,11 @@ void ServoLoop::start() {
 
 void ServoLoop::join() {
   if (!started_) return;
-  // The servo thread sends a last zero force and ends within a tick or two.
-  while (!finished_.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  // The servo thread sends a last zero force and ends within a tick or two;
+  // a device whose scheduler stopped calling back is stopped all the same.
+  constexpr int kJoinWaitMs = 500;
+  for (int i = 0; i < kJoinWaitMs && !finished_.load(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   device_->stop();
   started_ = false;
 }
