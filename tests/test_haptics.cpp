@@ -763,3 +763,41 @@ TEST_CASE("a killed recording leaves a session that replays", "[haptics][cli]") 
   const Session s = loadSession(session);  // parses, possibly minus a cut line
   CHECK(s.trajectory.samples.size() >= 150);
 }
+
+TEST_CASE("Ctrl-C ends a recording cleanly: exit 0, complete session", "[haptics][cli]") {
+  TempDir dir;
+  const std::string stroke = shortStroke(dir, 6.0);
+  const std::string session = dir.file("s.csv");
+  const std::string forces = dir.file("f.csv");
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    ::unsetenv("GALLIUM_DRIVER");
+    const std::string brush = sourcePath("scenes/brushes/round.json");
+    ::execl(BRISTLE_BIN, BRISTLE_BIN, "record", "--device", "none", "--brush", brush.c_str(),
+            "--trajectory", stroke.c_str(), "-o", session.c_str(), "--forces", forces.c_str(),
+            "-q", nullptr);
+    ::_exit(127);
+  }
+  int rows = 0;
+  for (int i = 0; i < 400 && rows < 100; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    rows = lineCount(bristle::testing::readAll(session)) - 9;
+  }
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  const std::string text = bristle::testing::readAll(session);
+  REQUIRE(!text.empty());
+  CHECK(text.back() == '\n');  // closed cleanly: no cut line
+  const Session s = loadSession(session);
+  CHECK(s.warnings.empty());
+  CHECK(s.trajectory.samples.size() >= 100);
+  CHECK(s.trajectory.endTime() < 6.0);  // it ended before the trajectory did
+  // The last force sent was zero (the loop zeroes the force before it stops).
+  const std::string ftext = bristle::testing::readAll(forces);
+  const size_t last = ftext.rfind('\n', ftext.size() - 2);
+  CHECK(ftext.substr(last + 1).find(",0.000000,0.000000,0.000000") != std::string::npos);
+}
