@@ -107,11 +107,14 @@ void BM_StrokeRender(benchmark::State& state) {
   double total_s = 0;
   long steps = 0, sim_steps = 0, solved_steps = 0;
   for (auto _ : state) {
-    Canvas canvas(grid);
+    PaintCanvas canvas(grid, PaperSpec{}, MixModel::kKubelkaMunk);
+    BrushPaint paint(brush);
+    paint.load(PaintLoad{PaintLoad::Mode::kSolid, {"ultramarine"}}, MixModel::kKubelkaMunk,
+               "bench");
     Clock::time_point last = Clock::now();
     const Clock::time_point t0 = last;
     const StrokeResult r = renderer.render(
-        brush, traj, makeIpoptSolver(), options, &canvas,
+        brush, traj, makeIpoptSolver(), options, &canvas, &paint,
         [&](const BrushState&, int, int) {
           const Clock::time_point now = Clock::now();
           step_us.push_back(1e6 * seconds(last, now));

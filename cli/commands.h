@@ -5,9 +5,15 @@
 #include <string>
 #include <vector>
 
+namespace bristle {
+struct CanvasGrid;
+}
+
 namespace bristle::cli {
 
 struct RenderArgs {
+  std::string scene;  // positional: a bristle-scene/1 file instead of --brush/--trajectory
+  std::vector<std::string> given;  // the options given on the command line ("--trace", ...)
   std::string brush, trajectory, output;
   std::string trace, forces;  // optional outputs
   std::string solver = "ipopt";
@@ -18,11 +24,23 @@ struct RenderArgs {
   int solver_max_iterations = 200;
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::vector<double> offset_mm;           // x, y, z added to every handle position
-  std::string colour = "#1c2433";      // paint (a blue-black ink)
+  // Paint (issue 5): comma-separated pigment names or #rrggbb colours.
+  std::string paint = "#1c2433";       // a blue-black ink
+  std::string load = "solid";          // solid | across | tip
+  double amount = 1.0;                 // fraction of the brush's paint capacity
+  double tip_length = 0.3;             // --load tip: share of the hair length
+  std::string mix = "km";              // km | rgb
+  double paper_tooth_mm = 0.03;
+  double paper_scale_mm = 0.4;
+  unsigned long long paper_seed = 1;
+  bool impasto = false;
+  int bits = 8;
   std::string background = "#f6f1e6";  // paper
   bool quiet = false;
 };
 int runRender(const RenderArgs& args);
+// A whole scene (called by runRender when args.scene is set).
+int runRenderScene(const RenderArgs& args);
 
 int runValidate(const std::vector<std::string>& files);
 
@@ -61,6 +79,8 @@ struct ReplayArgs {
   bool quiet = false;
 };
 int runReplay(const ReplayArgs& args);
+// The PNG text "bristle:canvas": where the image lies on the canvas (mm).
+std::string canvasText(const CanvasGrid& grid);
 
 // Prints "bristle: <message>" on stderr.
 void printError(const std::string& message);

@@ -41,15 +41,22 @@ int main(int argc, char** argv) {
   app.require_subcommand(0, 1);
 
   bristle::cli::RenderArgs r;
-  CLI::App* render = app.add_subcommand("render", "Render a stroke: a brush along a trajectory");
+  CLI::App* render = app.add_subcommand("render", "Render a scene, or a stroke: a brush along a trajectory");
   render->footer(
-      "Example:\n"
+      "Examples:\n"
+      "  bristle render scenes/paintings/petals.json -o petals.png --impasto\n"
       "  bristle render --brush scenes/brushes/round.json \\\n"
       "      --trajectory scenes/trajectories/s-curve.csv -o s.png --trace s.jsonl\n"
-      "The canvas is sized to everything the brush can reach plus a 5 mm margin.");
-  render->add_option("--brush", r.brush, "Brush file (bristle-brush/1 JSON)")->required();
-  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV)")
-      ->required();
+      "  bristle render --brush scenes/brushes/flat.json --trajectory T.csv -o petal.png \\\n"
+      "      --paint cadmium-red,titanium-white --load across --impasto\n"
+      "  bristle render --brush scenes/brushes/round.json --trajectory T.csv -o dry.png \\\n"
+      "      --paint burnt-umber --amount 0.15 --paper-tooth 0.06\n"
+      "The canvas is sized to everything the brush can reach plus a 5 mm margin.\n"
+      "Paints: a pigment name (see docs/paint.md: ultramarine, cadmium-yellow, titanium-white,\n"
+      "sumi-ink, ...) or #rrggbb.");
+  render->add_option("scene", r.scene, "A scene (bristle-scene/1 JSON): a whole painting");
+  render->add_option("--brush", r.brush, "Brush file (bristle-brush/1 JSON)");
+  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV)");
   render->add_option("-o,--output", r.output, "Output PNG")->required();
   render->add_option("--trace", r.trace, "Write the per-step trace (JSON lines)");
   render->add_option("--forces", r.forces, "Write the force on the handle per step (CSV)");
@@ -80,13 +87,39 @@ int main(int argc, char** argv) {
                      "Brush geometry below this height touches the paper (mm)")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 2.0));
-  render->add_option("--colour,--color", r.colour, "Paint colour (#rrggbb)")->capture_default_str();
+  render->add_option("--paint,--colour,--color", r.paint,
+                     "Paint(s) on the brush: NAME[,NAME..], pigment names or #rrggbb")
+      ->capture_default_str();
+  render->add_option("--load", r.load,
+                     "Loading: solid (one paint), across (2-3 paints side by side across the "
+                     "brush's width), tip (body paint, tip paint)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"solid", "across", "tip"}));
+  render->add_option("--amount", r.amount, "Paint on the brush, a fraction of its capacity (0, 1]")
+      ->capture_default_str();
+  render->add_option("--tip-length", r.tip_length,
+                     "--load tip: share of the hair length the tip paint covers")
+      ->capture_default_str();
+  render->add_option("--mix", r.mix, "Pigment mixing: km (Kubelka-Munk) or rgb (linear RGB)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"km", "rgb"}));
+  render->add_option("--paper-tooth", r.paper_tooth_mm,
+                     "Depth of the paper's grain (mm); light strokes catch only its peaks")
+      ->capture_default_str();
+  render->add_option("--paper-scale", r.paper_scale_mm, "Feature size of the paper's grain (mm)")
+      ->capture_default_str();
+  render->add_option("--paper-seed", r.paper_seed, "Seed of the paper's grain")
+      ->capture_default_str();
+  render->add_flag("--impasto", r.impasto, "Light the paint's thickness from the upper left");
+  render->add_option("--bits", r.bits, "Bits per PNG channel")
+      ->capture_default_str()
+      ->check(CLI::IsMember({8, 16}));
   render->add_option("--background", r.background, "Paper colour (#rrggbb)")
       ->capture_default_str();
   render->add_flag("-q,--quiet", r.quiet, "No progress, no output path on stdout");
 
   std::vector<std::string> files;
-  CLI::App* validate = app.add_subcommand("validate", "Check brush (.json) and trajectory (.csv) files");
+  CLI::App* validate = app.add_subcommand("validate", "Check brush and scene (.json) and trajectory (.csv) files");
   validate->add_option("files", files, "Files to check")->required();
 
   // The library ships in the source tree; BRISTLE_BRUSHES points elsewhere.
@@ -186,7 +219,11 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (render->parsed()) return bristle::cli::runRender(r);
+    if (render->parsed()) {
+      for (const CLI::Option* o : render->get_options())
+        if (o->count() > 0 && !o->get_positional()) r.given.push_back(o->get_name());
+      return bristle::cli::runRender(r);
+    }
     if (validate->parsed()) return bristle::cli::runValidate(files);
     if (brushes->parsed()) return bristle::cli::runBrushes(library);
     if (preview->parsed()) return bristle::cli::runPreview(pv);

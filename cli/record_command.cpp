@@ -91,6 +91,7 @@ int runRecord(const RecordArgs& args) {
   StrokePngOptions png;
   png.solver = args.solver;
   png.px_per_mm = args.px_per_mm;
+  png.inputs = {args.brush, args.output};
   checkStrokePngOptions(png);
   const Brush brush = loadBrush(args.brush);
   const std::string hash = haptics::brushFileHash(args.brush);
@@ -153,6 +154,7 @@ int runReplay(const ReplayArgs& args) {
   StrokePngOptions png;
   png.solver = args.solver;
   png.px_per_mm = args.px_per_mm;
+  png.inputs = {args.brush, args.session};
   checkStrokePngOptions(png);
   const Brush brush = loadBrush(args.brush);
   checkCanCreate(args.output);

@@ -13,9 +13,12 @@
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/canvas.h"
+#include "engine/paint.h"
+#include "engine/pigments.h"
 #include "engine/error.h"
 #include "engine/trace.h"
 #include "engine/trajectory.h"
+#include "render/compose.h"
 #include "render/png_io.h"
 #include "render/stroke_renderer.h"
 
@@ -43,9 +46,21 @@ class Progress {
 
 }  // namespace
 
+// World placement of the image, so that pixels can be mapped back to canvas mm.
+std::string canvasText(const CanvasGrid& g) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "x0_mm=%.6f y0_mm=%.6f px_per_mm=%.6f width_px=%d height_px=%d",
+                g.x0_mm, g.y0_mm, g.px_per_mm, g.width_px, g.height_px);
+  return buf;
+}
+
 void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
 
 int runRender(const RenderArgs& args) {
+  if (!args.scene.empty()) return runRenderScene(args);
+  if (args.brush.empty() || args.trajectory.empty())
+    throw Error(ExitCode::kUsage,
+                "render: give a SCENE.json, or --brush and --trajectory (see bristle render --help)");
   StrokePngOptions png;
   png.solver = args.solver;
   png.solver_max_iterations = args.solver_max_iterations;
@@ -54,8 +69,18 @@ int runRender(const RenderArgs& args) {
   png.clip_mm = args.clip_mm;
   png.max_step_mm = args.max_step_mm;
   png.min_rate_hz = args.min_rate_hz;
-  png.colour = args.colour;
+  png.paint = args.paint;
+  png.load = args.load;
+  png.amount = args.amount;
+  png.tip_length = args.tip_length;
+  png.mix = args.mix;
+  png.paper_tooth_mm = args.paper_tooth_mm;
+  png.paper_scale_mm = args.paper_scale_mm;
+  png.paper_seed = args.paper_seed;
+  png.impasto = args.impasto;
+  png.bits = args.bits;
   png.background = args.background;
+  png.inputs = {args.brush, args.trajectory};
   checkStrokePngOptions(png);
 
   const Brush brush = loadBrush(args.brush);
@@ -95,8 +120,9 @@ int runRender(const RenderArgs& args) {
                    "); continuing from its last good state");
     progress.update(step, steps);
   };
-  const render::StrokeResult result =
+  const StrokePngResult png_result =
       renderStrokePng(brush, trajectory, png, args.output, on_step);
+  const render::StrokeResult& result = png_result.stroke;
   if (trace) trace->commit();
   if (forces) forces->commit();
 
@@ -114,6 +140,11 @@ int runRender(const RenderArgs& args) {
                  "bristle: %d steps (%d solved, %d stiction re-solves, %d rescued by the "
                  "fallback solver), %ld solver iterations\n",
                  st.steps, st.solved_steps, st.resolves, st.fallback_solves, st.iterations);
+    std::fprintf(stderr,
+                 "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up; %.3g of %.3g mm^3 "
+                 "left on the brush\n",
+                 result.deposited_mm3, result.picked_up_mm3, png_result.left_on_brush_mm3,
+                 png_result.loaded_mm3);
     std::cout << args.output << "\n";
   }
   return 0;

@@ -1,5 +1,6 @@
-// `bristle validate FILE...`: checks brush and trajectory files and reports
-// each file's verdict, so a batch of inputs can be checked before a long run.
+// `bristle validate FILE...`: checks brush, trajectory and scene files and
+// reports each file's verdict, so a batch of inputs can be checked before a
+// long run. A .json file is a scene when its "format" says so, else a brush.
 
 #include <iostream>
 
@@ -7,17 +8,36 @@
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
+#include "engine/scene.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
 
 namespace bristle::cli {
+namespace {
+
+// A scene is checked with everything it references: brushes, trajectories,
+// and each trajectory placed and held against its brush.
+void validateScene(const std::string& f) {
+  const Scene scene = loadScene(f);
+  for (const Brush& b : scene.brushes) const BrushGeometry geometry(b);
+  for (const std::string& w : sceneWarnings(scene)) printError("warning: " + w);
+  const SceneCanvas& c = scene.canvas;
+  std::cout << f << ": ok (scene '" << scene.name << "', " << scene.strokes.size()
+            << (scene.strokes.size() == 1 ? " stroke, " : " strokes, ") << scene.brushes.size()
+            << (scene.brushes.size() == 1 ? " brush, " : " brushes, ") << c.width_mm << " x "
+            << c.height_mm << " mm at " << c.px_per_mm << " px/mm)\n";
+}
+
+}  // namespace
 
 int runValidate(const std::vector<std::string>& files) {
   int code = 0;
   for (const std::string& f : files) {
     try {
       const bool csv = f.size() >= 4 && f.compare(f.size() - 4, 4, ".csv") == 0;
-      if (csv) {
+      if (!csv && looksLikeScene(readTextFile(f))) {
+        validateScene(f);
+      } else if (csv) {
         const Trajectory t = loadTrajectory(f);
         std::cout << f << ": ok (trajectory, " << t.samples.size() << " samples, "
                   << t.endTime() - t.startTime() << " s)\n";

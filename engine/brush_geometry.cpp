@@ -18,7 +18,9 @@ void BrushGeometry::buildSurface(const BrushState& state, std::vector<BrushVerte
   // The simulated spines are hairs too: dressed in their own width they mark
   // the paper wherever the solver puts them in contact, also where an
   // approximating surface (§4.1) rounds off inside them, at a splayed tip.
+  const size_t first = triangles->size();
   buildSpineGeometry(*brush_, state, triangles);
+  for (size_t i = first; i < triangles->size(); ++i) (*triangles)[i].u += kSpineTextureOffsetU;
 }
 
 void BrushGeometry::buildStrips(const BrushState& state, std::vector<BrushVertex>* triangles) {

@@ -8,7 +8,8 @@
 // Texture coordinates tell the two apart for paint transfer: the surface's
 // (u, v) lie in [0, 1] x [0, 1] (u may run a little past 1 across its seam);
 // strips use u + 2, so u >= 2 means "strip texture, row u - 2" (§4.2.1: one
-// texture row per strip).
+// texture row per strip); the spines' own half tubes use u + 4 (u >= 4: spine
+// (u - 4) * spines), so the paint model (engine/paint.h) can tell all three apart.
 
 #include <memory>
 #include <vector>
@@ -23,6 +24,7 @@ class BrushSurface;
 struct StripLayout;
 
 inline constexpr float kStripTextureOffsetU = 2.0f;
+inline constexpr float kSpineTextureOffsetU = 4.0f;
 
 class BrushGeometry {
  public:

@@ -1,11 +1,8 @@
 #pragma once
-// The canvas: a grid of pixels over the canvas plane (world z = 0), holding how
-// much paint each pixel received. First cut: one paint colour, an opacity per
-// pixel; the paint issue replaces it with wet/dry pigment layers.
+// The canvas grid: pixels over the canvas plane (world z = 0), and colours. The
+// paint on it lives in engine/paint.h (PaintCanvas).
 
-#include <cstdint>
 #include <string>
-#include <vector>
 
 namespace bristle {
 
@@ -30,22 +27,5 @@ struct Rgb {
 };
 // Parses "#rrggbb"; returns false if it is not one.
 bool parseHexColour(const std::string& text, Rgb* out);
-
-class Canvas {
- public:
-  explicit Canvas(const CanvasGrid& grid);
-  const CanvasGrid& grid() const { return grid_; }
-  float opacity(int col, int row) const { return opacity_[index(col, row)]; }
-  // Paint reaches a pixel with the given opacity; the pixel keeps the most it got.
-  void deposit(int col, int row, float opacity);
-  bool blank() const;
-  // 8-bit RGB, row 0 at the top: paint over background, mixed in linear light.
-  std::vector<std::uint8_t> composeRgb8(const Rgb& paint, const Rgb& background) const;
-
- private:
-  size_t index(int col, int row) const { return static_cast<size_t>(row) * grid_.width_px + col; }
-  CanvasGrid grid_;
-  std::vector<float> opacity_;
-};
 
 }  // namespace bristle

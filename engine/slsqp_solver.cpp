@@ -1,9 +1,9 @@
 // NLopt SLSQP backend: one optimisation per spine (the spines of a brush are
 // independent problems, and SLSQP's QP is dense, so small problems suit it),
-// using the energy's value and gradient only. About 0.1 ms per 4-joint spine
-// (~40 energy evaluations) against Ipopt's ~1.5 ms per whole-brush step
-// (SOLVER-NOTES.md). Ipopt stays the reference; tests/test_solvers.cpp checks
-// that the two agree.
+// using the energy's value and gradient, on Hessian-scaled angles (see
+// Callbacks). About 9 energy evaluations per 4-joint spine while dragging,
+// ~0.02-0.03 ms, against Ipopt's ~2 ms per whole-brush step (PERFORMANCE.md).
+// Ipopt stays the reference; tests/test_solvers.cpp checks that the two agree.
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -18,51 +18,70 @@
 namespace bristle {
 namespace {
 
-// Everything the NLopt callbacks see: the problem of the current solve and the
-// kinematics of the last point evaluated. SLSQP evaluates the constraints at
-// the point where it has just evaluated the energy, so they reuse its kinematics.
+// Everything the NLopt callbacks see: the problem of the current solve, the
+// variable scaling and the kinematics of the last point evaluated. SLSQP
+// evaluates the constraints at the point where it has just evaluated the
+// energy, so they reuse its kinematics.
+//
+// Preconditioning: NLopt works on y = w * q (per variable), w_v = sqrt(H_vv) of
+// the energy's Hessian at the start point. SLSQP's quasi-Newton matrix starts
+// at the identity every solve; in y the true Hessian's diagonal is ~1, so its
+// first steps are close to Newton steps instead of gradient steps on a problem
+// whose curvature spans the stiffness profile, friction and damping (measured:
+// about 4x fewer evaluations while dragging, docs/PERFORMANCE.md).
 struct Callbacks {
   const SpineProblem* problem = nullptr;
+  std::vector<double> inv_w;  // 1 / w_v: q_v = y_v * inv_w[v]
+  std::vector<double> q;      // q of the last y the callbacks were given
   SpineFk fk;
-  std::vector<double> fk_q;  // the point fk holds
+  std::vector<double> fk_y;  // the point fk holds
   int fk_order = -1;         // and its derivative order (-1: none)
 
-  bool have(const double* q, int order) const {
+  bool have(const double* y, int order) const {
     return fk_order >= order &&
-           std::memcmp(q, fk_q.data(), fk_q.size() * sizeof(double)) == 0;
+           std::memcmp(y, fk_y.data(), fk_y.size() * sizeof(double)) == 0;
   }
-  void remember(const double* q, int order) {
-    fk_q.assign(q, q + problem->vars());
+  void remember(const double* y, int order) {
+    fk_y.assign(y, y + problem->vars());
     fk_order = order;
+  }
+  const double* toAngles(const double* y) {
+    q.resize(inv_w.size());
+    for (size_t v = 0; v < q.size(); ++v) q[v] = y[v] * inv_w[v];
+    return q.data();
   }
 };
 
-// Objective: the spine energy (eq. 1) and its gradient.
-double energyCallback(unsigned, const double* q, double* grad, void* data) {
+// Objective: the spine energy (eq. 1) and its gradient, with respect to y.
+double energyCallback(unsigned, const double* y, double* grad, void* data) {
   Callbacks& c = *static_cast<Callbacks*>(data);
-  const double e = spineEnergy(*c.problem, q, &c.fk, nullptr, grad, nullptr);
-  c.remember(q, grad ? 1 : 0);
+  const double e = spineEnergy(*c.problem, c.toAngles(y), &c.fk, nullptr, grad, nullptr);
+  if (grad)
+    for (size_t v = 0; v < c.inv_w.size(); ++v) grad[v] *= c.inv_w[v];
+  c.remember(y, grad ? 1 : 0);
   // A non-finite energy is a bug, not a point to step back from: stop (the
   // C++ wrapper turns this into an exception, caught below as a failure).
   if (!std::isfinite(e)) throw nlopt::forced_stop();
   return e;
 }
 
-// eq. 5 for joints 1..n in NLopt's form c(q) <= 0: c_j = -z(x_j). grad is
+// eq. 5 for joints 1..n in NLopt's form c(y) <= 0: c_j = -z(x_j). grad is
 // m x 2n row-major; joint j depends only on the 2j angles of the joints before it.
-void canvasCallback(unsigned m, double* c, unsigned nv, const double* q, double* grad,
+void canvasCallback(unsigned m, double* c, unsigned nv, const double* y, double* grad,
                     void* data) {
   Callbacks& cb = *static_cast<Callbacks*>(data);
   const int order = grad ? 1 : 0;
-  if (!cb.have(q, order)) {
-    spineForwardKinematics(*cb.problem->spine, cb.problem->handle, q, order, &cb.fk);
-    cb.remember(q, order);
+  if (!cb.have(y, order)) {
+    spineForwardKinematics(*cb.problem->spine, cb.problem->handle, cb.toAngles(y), order,
+                           &cb.fk);
+    cb.remember(y, order);
   }
   for (unsigned j = 1; j <= m; ++j) {
     c[j - 1] = -cb.fk.x[j].z();
     if (!grad) continue;
     double* row = grad + (j - 1) * nv;
-    for (unsigned v = 0; v < nv; ++v) row[v] = v < 2 * j ? -cb.fk.d(j, v).z() : 0.0;
+    for (unsigned v = 0; v < nv; ++v)
+      row[v] = v < 2 * j ? -cb.fk.d(j, v).z() * cb.inv_w[v] : 0.0;
   }
 }
 
@@ -187,13 +206,6 @@ class SlsqpSolver : public SpineSolver {
     std::unique_ptr<Optimizer>& o = optimizers_[nv];
     if (o) return *o;
     auto made = std::make_unique<Optimizer>(nv);
-    std::vector<double> lo(nv), hi(nv);
-    for (int v = 0; v < nv; ++v) {
-      lo[v] = -limitRad(v);
-      hi[v] = limitRad(v);
-    }
-    made->opt.set_lower_bounds(lo);
-    made->opt.set_upper_bounds(hi);
     made->opt.set_min_objective(energyCallback, &made->callbacks);
     made->opt.add_inequality_mconstraint(canvasCallback, &made->callbacks,
                                          std::vector<double>(nv / 2, settings_.constraint_tol_mm));
@@ -203,6 +215,53 @@ class SlsqpSolver : public SpineSolver {
     made->opt.set_maxeval(settings_.max_evaluations);
     o = std::move(made);
     return *o;
+  }
+
+  // w_v = sqrt(|H_vv|) of the energy's Hessian at the start q, floored at
+  // kMinCurvatureRatio of the largest so that a flat direction (a joint whose
+  // friction and spring nearly cancel) does not get a huge step; the bounds
+  // scale with it.
+  void setScaling(const SpineProblem& p, const std::vector<double>& q, Optimizer* opt) {
+    // A variable's curvature may be this small relative to the stiffest one
+    // before it is floored: 1e-4 bounds the scale spread at 100x, the range of
+    // the stiffness profiles and friction terms of the brush library.
+    constexpr double kMinCurvatureRatio = 1e-4;
+    // The curvature of the smoothed kinks holds only within their smoothing width
+    // of the last step: joint damping's |dq| over 1e-5 rad (D / eps ~ 500 N mm/rad
+    // against K ~ 10) and friction's |dx| over 1e-3 mm (mu Fn / eps). Scaling by
+    // it would make every step start far too short, so the scale is taken with
+    // both smoothed wide enough to span a step's motion, and reflects springs,
+    // contact and the average friction drag. Measured on bench_solver's probes
+    // (evaluations per step, dragging / pressing, 4 joints): unscaled 40 / 52;
+    // damping widened only 13 / 60 (the exact Hessian failed a cold press);
+    // both widened, friction to 0.2 mm 11.8 / 40, 1 mm 9.3 / 36, 5 mm 10.0 / 32.
+    constexpr double kScaleDampRad = 0.05;
+    constexpr double kScaleFrictionMm = 1.0;
+    const int nv = p.vars();
+    hess_.resize(size_t(nv) * nv);
+    scale_problem_ = p;
+    scale_problem_.eps_damp_rad = std::max(p.eps_damp_rad, kScaleDampRad);
+    scale_problem_.eps_mm = std::max(p.eps_mm, kScaleFrictionMm);
+    spineEnergy(scale_problem_, q.data(), &fk_, nullptr, nullptr, hess_.data());
+    auto curvature = [&](int v) {
+      const double c = std::fabs(hess_[v * nv + v]);
+      return std::isfinite(c) ? c : 0.0;
+    };
+    double largest = 0;
+    for (int v = 0; v < nv; ++v) largest = std::max(largest, curvature(v));
+    Callbacks& cb = opt->callbacks;
+    cb.inv_w.resize(nv);
+    lo_.resize(nv);
+    hi_.resize(nv);
+    for (int v = 0; v < nv; ++v) {
+      const double w =
+          largest > 0 ? std::sqrt(std::max(curvature(v), kMinCurvatureRatio * largest)) : 1.0;
+      cb.inv_w[v] = 1.0 / w;
+      lo_[v] = -limitRad(v) * w;
+      hi_[v] = limitRad(v) * w;
+    }
+    opt->opt.set_lower_bounds(lo_);
+    opt->opt.set_upper_bounds(hi_);
   }
 
   Outcome solveSpine(const SpineProblem& p, const SpineSolution& start, SpineSolution* out) {
@@ -218,15 +277,21 @@ class SlsqpSolver : public SpineSolver {
     nlopt::result r = nlopt::FAILURE;
     try {
       Optimizer& opt = optimizer(nv);
-      opt.callbacks.problem = &p;
-      opt.callbacks.fk_order = -1;
+      Callbacks& cb = opt.callbacks;
+      cb.problem = &p;
+      cb.fk_order = -1;
+      setScaling(p, q, &opt);
+      std::vector<double>& y = y_;
+      y.resize(nv);
+      for (int v = 0; v < nv; ++v) y[v] = q[v] / cb.inv_w[v];
       double e = 0;
       try {
-        r = opt.opt.optimize(q, e);
+        r = opt.opt.optimize(y, e);
       } catch (const nlopt::roundoff_limited&) {
-        // The wrapper throws on ROUNDOFF_LIMITED after writing the best point to q.
+        // The wrapper throws on ROUNDOFF_LIMITED after writing the best point to y.
         r = nlopt::ROUNDOFF_LIMITED;
       }
+      for (int v = 0; v < nv; ++v) q[v] = y[v] * cb.inv_w[v];
       o.evaluations = opt.opt.get_numevals();
       o.message = resultName(r);
       // NLopt returns its best point: the lowest energy among the points within
@@ -288,6 +353,8 @@ class SlsqpSolver : public SpineSolver {
   std::vector<std::unique_ptr<Optimizer>> optimizers_;
   std::vector<SpineSolution> results_;
   SpineFk fk_;
+  std::vector<double> hess_, lo_, hi_, y_;
+  SpineProblem scale_problem_;
 };
 
 }  // namespace

@@ -72,7 +72,7 @@ namespace bristle {
 // Its SolveSummary::iterations counts energy evaluations; its status is
 // kAcceptable for NLopt's ROUNDOFF_LIMITED at a point on the canvas.
 struct SlsqpSettings {
-  int max_evaluations = 200;          // objective evaluations per spine (~40 typical)
+  int max_evaluations = 200;          // objective evaluations per spine (~9 dragging)
   // Stop when a line search changes E by less (N mm). SLSQP's quasi-Newton
   // Hessian starts at identity every solve and can take a step of tiny progress
   // well before the optimum: at 1e-10 it stopped up to 1.4e-3 mm short of

@@ -102,27 +102,30 @@ constexpr int kMaxSplitDepth = 5;
 }  // namespace
 
 void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState& state,
-                               const StrokeOptions& options, Canvas* canvas, bool* touched) {
+                               const StrokeOptions& options, PaintCanvas* canvas,
+                               BrushPaint* paint, StrokeResult* result) {
   const CanvasGrid& grid = canvas->grid();
   if (!footprint(geometry, state, grid, options.clip_mm, &image_)) return;
+  FootprintView view;
   // Pixel offset of the window in the canvas.
-  const int c0 = static_cast<int>(std::lround(grid.colOf(image_.window.x0_mm)));
-  const int r0 = static_cast<int>(
+  view.col0 = static_cast<int>(std::lround(grid.colOf(image_.window.x0_mm)));
+  view.row0 = static_cast<int>(
       std::lround(grid.rowOf(image_.window.y0_mm + image_.window.height_px / grid.px_per_mm)));
-  for (int r = 0; r < image_.window.height_px; ++r)
-    for (int c = 0; c < image_.window.width_px; ++c) {
-      const float* t = image_.at(c, r);
-      if (t[3] <= 0) continue;
-      *touched = true;
-      // Paint in proportion to how deep the brush reaches into the contact band.
-      canvas->deposit(c0 + c, r0 + r, static_cast<float>(t[2] / options.clip_mm));
-    }
+  view.width = image_.window.width_px;
+  view.height = image_.window.height_px;
+  view.texels = image_.texels.data();
+  TransferParams params = options.transfer;
+  params.clip_mm = options.clip_mm;
+  const TransferStats st = transfer(view, *paint, *canvas, params);
+  if (st.contact_px > 0) result->touched = true;
+  result->deposited_mm3 += st.deposited_mm3;
+  result->picked_up_mm3 += st.picked_up_mm3;
 }
 
 StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajectory,
                                     std::unique_ptr<SpineSolver> solver,
-                                    const StrokeOptions& options, Canvas* canvas,
-                                    const StepCallback& on_step,
+                                    const StrokeOptions& options, PaintCanvas* canvas,
+                                    BrushPaint* paint, const StepCallback& on_step,
                                     std::unique_ptr<SpineSolver> fallback) {
   BrushGeometry geometry(brush);
   Simulation sim(brush, options.sim, std::move(solver), std::move(fallback));
@@ -144,12 +147,12 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
       self(self, tm, t1, depth + 1);
       return;
     }
-    paintStep(geometry, sim.state(), options, canvas, &result.touched);
+    paintStep(geometry, sim.state(), options, canvas, paint, &result);
     if (on_step) on_step(sim.state(), planned, steps);
   };
 
   sim.reset(trajectory.poseAt(times.front()), times.front());
-  paintStep(geometry, sim.state(), options, canvas, &result.touched);
+  paintStep(geometry, sim.state(), options, canvas, paint, &result);
   if (on_step) on_step(sim.state(), 0, steps);
   for (planned = 1; planned < steps; ++planned)
     advance(advance, times[planned - 1], times[planned], 0);

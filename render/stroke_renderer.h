@@ -7,6 +7,7 @@
 
 #include "engine/brush_geometry.h"
 #include "engine/canvas.h"
+#include "engine/paint.h"
 #include "engine/simulation.h"
 #include "render/footprint_renderer.h"
 
@@ -19,6 +20,8 @@ struct StrokeOptions {
   // About a hair's radius: spine joints resting on the canvas sit at z = 0.
   double clip_mm = 0.1;
   SimOptions sim;
+  // Paint transfer per step (engine/paint.h); its clip_mm is replaced by the one above.
+  TransferParams transfer;
 };
 
 // Called after every simulation step with the index of the planned step it
@@ -28,6 +31,8 @@ using StepCallback = std::function<void(const BrushState&, int step, int steps)>
 struct StrokeResult {
   SimStats stats;
   bool touched = false;  // the brush reached the canvas at least once
+  double deposited_mm3 = 0;  // paint the brush laid down over the stroke
+  double picked_up_mm3 = 0;  // wet paint the brush took up from the canvas
 };
 
 // The canvas a stroke needs when no scene gives one: everything the brush can
@@ -41,10 +46,16 @@ class StrokeRenderer {
   StrokeRenderer();
   ~StrokeRenderer();
 
-  // Simulates the brush along the trajectory and paints into canvas.
+  // Simulates the brush along the trajectory and moves paint both ways between
+  // `paint` (the brush's texture, loaded by the caller) and `canvas`, every
+  // step. Many strokes can share one canvas: call render once per stroke, each
+  // with its own brush, trajectory (already placed on the canvas: offset the
+  // trajectory's poses for a placement) and BrushPaint; dry the canvas between
+  // strokes with PaintCanvas::dry() where a scene asks. One StrokeRenderer (one
+  // GL context) serves any number of strokes and brushes.
   StrokeResult render(const Brush& brush, const Trajectory& trajectory,
                       std::unique_ptr<SpineSolver> solver, const StrokeOptions& options,
-                      Canvas* canvas, const StepCallback& on_step = {},
+                      PaintCanvas* canvas, BrushPaint* paint, const StepCallback& on_step = {},
                       std::unique_ptr<SpineSolver> fallback = nullptr);
 
   // Footprint of one brush state on the canvas grid (for tests and previews).
@@ -54,7 +65,8 @@ class StrokeRenderer {
 
  private:
   void paintStep(BrushGeometry& geometry, const BrushState& state,
-                 const StrokeOptions& options, Canvas* canvas, bool* touched);
+                 const StrokeOptions& options, PaintCanvas* canvas, BrushPaint* paint,
+                 StrokeResult* result);
 
   FootprintRenderer renderer_;
   FootprintImage image_;

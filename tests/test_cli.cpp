@@ -202,7 +202,7 @@ TEST_CASE("render: a trajectory that never touches the canvas gives a blank imag
     for (int c = 0; c < img.width; ++c) REQUIRE_FALSE(painted(img, c, row));
 }
 
-TEST_CASE("render: failed solves are counted, traced and reported; the run goes on", "[cli]") {
+TEST_CASE("render: failed solves are counted, traced and reported, and the run goes on", "[cli]") {
   TempDir dir;
   const std::string trace = dir.file("t.jsonl");
   // Two iterations cannot converge a contact step: every such solve fails.

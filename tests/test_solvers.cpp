@@ -200,6 +200,46 @@ TEST_CASE("slsqp and ipopt follow the same press-then-drag stroke: one spine",
   checkSlsqpFollowsIpopt(brush, path, 10);
 }
 
+TEST_CASE("preconditioned slsqp converges in few evaluations while dragging",
+          "[solvers][slsqp]") {
+  // The same probe as above. SLSQP works on Hessian-scaled angles (see
+  // engine/slsqp_solver.cpp); without the scaling it needed ~40 evaluations per
+  // dragging step (docs/PERFORMANCE.md, 2026-11-22), with it about 9. The bound
+  // of 15 sits between the two: it fails if the scaling stops working, and
+  // leaves room for solver-option changes that cost a few evaluations.
+  constexpr double kMaxMeanEvaluations = 15;
+  SpineSpec spine = makeSpine({4, 4, 4, 4}, {10, 10 - 5.0 / 3, 10 - 10.0 / 3, 5}, 0.005);
+  spine.rest_angles_rad[0] = Eigen::Vector2d(0.03, 0);
+  const Brush brush = makeBrush({spine}, 0.4, 0.4);
+  Pose p = tilted(poseAt(0, 0, 0), 20 * std::numbers::pi / 180, Eigen::Vector3d::UnitY());
+  SpineFk fk;
+  const std::vector<double> rest{0.03, 0, 0, 0, 0, 0, 0, 0};
+  spineForwardKinematics(spine, p, rest.data(), 0, &fk);
+  const double touch_mm = -fk.x.back().z();
+  Simulation sim(brush, SimOptions{}, makeSlsqpSolver());
+  double t = 0;
+  p.position_mm.z() = touch_mm + 0.5;
+  sim.reset(p, t);
+  for (int i = 1; i <= 60; ++i) {
+    p.position_mm.z() = touch_mm + 0.5 - (0.5 + 6.4) * i / 60;
+    sim.step(p, t += 0.01);
+  }
+  long evaluations = 0;
+  int steps = 0;
+  for (int i = 1; i <= 140; ++i) {
+    p.position_mm.x() = 0.2 * i;
+    sim.step(p, t += 0.01);
+    const SolveSummary& summary = sim.state().spines[0].summary;
+    REQUIRE(summary.usable());
+    evaluations += summary.iterations;
+    ++steps;
+  }
+  REQUIRE(sim.state().spines[0].contact.back());
+  const double mean = double(evaluations) / steps;
+  INFO("mean SLSQP evaluations per dragging step: " << mean);
+  CHECK(mean < kMaxMeanEvaluations);
+}
+
 TEST_CASE("slsqp and ipopt follow the same press-then-drag stroke: three spines, tilted",
           "[solvers][slsqp]") {
   const double tilt = 0.3;
@@ -326,6 +366,7 @@ TEST_CASE("slsqp's solution and multipliers match Ipopt's and warm-start it",
   std::unique_ptr<SpineSolver> slsqp = makeSlsqpSolver();
   CHECK(std::string(slsqp->name()) == "slsqp");
   const SolveSummary ok = slsqp->solve({&pp, 1}, {&ps, 1});
+  INFO("slsqp: " << ok.message);
   REQUIRE(ok.usable());
   CHECK(ok.status == SolveStatus::kOk);
   CHECK(maxDistanceMm(jointsMm(pressed.problem, sol), pressed.reference) < kSolverAgreeMm);

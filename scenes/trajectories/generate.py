@@ -95,7 +95,27 @@ def press_lift():
           rows)
 
 
+def broadside_pull():
+    rows = []
+    tilt = math.radians(25)
+    q = trail_quaternion(0, -1, tilt)
+    duration = 2.2
+    for i in range(int(duration * RATE_HZ) + 1):
+        t = i / RATE_HZ
+        # 0-0.4 s: come down; 0.4-1.9 s: pull 45 mm towards -y; 1.9-2.2 s: lift.
+        down = smoothstep(t / 0.4)
+        lift = smoothstep((t - 1.9) / 0.3)
+        y = 60 - 45 * smoothstep((t - 0.4) / 1.5)
+        z = 22 - 9.5 * down + 11 * lift
+        rows.append((t, 30.0, y, z) + q)
+    write("broadside-pull.csv",
+          ["A flat brush pulled broadside: press in, pull 45 mm towards -y (across",
+           "the brush's width axis x) with the handle tilted 25 degrees towards the",
+           "motion, lift off. The One-Stroke motion of a double-loaded flat."], rows)
+
+
 if __name__ == "__main__":
+    broadside_pull()
     straight_pull()
     s_curve()
     press_lift()

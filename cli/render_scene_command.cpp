@@ -1,0 +1,127 @@
+// `bristle render SCENE.json -o out.png`: a whole painting, stroke by stroke on
+// one canvas (engine/scene.h, render/scene_renderer.h).
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "bristle/version.h"
+#include "cli/commands.h"
+#include "engine/atomic_output.h"
+#include "engine/error.h"
+#include "engine/scene.h"
+#include "engine/trace.h"
+#include "render/compose.h"
+#include "render/png_io.h"
+#include "render/scene_renderer.h"
+
+namespace bristle::cli {
+namespace {
+
+// The options that make sense with a scene: the scene says everything else.
+constexpr const char* kSceneOptions[] = {"--output", "--trace", "--impasto", "--bits", "--quiet",
+                                         "--help"};
+
+// Progress on stderr, only when it is a terminal, at most every 0.2 s.
+class SceneProgress {
+ public:
+  explicit SceneProgress(bool enabled) : enabled_(enabled && ::isatty(2)) {}
+  void update(int stroke, int strokes, long step, long steps) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    const bool last = step + 1 >= steps;
+    if (!last && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    std::fprintf(stderr, "\rbristle: stroke %d/%d, step %ld/%ld (%3.0f%%)", stroke + 1, strokes,
+                 step + 1, steps, 100.0 * double(step + 1) / double(steps));
+    if (last) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool enabled_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+// Was a stroke (its pointer, "/strokes/3") already named in a warning?
+bool warnedAbout(const std::vector<std::string>& warnings, const std::string& pointer) {
+  const std::string tag = ": " + pointer + ":";
+  for (const std::string& w : warnings)
+    if (w.find(tag) != std::string::npos) return true;
+  return false;
+}
+
+void checkSceneOptions(const RenderArgs& args) {
+  for (const std::string& given : args.given) {
+    bool ok = false;
+    for (const char* allowed : kSceneOptions) ok = ok || given == allowed;
+    if (!ok)
+      throw Error(ExitCode::kUsage,
+                  "render " + args.scene + ": " + given +
+                      " cannot be used with a scene (the scene sets it); with a scene only -o, "
+                      "--trace, --impasto, --bits and --quiet are allowed");
+  }
+}
+
+}  // namespace
+
+int runRenderScene(const RenderArgs& args) {
+  checkSceneOptions(args);
+  if (args.output.empty()) throw Error(ExitCode::kUsage, "render: -o/--output is required");
+  const Scene scene = loadScene(args.scene);
+  const std::vector<std::string> warnings = sceneWarnings(scene);
+  for (const std::string& w : warnings) printError("warning: " + w);
+
+  checkCanCreate(args.output);
+  std::unique_ptr<AtomicOutput> trace;
+  if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
+
+  PaintCanvas canvas = render::makeSceneCanvas(scene);
+  SceneProgress progress(!args.quiet);
+  const int strokes = static_cast<int>(scene.strokes.size());
+  auto on_step = [&](int stroke, const BrushState& st, long step, long steps) {
+    // Each trace line says which stroke it belongs to.
+    if (trace) trace->stream() << "{\"stroke\":" << stroke << ',' << traceLine(st).substr(1) << '\n';
+    progress.update(stroke, strokes, step, steps);
+  };
+  const render::SceneResult result = render::renderScene(scene, {}, &canvas, on_step);
+
+  render::ComposeOptions compose;
+  compose.impasto = args.impasto;
+  // The hash covers the scene and every brush and trajectory it read.
+  render::PngText text = render::provenanceText(scene.inputs);
+  text.push_back({"bristle:scene", scene.name});
+  text.push_back({"bristle:canvas", canvasText(canvas.grid())});
+  if (args.bits == 16)
+    render::writePng(args.output, render::composeRgb16(canvas, compose), text);
+  else
+    render::writePng(args.output, render::composeRgb8(canvas, compose), text);
+  if (trace) trace->commit();
+
+  // Strokes out of reach were named before the run; the others are news.
+  for (int i : result.untouched)
+    if (!warnedAbout(warnings, scene.strokes[size_t(i)].pointer)) printError("warning: " + scene.path + ": " + scene.strokes[size_t(i)].pointer +
+               ": the brush never touched the canvas (trajectory " +
+               scene.strokes[size_t(i)].trajectory_path + ")");
+  if (result.stats.failed_steps > 0)
+    printError("warning: " + std::to_string(result.stats.failed_steps) + " of " +
+               std::to_string(result.stats.steps) + " steps had a failed solve (" +
+               std::to_string(result.stats.failed_spine_solves) +
+               " spine solves); those spines continued from their last good state");
+  if (!args.quiet) {
+    const SimStats& st = result.stats;
+    std::fprintf(stderr,
+                 "bristle: %d strokes, %d steps (%d solved, %d stiction re-solves, %d rescued by "
+                 "the fallback solver), %ld solver iterations\n",
+                 strokes, st.steps, st.solved_steps, st.resolves, st.fallback_solves,
+                 st.iterations);
+    std::fprintf(stderr, "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up\n",
+                 result.deposited_mm3, result.picked_up_mm3);
+    std::cout << args.output << "\n";
+  }
+  return 0;
+}
+
+}  // namespace bristle::cli

@@ -1,0 +1,524 @@
+#include "engine/paint.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/bristle_strips.h"
+#include "engine/brush_geometry.h"
+#include "engine/brush_surface.h"
+#include "engine/error.h"
+
+namespace bristle {
+namespace {
+
+double smoothstep(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3 - 2 * x);
+}
+
+// Half-width (in w) of the blend between two paints loaded side by side: a
+// painter dabs a double-loaded brush back and forth on the palette, which works
+// the two colours into each other over a band in the middle of the brush.
+constexpr double kAcrossBlendHalfWidth = 0.1;
+// Half-width (in v) of the blend between body and tip paint.
+constexpr double kTipBlendHalfWidth = 0.05;
+// How much a fully diluted paint (dilution 1) thins its pigment: K and S scaled
+// by 1 - this, and how much faster it flows (flow = 1 + dilution).
+constexpr double kDilutionThinning = 0.7;
+// Spread of the hairs' paint-holding (see transfer) and the width of the tooth
+// band over which a drying texel goes from no paint to full paint.
+constexpr double kHairVariation = 0.6;
+constexpr float kInvDryEdge = 1 / 0.15f;
+// Volumes below this (mm^3) are treated as no paint (float noise, ~1e-6 of a pixel's film).
+constexpr float kVolumeEpsMm3 = 1e-12f;
+
+void mixInto(PaintCell& cell, float keep_mm3, const Optics& add, float add_mm3) {
+  const float total = keep_mm3 + add_mm3;
+  if (total <= kVolumeEpsMm3) {
+    cell.volume_mm3 = std::max(total, 0.0f);
+    return;
+  }
+  const float a = keep_mm3 / total, b = add_mm3 / total;
+  for (int i = 0; i < 3; ++i) {
+    cell.optics.k[i] = a * cell.optics.k[i] + b * add.k[i];
+    cell.optics.s[i] = a * cell.optics.s[i] + b * add.s[i];
+  }
+  cell.volume_mm3 = total;
+}
+
+std::uint64_t splitmix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+double latticeValue(std::int64_t ix, std::int64_t iy, std::uint64_t seed) {
+  const std::uint64_t h =
+      splitmix(seed ^ splitmix(static_cast<std::uint64_t>(ix) * 0x632be59bd9b4e019ULL ^
+                               splitmix(static_cast<std::uint64_t>(iy))));
+  return (h >> 11) * (1.0 / 9007199254740992.0);  // 53 bits -> [0, 1)
+}
+
+double valueNoise(double x, double y, std::uint64_t seed) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+  const double tx = smoothstep(x - fx), ty = smoothstep(y - fy);
+  const double a = latticeValue(ix, iy, seed), b = latticeValue(ix + 1, iy, seed);
+  const double c = latticeValue(ix, iy + 1, seed), d = latticeValue(ix + 1, iy + 1, seed);
+  return (a + (b - a) * tx) * (1 - ty) + (c + (d - c) * tx) * ty;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- BrushTexelMap
+
+BrushTexelMap::BrushTexelMap(const Brush& brush) {
+  spines_ = static_cast<int>(brush.spines.size());
+  double lo = 1e300, hi = -1e300, length = 0;
+  for (const SpineSpec& s : brush.spines) {
+    const double half = s.width_mm.empty() ? 0 : 0.5 * s.width_mm.front();
+    lo = std::min(lo, s.root_mm.x() - half);
+    hi = std::max(hi, s.root_mm.x() + half);
+    double l = 0;
+    for (double seg : s.segment_lengths_mm) l += seg;
+    length = std::max(length, l);
+  }
+  std::unique_ptr<BrushSurface> surface;
+  if (brush.surface.present()) {
+    surface = std::make_unique<BrushSurface>(brush);
+    for (int i = 0; i < surface->refinedVertexCount(); ++i) {
+      const double x = surface->refinedRestPosition(i).x();
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  }
+  if (!(hi > lo)) {
+    lo = -0.5;
+    hi = 0.5;
+  }
+  x0_ = lo;
+  x1_ = hi;
+  texel_area_mm2_ = std::max(hi - lo, 1e-3) * std::max(length, 1e-3) / kTexels;
+
+  for (const SpineSpec& s : brush.spines) {
+    spine_w_.push_back(lateral(s.root_mm.x()));
+    const double width = s.width_mm.empty() ? 0 : s.width_mm.front();
+    spine_dw_.push_back(static_cast<float>(width / (x1_ - x0_)));
+  }
+
+  if (brush.strips.present()) {
+    const StripLayout layout = layoutStrips(brush);
+    strips_ = layout.count;
+    for (int k = 0; k < layout.count; ++k) strip_w_.push_back(lateral(layout.roots_mm[k].x()));
+  }
+
+  // Surface: mean rest x of the refined vertices in each (u, v) bin; an empty
+  // bin takes the mean of its u column, and an empty column a straight brush's
+  // cos(2 pi u) across the width.
+  surface_w_.assign(kSurfaceBinsU * kSurfaceBinsV, 0.5f);
+  if (surface) {
+    std::vector<double> sum(surface_w_.size(), 0), col_sum(kSurfaceBinsU, 0);
+    std::vector<int> n(surface_w_.size(), 0), col_n(kSurfaceBinsU, 0);
+    for (int i = 0; i < surface->refinedVertexCount(); ++i) {
+      const Eigen::Vector2f uv = surface->uv(i);
+      double u = uv.x() - std::floor(uv.x());
+      const int bu = std::min(kSurfaceBinsU - 1, static_cast<int>(u * kSurfaceBinsU));
+      const int bv = std::clamp(static_cast<int>(uv.y() * kSurfaceBinsV), 0, kSurfaceBinsV - 1);
+      const double w = lateral(surface->refinedRestPosition(i).x());
+      sum[bv * kSurfaceBinsU + bu] += w;
+      n[bv * kSurfaceBinsU + bu] += 1;
+      col_sum[bu] += w;
+      col_n[bu] += 1;
+    }
+    for (int bu = 0; bu < kSurfaceBinsU; ++bu) {
+      const double u = (bu + 0.5) / kSurfaceBinsU;
+      const double col = col_n[bu] > 0 ? col_sum[bu] / col_n[bu]
+                                       : 0.5 + 0.5 * std::cos(2 * M_PI * u);
+      for (int bv = 0; bv < kSurfaceBinsV; ++bv) {
+        const int b = bv * kSurfaceBinsU + bu;
+        surface_w_[b] = static_cast<float>(n[b] > 0 ? sum[b] / n[b] : col);
+      }
+    }
+  }
+}
+
+float BrushTexelMap::lateral(double x_mm) const {
+  return static_cast<float>(std::clamp((x_mm - x0_) / (x1_ - x0_), 0.0, 1.0));
+}
+
+float BrushTexelMap::across(float u, float v) const {
+  if (u >= kSpineTextureOffsetU) {
+    if (spines_ == 0) return 0.5f;
+    const float su = (u - kSpineTextureOffsetU) * spines_;
+    const int s = std::clamp(static_cast<int>(su), 0, spines_ - 1);
+    // Across the tube, from its -x side to its +x side (engine/spine_strips.h).
+    return std::clamp(spine_w_[s] + (su - s - 0.5f) * spine_dw_[s], 0.0f, 1.0f);
+  }
+  if (u >= kStripTextureOffsetU) {
+    if (strips_ == 0) return 0.5f;
+    const int k = std::clamp(static_cast<int>((u - kStripTextureOffsetU) * strips_), 0,
+                             strips_ - 1);
+    return strip_w_[k];
+  }
+  const float uw = u - std::floor(u);
+  const int bu = std::min(kSurfaceBinsU - 1, static_cast<int>(uw * kSurfaceBinsU));
+  const int bv = std::clamp(static_cast<int>(v * kSurfaceBinsV), 0, kSurfaceBinsV - 1);
+  return surface_w_[bv * kSurfaceBinsU + bu];
+}
+
+int BrushTexelMap::texel(float u, float v) const {
+  const float w = across(u, v);
+  const int col = std::clamp(static_cast<int>(w * kColumns), 0, kColumns - 1);
+  const int row = std::clamp(static_cast<int>(v * kRows), 0, kRows - 1);
+  return row * kColumns + col;
+}
+
+// ---------------------------------------------------------------- BrushPaint
+
+BrushPaint::BrushPaint(const Brush& brush)
+    : map_(brush), capacity_(brush.paint_capacity), cells_(BrushTexelMap::kTexels) {}
+
+void BrushPaint::clean() {
+  for (PaintCell& c : cells_) c = PaintCell{};
+  capacity_mm3_ = 0;
+}
+
+void BrushPaint::load(const PaintLoad& load, MixModel model, const std::string& where) {
+  auto fail = [&](const std::string& field, const std::string& rule) {
+    return dataError(where, field, rule);
+  };
+  size_t lo = 1, hi = 1;
+  if (load.mode == PaintLoad::Mode::kAcross) lo = 2, hi = 3;
+  if (load.mode == PaintLoad::Mode::kTip) lo = 1, hi = 2;
+  if (load.paints.size() < lo || load.paints.size() > hi)
+    throw fail("/paints", "this loading takes " + std::to_string(lo) +
+                              (hi > lo ? " to " + std::to_string(hi) : "") + " paints, got " +
+                              std::to_string(load.paints.size()));
+  if (!(load.amount > 0 && load.amount <= 1))
+    throw fail("/amount", "must be in (0, 1] (a fraction of the brush's capacity)");
+  if (!(load.tip_length >= 0 && load.tip_length <= 1))
+    throw fail("/tip_length", "must be in [0, 1]");
+  if (!(load.dilution >= 0 && load.dilution <= 1)) throw fail("/dilution", "must be in [0, 1]");
+  std::vector<Optics> paints(load.paints.size());
+  for (size_t i = 0; i < paints.size(); ++i) {
+    std::string why;
+    if (!resolvePaint(load.paints[i], model, &paints[i], &why))
+      throw fail("/paints/" + std::to_string(i), why);
+    const float thin = static_cast<float>(1 - kDilutionThinning * load.dilution);
+    if (model == MixModel::kKubelkaMunk)
+      for (int c = 0; c < 3; ++c) paints[i].k[c] *= thin, paints[i].s[c] *= thin;
+    else
+      for (int c = 0; c < 3; ++c) paints[i].s[c] *= thin;
+  }
+  model_ = model;
+  flow_ = 1 + load.dilution;
+  full_film_mm_ = kFullLoadFilmMm * capacity_;
+  const double film = full_film_mm_ * load.amount;
+  const float volume = static_cast<float>(film * map_.texelAreaMm2());
+  capacity_mm3_ = full_film_mm_ * map_.texelAreaMm2() * BrushTexelMap::kTexels;
+
+  for (int row = 0; row < BrushTexelMap::kRows; ++row)
+    for (int col = 0; col < BrushTexelMap::kColumns; ++col) {
+      const double w = BrushTexelMap::columnCentre(col), v = BrushTexelMap::rowCentre(row);
+      std::vector<double> weight(paints.size(), 0.0);
+      if (paints.size() == 1) {
+        weight[0] = 1;
+      } else if (load.mode == PaintLoad::Mode::kAcross) {
+        // Boundaries at k / n; each a smooth step of half-width kAcrossBlendHalfWidth.
+        const int n = static_cast<int>(paints.size());
+        double rest = 1;
+        for (int k = 0; k + 1 < n; ++k) {
+          const double b = double(k + 1) / n;
+          const double t = smoothstep((w - (b - kAcrossBlendHalfWidth)) /
+                                      (2 * kAcrossBlendHalfWidth));
+          weight[k] = rest * (1 - t);
+          rest *= t;
+        }
+        weight[n - 1] = rest;
+      } else {  // tip
+        const double b = 1 - load.tip_length;
+        const double t = smoothstep((v - (b - kTipBlendHalfWidth)) / (2 * kTipBlendHalfWidth));
+        weight[0] = 1 - t;
+        weight[1] = t;
+      }
+      PaintCell& cell = cells_[row * BrushTexelMap::kColumns + col];
+      cell = PaintCell{};
+      cell.volume_mm3 = volume;
+      for (size_t p = 0; p < paints.size(); ++p)
+        for (int c = 0; c < 3; ++c) {
+          cell.optics.k[c] += static_cast<float>(weight[p]) * paints[p].k[c];
+          cell.optics.s[c] += static_cast<float>(weight[p]) * paints[p].s[c];
+        }
+    }
+}
+
+double BrushPaint::totalVolumeMm3() const {
+  double v = 0;
+  for (const PaintCell& c : cells_) v += c.volume_mm3;
+  return v;
+}
+
+// ---------------------------------------------------------------- PaintCanvas
+
+double paperTooth(const PaperSpec& paper, double x_mm, double y_mm) {
+  if (paper.tooth_scale_mm <= 0) return 1;
+  const double x = x_mm / paper.tooth_scale_mm, y = y_mm / paper.tooth_scale_mm;
+  // Two octaves: the grain and a finer grain at half its size, 0.35 as strong.
+  const double n = valueNoise(x, y, paper.seed) + 0.35 * valueNoise(2 * x, 2 * y, paper.seed + 1);
+  return n / 1.35;
+}
+
+PaintCanvas::PaintCanvas(const CanvasGrid& grid, const PaperSpec& paper, MixModel model)
+    : grid_(grid), paper_(paper), model_(model) {
+  if (grid.width_px <= 0 || grid.height_px <= 0 || grid.width_px > kMaxCanvasSidePx ||
+      grid.height_px > kMaxCanvasSidePx ||
+      double(grid.width_px) * grid.height_px > double(kMaxCanvasPixels))
+    throw Error(ExitCode::kDataError,
+                "canvas of " + std::to_string(grid.width_px) + " x " +
+                    std::to_string(grid.height_px) +
+                    " px: must be 1 .. 16384 px a side and at most 64 Mpx");
+  Rgb colour;
+  if (!parseHexColour(paper.colour, &colour))
+    throw Error(ExitCode::kDataError,
+                "paper colour '" + paper.colour + "': must be a colour like #f5f1e6");
+  if (!(paper.tooth_depth_mm >= 0) || !(paper.tooth_scale_mm > 0))
+    throw Error(ExitCode::kDataError,
+                "paper tooth: depth must be >= 0 mm and scale > 0 mm");
+  const size_t n = static_cast<size_t>(grid.width_px) * grid.height_px;
+  wet_.assign(n, PaintCell{});
+  const std::array<float, 3> bg = {static_cast<float>(srgbToLinear(colour.r)),
+                                   static_cast<float>(srgbToLinear(colour.g)),
+                                   static_cast<float>(srgbToLinear(colour.b))};
+  dry_.assign(n, bg);
+  dry_height_.assign(n, 0.0f);
+  tooth_.resize(n);
+  for (int r = 0; r < grid.height_px; ++r)
+    for (int c = 0; c < grid.width_px; ++c) {
+      const double x = grid.x0_mm + (c + 0.5) / grid.px_per_mm;
+      const double y = grid.y0_mm + (grid.height_px - r - 0.5) / grid.px_per_mm;
+      tooth_[index(c, r)] = static_cast<float>(paperTooth(paper, x, y));
+    }
+}
+
+std::array<double, 3> PaintCanvas::reflectance(size_t i) const {
+  const std::array<double, 3> bg = {dry_[i][0], dry_[i][1], dry_[i][2]};
+  const PaintCell& w = wet_[i];
+  if (w.volume_mm3 <= kVolumeEpsMm3) return bg;
+  const double d = w.volume_mm3 / pixelAreaMm2() / kKmUnitFilmMm;
+  return filmOver(w.optics, d, bg, model_);
+}
+
+double PaintCanvas::heightMm(size_t i) const {
+  return dry_height_[i] + wet_[i].volume_mm3 / pixelAreaMm2();
+}
+
+void PaintCanvas::dry() {
+  for (size_t i = 0; i < wet_.size(); ++i) {
+    if (wet_[i].volume_mm3 > kVolumeEpsMm3) {
+      const std::array<double, 3> r = reflectance(i);
+      for (int c = 0; c < 3; ++c) dry_[i][c] = static_cast<float>(r[c]);
+      dry_height_[i] += static_cast<float>(wet_[i].volume_mm3 / pixelAreaMm2());
+    }
+    wet_[i] = PaintCell{};
+  }
+}
+
+double PaintCanvas::wetVolumeMm3() const {
+  double v = 0;
+  for (const PaintCell& c : wet_) v += c.volume_mm3;
+  return v;
+}
+
+double PaintCanvas::dryVolumeMm3() const {
+  double v = 0;
+  for (float h : dry_height_) v += h;
+  return v * pixelAreaMm2();
+}
+
+bool PaintCanvas::blank() const {
+  for (size_t i = 0; i < wet_.size(); ++i)
+    if (wet_[i].volume_mm3 > kVolumeEpsMm3 || dry_height_[i] > 0) return false;
+  return true;
+}
+
+// ---------------------------------------------------------------- transfer
+
+TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& canvas,
+                       const TransferParams& params) {
+  struct Touch {
+    std::uint32_t pixel;
+    std::uint16_t texel;
+    float contact, deposit;
+  };
+  // Per-step scratch, reused (the engine runs on one thread per canvas).
+  thread_local std::vector<Touch> touches;
+  thread_local std::vector<double> demand, out_sum, in_sum;
+  thread_local std::vector<std::array<double, 6>> in_optics;
+  constexpr int T = BrushTexelMap::kTexels;
+  touches.clear();
+  demand.assign(T, 0.0);
+  out_sum.assign(T, 0.0);
+  in_sum.assign(T, 0.0);
+  in_optics.assign(T, {0, 0, 0, 0, 0, 0});
+
+  const CanvasGrid& g = canvas.grid();
+  const BrushTexelMap& map = brush.map();
+  const double area_px = canvas.pixelAreaMm2();
+  const double texel_area = map.texelAreaMm2();
+  const float valley_reach =
+      static_cast<float>(canvas.paper().tooth_depth_mm * params.hair_bridging);
+  const float inv_clip = static_cast<float>(1.0 / params.clip_mm);
+
+  // Per texel: how far it has run dry -> the contact it needs before it deposits.
+  // Hairs differ in how much paint they keep as the brush runs dry: a fixed
+  // offset per texel column (one lateral position of the bundle), in
+  // [-kHairVariation / 2, kHairVariation / 2], so that dry marks streak along the stroke.
+  static const std::array<float, BrushTexelMap::kColumns> hair_bias = [] {
+    std::array<float, BrushTexelMap::kColumns> b{};
+    for (int c = 0; c < BrushTexelMap::kColumns; ++c)
+      b[c] = static_cast<float>(kHairVariation * (latticeValue(c, 0, 0x6861697273ULL) - 0.5));
+    return b;
+  }();
+  std::array<float, T> threshold;
+  const double full_film = std::max(brush.fullFilmMm(), 1e-12);
+  for (int t = 0; t < T; ++t) {
+    const double load = brush.cell(t).volume_mm3 / texel_area / full_film;
+    const double dryness = std::clamp(1 - load / params.dry_load, 0.0, 1.0);
+    threshold[t] = static_cast<float>(params.dry_threshold * dryness);
+  }
+
+  // 1. Who touches what, and how hard.
+  TransferStats stats;
+  for (int r = 0; r < fp.height; ++r) {
+    const int row = fp.row0 + r;
+    if (row < 0 || row >= g.height_px) continue;
+    const float* px = fp.texels + static_cast<size_t>(r) * fp.width * 4;
+    for (int c = 0; c < fp.width; ++c, px += 4) {
+      if (px[3] <= 0) continue;
+      const int col = fp.col0 + c;
+      if (col < 0 || col >= g.width_px) continue;
+      const size_t i = canvas.index(col, row);
+      // The brush reaches the paper where it dips below the paper's surface: the
+      // peaks (tooth 1) at the top of the contact band, the valleys lower. Hairs
+      // bridge the grain rather than follow it: reaching the floor of a valley
+      // tooth_depth deep takes hair_bridging times that much pressing (footprint
+      // depth), so a light touch catches only the peaks.
+      // Contact saturates (x (2 - x)): hairs bend and spread as they press, so a
+      // hair half-way into the band already lays down three quarters of its paint.
+      const float x = std::clamp(
+          (px[2] - valley_reach * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
+      const float contact = x * (2 - x);
+      if (contact <= 0) continue;
+      const int t = map.texel(px[0], px[1]);
+      // A texel running dry gives paint only where the paper stands high enough
+      // (tooth) and its hair still holds some (hair_bias): broken, streaky marks.
+      const float gate = std::clamp(
+          (canvas.tooth(i) + hair_bias[t % BrushTexelMap::kColumns] - threshold[t]) *
+                  kInvDryEdge +
+              1.0f,
+          0.0f, 1.0f);
+      const float dep = contact * gate;
+      touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), contact,
+                         dep});
+      demand[t] += dep;
+      ++stats.contact_px;
+    }
+  }
+
+  // 2. Deposit and pickup per pixel, from the texels' paint at the start of the step.
+  const double rate = params.deposit_rate * brush.flow();
+  std::array<double, T> per_pixel;  // deposit per unit of `deposit` contact (mm^3)
+  for (int t = 0; t < T; ++t) {
+    const double v = brush.cell(t).volume_mm3;
+    // The paper takes paint at a rate set by the paint, not by how much the hairs
+    // hold: a fixed share of a full load's film per step, as long as the texel
+    // has it. So a lightly loaded brush runs out sooner, not thinner.
+    const double want = rate * full_film * area_px;
+    const double total = want * demand[t];
+    const double cap = params.max_out_fraction * v;
+    per_pixel[t] = total > cap && total > 0 ? want * cap / total : want;
+  }
+  for (const Touch& h : touches) {
+    PaintCell& px = canvas.wet(h.pixel);
+    const PaintCell& tex = brush.cell(h.texel);
+    const float out = static_cast<float>(per_pixel[h.texel] * h.deposit);
+    const float in = static_cast<float>(params.pickup_rate) * h.contact * px.volume_mm3;
+    if (in > 0) {
+      in_sum[h.texel] += in;
+      auto& acc = in_optics[h.texel];
+      for (int k = 0; k < 3; ++k) {
+        acc[k] += double(in) * px.optics.k[k];
+        acc[3 + k] += double(in) * px.optics.s[k];
+      }
+    }
+    out_sum[h.texel] += out;
+    mixInto(px, px.volume_mm3 - in, tex.optics, out);
+  }
+
+  // 3. The brush texture: what it gave away and what it picked up.
+  for (int t = 0; t < T; ++t) {
+    if (out_sum[t] == 0 && in_sum[t] == 0) continue;
+    PaintCell& cell = brush.cell(t);
+    Optics picked;
+    if (in_sum[t] > 0)
+      for (int k = 0; k < 3; ++k) {
+        picked.k[k] = static_cast<float>(in_optics[t][k] / in_sum[t]);
+        picked.s[k] = static_cast<float>(in_optics[t][3 + k] / in_sum[t]);
+      }
+    mixInto(cell, static_cast<float>(cell.volume_mm3 - out_sum[t]), picked,
+            static_cast<float>(in_sum[t]));
+    stats.deposited_mm3 += out_sum[t];
+    stats.picked_up_mm3 += in_sum[t];
+  }
+
+  // 4. Reservoir: within each column (one lateral position of the hair bundle)
+  // paint flows from texels holding more than the column's mean towards those
+  // holding less, a fraction reservoir_flow of the difference per step. The
+  // givers' paint is pooled, so the receivers get the givers' mixture.
+  if (params.reservoir_flow > 0) {
+    constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
+    const float phi = static_cast<float>(std::clamp(params.reservoir_flow, 0.0, 1.0));
+    for (int col = 0; col < C; ++col) {
+      double mean = 0;
+      for (int row = 0; row < R; ++row) mean += brush.cell(row * C + col).volume_mm3;
+      mean /= R;
+      double pool = 0, pool_k[3] = {0, 0, 0}, pool_s[3] = {0, 0, 0}, want = 0;
+      for (int row = 0; row < R; ++row) {
+        PaintCell& cell = brush.cell(row * C + col);
+        const double excess = cell.volume_mm3 - mean;
+        if (excess > 0) {
+          const float give = static_cast<float>(phi * excess);
+          cell.volume_mm3 -= give;
+          pool += give;
+          for (int k = 0; k < 3; ++k) {
+            pool_k[k] += double(give) * cell.optics.k[k];
+            pool_s[k] += double(give) * cell.optics.s[k];
+          }
+        } else {
+          want += phi * -excess;
+        }
+      }
+      if (pool <= 0 || want <= 0) continue;
+      Optics pooled;
+      for (int k = 0; k < 3; ++k) {
+        pooled.k[k] = static_cast<float>(pool_k[k] / pool);
+        pooled.s[k] = static_cast<float>(pool_s[k] / pool);
+      }
+      // Receivers share the pool in proportion to their shortfall (pool == want up to
+      // rounding; scaling by pool / want keeps the sum exact).
+      const double scale = pool / want;
+      for (int row = 0; row < R; ++row) {
+        PaintCell& cell = brush.cell(row * C + col);
+        // Only texels that were below the mean before the givers gave (a giver
+        // ends at or above the mean, so "below the mean" still picks them).
+        if (cell.volume_mm3 >= mean) continue;
+        const float take = static_cast<float>(phi * (mean - cell.volume_mm3) * scale);
+        mixInto(cell, cell.volume_mm3, pooled, take);
+      }
+    }
+  }
+  return stats;
+}
+
+}  // namespace bristle

@@ -1,0 +1,221 @@
+#pragma once
+// The paint model (issue 5), after the painting system the paper's brush drives
+// (dAb, Baxter et al. SIGGRAPH 2001; IMPaSTo, NPAR 2004): paint is a texture on
+// the brush; each step the footprint says which brush texel touches which canvas
+// pixel and how deep, and paint moves both ways between them.
+//
+//  BrushPaint   a grid of texels over the brush's (across, along) coordinates,
+//               each a volume of paint and its optics (engine/pigments.h).
+//  PaintCanvas  per pixel a wet layer (volume + optics) over a dry layer (the
+//               reflectance of everything dried so far over the paper, and its
+//               height), and the paper's tooth (a seeded height field).
+//  transfer()   one step: deposit, pickup, brush texture update, reservoir flow.
+//
+// Volumes are in mm^3; a film's thickness is its volume over its area.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/brush.h"
+#include "engine/canvas.h"
+#include "engine/paint_spec.h"
+#include "engine/pigments.h"
+
+namespace bristle {
+
+// One cell of paint: a brush texel or a canvas pixel's wet layer.
+struct PaintCell {
+  float volume_mm3 = 0;
+  Optics optics;  // per unit volume; meaningless while volume is 0
+};
+
+// Paint film a fully loaded brush (amount 1, capacity 1) holds per mm^2 of its
+// texture: the hair bundle soaks up paint well beyond one film, about 0.3 mm
+// (a loaded 12 x 16 mm flat then holds ~0.07 ml, a painter's "full load").
+inline constexpr double kFullLoadFilmMm = 0.3;
+
+// Where brush geometry texture coordinates (engine/brush_geometry.h) land on
+// the brush's paint texture. The texture is kColumns x kRows texels over
+// (w, v) in [0, 1]^2: w across the brush's width axis (the brush frame's x,
+// 0 at its -x edge, 1 at its +x edge), v along the hairs (0 at the ferrule,
+// 1 at the tip). The geometry's own u is per part: the surface's u is an angle
+// around the brush axis, a spine tube's u picks the spine, a strip's u its
+// texture row. This map turns each into w from the part's rest position in x.
+class BrushTexelMap {
+ public:
+  static constexpr int kColumns = 32;
+  static constexpr int kRows = 32;
+  static constexpr int kTexels = kColumns * kRows;
+
+  explicit BrushTexelMap(const Brush& brush);
+  // Lateral position w in [0, 1] of a geometry texture coordinate u (any part).
+  float across(float u, float v) const;
+  // Texel of a geometry texture coordinate (u, v).
+  int texel(float u, float v) const;
+  static float columnCentre(int col) { return (col + 0.5f) / kColumns; }
+  static float rowCentre(int row) { return (row + 0.5f) / kRows; }
+  // Area (mm^2) one texel of the brush's paint texture stands for.
+  double texelAreaMm2() const { return texel_area_mm2_; }
+  double widthMm() const { return x1_ - x0_; }
+
+ private:
+  float lateral(double x_mm) const;
+  static constexpr int kSurfaceBinsU = 128;
+  static constexpr int kSurfaceBinsV = 8;
+  double x0_ = 0, x1_ = 1;
+  double texel_area_mm2_ = 1;
+  int spines_ = 0, strips_ = 0;
+  std::vector<float> spine_w_;    // per spine: w of its root
+  std::vector<float> spine_dw_;   // per spine: its width at the root, in w
+  std::vector<float> strip_w_;    // per strip texture row: w of its root
+  std::vector<float> surface_w_;  // kSurfaceBinsV x kSurfaceBinsU: w of the rest surface
+};
+
+// The paint on a brush.
+class BrushPaint {
+ public:
+  explicit BrushPaint(const Brush& brush);
+  const BrushTexelMap& map() const { return map_; }
+
+  // Loads the brush afresh (what was on it is washed out): every texel gets
+  // amount * brush.paint_capacity * kFullLoadFilmMm of film. Throws
+  // Error(kDataError) "<where>: <field>: <rule>" for an unknown pigment, a colour
+  // that does not parse, an amount outside (0, 1], too few or too many paints for
+  // the mode, tip_length or dilution outside [0, 1]. `where` names the source
+  // (a scene file and pointer, or "--paint").
+  void load(const PaintLoad& load, MixModel model, const std::string& where);
+  // A clean, empty brush (it can still pick paint up).
+  void clean();
+
+  MixModel model() const { return model_; }
+  double capacityMm3() const { return capacity_mm3_; }
+  double totalVolumeMm3() const;
+  PaintCell& cell(int texel) { return cells_[texel]; }
+  const PaintCell& cell(int texel) const { return cells_[texel]; }
+  const PaintCell& cellAt(int col, int row) const {
+    return cells_[row * BrushTexelMap::kColumns + col];
+  }
+  // Texel film thickness at full load (mm): the reference "dry" is measured from.
+  double fullFilmMm() const { return full_film_mm_; }
+  // Flow multiplier from the loaded paint's dilution (thinner paint flows more).
+  double flow() const { return flow_; }
+
+ private:
+  BrushTexelMap map_;
+  double capacity_ = 1;
+  double capacity_mm3_ = 0;
+  double full_film_mm_ = kFullLoadFilmMm;
+  double flow_ = 1;
+  MixModel model_ = MixModel::kKubelkaMunk;
+  std::vector<PaintCell> cells_;
+};
+
+// The canvas's paint: wet and dry layers over a toothy paper.
+class PaintCanvas {
+ public:
+  // Throws Error(kDataError) if paper.colour is not "#rrggbb" or the tooth is
+  // negative / its scale not positive, Error(kDataError) past the size limits
+  // of engine/canvas.h (before allocating).
+  PaintCanvas(const CanvasGrid& grid, const PaperSpec& paper, MixModel model);
+
+  const CanvasGrid& grid() const { return grid_; }
+  const PaperSpec& paper() const { return paper_; }
+  MixModel model() const { return model_; }
+  double pixelAreaMm2() const { return 1.0 / (grid_.px_per_mm * grid_.px_per_mm); }
+  size_t index(int col, int row) const {
+    return static_cast<size_t>(row) * grid_.width_px + col;
+  }
+  size_t pixels() const { return wet_.size(); }
+
+  PaintCell& wet(size_t i) { return wet_[i]; }
+  const PaintCell& wet(size_t i) const { return wet_[i]; }
+  // Paper tooth at a pixel: 0 in the deepest valley, 1 on the highest peak.
+  float tooth(size_t i) const { return tooth_[i]; }
+  // Linear reflectance of the dry layer (paper and dried paint) and its height (mm).
+  const std::array<float, 3>& dryReflectance(size_t i) const { return dry_[i]; }
+  float dryHeightMm(size_t i) const { return dry_height_[i]; }
+
+  // The wet layer dries onto the dry layer (a scene's dry_before): composited
+  // over it, its thickness added to the dry height; the wet layer is emptied.
+  void dry();
+
+  // Linear reflectance of a pixel: wet film over the dry layer.
+  std::array<double, 3> reflectance(size_t i) const;
+  // Paint height above the paper (mm): dry height plus the wet film.
+  double heightMm(size_t i) const;
+
+  double wetVolumeMm3() const;
+  double dryVolumeMm3() const;
+  bool blank() const;  // no paint at all, wet or dry
+
+ private:
+  CanvasGrid grid_;
+  PaperSpec paper_;
+  MixModel model_;
+  std::vector<PaintCell> wet_;
+  std::vector<std::array<float, 3>> dry_;
+  std::vector<float> dry_height_;
+  std::vector<float> tooth_;
+};
+
+// Paper tooth (value noise, two octaves, world-anchored so a pixel at the same
+// canvas position gets the same tooth whatever the canvas window): in [0, 1].
+double paperTooth(const PaperSpec& paper, double x_mm, double y_mm);
+
+// The footprint of one step as the paint model sees it: a window of the
+// canvas's pixels (col0, row0 = its top-left pixel in the canvas) with 4 floats
+// per pixel, u, v, depth_mm, coverage (render/footprint_renderer.h).
+struct FootprintView {
+  int col0 = 0, row0 = 0;
+  int width = 0, height = 0;
+  const float* texels = nullptr;
+};
+
+struct TransferParams {
+  // The contact band (mm): brush geometry this far into the band presses fully.
+  double clip_mm = 0.1;
+  // Pressing (footprint depth, mm) it takes for hairs to reach the floor of the
+  // paper's grain, in units of the grain's depth. A hair spans several grain
+  // features (tooth_scale ~ 0.4 mm against hairs ~0.1 mm thick and far longer)
+  // and bends into a valley only under load; 8x lets a firm stroke (depth
+  // ~1 mm where spines press) fill the grain while a stroke that barely touches
+  // (depth ~0.1 - 0.3 mm) marks only its peaks on a 0.05 mm grain.
+  double hair_bridging = 8.0;
+  // Per step, a touching texel hands this fraction of a full load's film to each
+  // pixel under it, in proportion to contact, while it has paint (at most
+  // max_out_fraction of what it holds) ...
+  double deposit_rate = 0.03;
+  // ... and each touching pixel gives up this fraction of its wet paint to the texel.
+  // Wet film settles where deposit and pickup balance: deposit_rate / pickup_rate
+  // of a full load's film (0.15 * 0.3 mm = 0.045 mm, about 2 optical units).
+  double pickup_rate = 0.2;
+  // A texel hands over at most this fraction of its paint in one step.
+  double max_out_fraction = 0.5;
+  // Below this fraction of a full load a texel begins to run dry: it deposits only
+  // where the paper's tooth (0 valley .. 1 peak, shifted per hair) exceeds a
+  // threshold growing to dry_threshold when empty, so a spent brush marks only the
+  // paper's peaks and the best-loaded hairs: broken, scratchy marks.
+  double dry_load = 0.25;
+  double dry_threshold = 0.9;
+  // Paint flows within each column of the brush texture (one lateral position of
+  // the bundle) towards texels that lost paint, the belly feeding the tip by
+  // capillarity: this fraction of each texel's difference from the column mean
+  // per step. Strong enough that the hairs in contact do not run dry while the
+  // rest of the bundle is full (a contact row drains ~50% per step without it).
+  double reservoir_flow = 0.2;
+};
+
+struct TransferStats {
+  double deposited_mm3 = 0;  // brush -> canvas
+  double picked_up_mm3 = 0;  // canvas -> brush
+  int contact_px = 0;        // pixels with contact > 0
+};
+
+// One step of bidirectional transfer (dAb): volume is conserved exactly up to
+// float rounding (brush + canvas wet before == after).
+TransferStats transfer(const FootprintView& footprint, BrushPaint& brush, PaintCanvas& canvas,
+                       const TransferParams& params);
+
+}  // namespace bristle

@@ -1,0 +1,89 @@
+#include "render/compose.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bristle/version.h"
+#include "engine/fnv1a64.h"
+
+namespace bristle::render {
+
+std::vector<float> composeLinear(const PaintCanvas& canvas, const ComposeOptions& options) {
+  const CanvasGrid& g = canvas.grid();
+  const int w = g.width_px, h = g.height_px;
+  std::vector<float> out(canvas.pixels() * 3);
+  for (size_t i = 0; i < canvas.pixels(); ++i) {
+    const std::array<double, 3> r = canvas.reflectance(i);
+    for (int c = 0; c < 3; ++c) out[i * 3 + c] = static_cast<float>(r[c]);
+  }
+  if (!options.impasto) return out;
+
+  // Unit light and the Blinn half vector towards a viewer straight above.
+  double l[3] = {options.light[0], options.light[1], options.light[2]};
+  const double ln = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+  for (double& x : l) x /= ln;
+  double hv[3] = {l[0], l[1], l[2] + 1};
+  const double hn = std::sqrt(hv[0] * hv[0] + hv[1] * hv[1] + hv[2] * hv[2]);
+  for (double& x : hv) x /= hn;
+  const double a = options.ambient;
+  // A flat canvas keeps its colour: shading is relative to the flat normal (0, 0, 1).
+  const double flat_diffuse = a + (1 - a) * std::max(0.0, l[2]);
+  const double flat_spec = std::pow(hv[2], options.shininess);
+  std::vector<float> height(canvas.pixels());
+  for (size_t i = 0; i < canvas.pixels(); ++i)
+    height[i] = static_cast<float>(canvas.heightMm(i) * options.relief);
+  const double inv_2px_mm = 0.5 * g.px_per_mm;  // central difference over 2 pixels
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const size_t i = canvas.index(c, r);
+      const float hl = height[canvas.index(std::max(c - 1, 0), r)];
+      const float hr = height[canvas.index(std::min(c + 1, w - 1), r)];
+      const float hu = height[canvas.index(c, std::max(r - 1, 0))];  // up = +y
+      const float hd = height[canvas.index(c, std::min(r + 1, h - 1))];
+      const double dx = (hr - hl) * inv_2px_mm, dy = (hu - hd) * inv_2px_mm;
+      if (dx == 0 && dy == 0) continue;
+      const double nn = std::sqrt(dx * dx + dy * dy + 1);
+      const double n[3] = {-dx / nn, -dy / nn, 1 / nn};
+      const double diffuse = a + (1 - a) * std::max(0.0, n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
+      const double spec =
+          std::pow(std::max(0.0, n[0] * hv[0] + n[1] * hv[1] + n[2] * hv[2]), options.shininess);
+      const double gain = diffuse / flat_diffuse;
+      const double gloss = options.specular * (spec - flat_spec);
+      for (int k = 0; k < 3; ++k)
+        out[i * 3 + k] =
+            static_cast<float>(std::clamp(out[i * 3 + k] * gain + gloss, 0.0, 1.0));
+    }
+  return out;
+}
+
+Image8 composeRgb8(const PaintCanvas& canvas, const ComposeOptions& options) {
+  const std::vector<float> lin = composeLinear(canvas, options);
+  Image8 img;
+  img.width = canvas.grid().width_px;
+  img.height = canvas.grid().height_px;
+  img.channels = 3;
+  img.pixels.reserve(lin.size());
+  for (const float v : lin)
+    img.pixels.push_back(static_cast<std::uint8_t>(std::lround(255.0 * linearToSrgb(v))));
+  return img;
+}
+
+Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options) {
+  const std::vector<float> lin = composeLinear(canvas, options);
+  Image16 img;
+  img.width = canvas.grid().width_px;
+  img.height = canvas.grid().height_px;
+  img.channels = 3;
+  img.pixels.reserve(lin.size());
+  for (const float v : lin)
+    img.pixels.push_back(static_cast<std::uint16_t>(std::lround(65535.0 * linearToSrgb(v))));
+  return img;
+}
+
+PngText provenanceText(const std::vector<std::string>& inputs) {
+  return {{"Software", std::string("bristle ") + kVersion},
+          {"bristle:version", kVersion},
+          {"bristle:inputs-fnv1a64", hex64(fnv1a64Files(inputs))}};
+}
+
+}  // namespace bristle::render

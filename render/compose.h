@@ -1,0 +1,43 @@
+#pragma once
+// The canvas's paint to an image (issue 5, "Compose"): per pixel the wet film
+// over the dry layer (engine/paint.h, Kubelka-Munk or linear RGB), encoded as
+// sRGB; optionally "impasto": the paint's thickness lit from one light, normals
+// from the gradient of the paint height (as IMPaSTo renders relief, NPAR 2004).
+
+#include <string>
+#include <vector>
+
+#include "engine/paint.h"
+#include "render/png_io.h"
+
+namespace bristle::render {
+
+struct ComposeOptions {
+  bool impasto = false;
+  // Direction towards the light in the canvas frame (x right, y up, z out of the
+  // canvas): from the upper left, 40 degrees above the canvas, as a painting hung
+  // under a window is lit. Need not be unit length.
+  double light[3] = {-0.55, 0.55, 0.78};
+  // Height exaggeration of the relief: 1 is the physical paint thickness. The
+  // films a brush lays (~0.05 mm) are far thinner than oil impasto (0.5 mm and
+  // more); 4x makes their ridges read at a normal viewing size.
+  double relief = 4.0;
+  // Share of light that arrives from everywhere (unshaded).
+  double ambient = 0.45;
+  // Gloss of wet-looking oil paint: highlight strength and Phong exponent.
+  double specular = 0.25;
+  double shininess = 24;
+};
+
+// Linear-light RGB per pixel (3 floats, row 0 at the top), shading applied.
+std::vector<float> composeLinear(const PaintCanvas& canvas, const ComposeOptions& options);
+// 8-bit / 16-bit sRGB-encoded RGB images of the canvas.
+Image8 composeRgb8(const PaintCanvas& canvas, const ComposeOptions& options);
+Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options);
+
+// The PNG text chunks every painting carries: "Software" (bristle and its
+// version), "bristle:version" and "bristle:inputs-fnv1a64" (16 hex digits of
+// FNV-1a 64 over the bytes of `inputs`, in order; engine/fnv1a64.h).
+PngText provenanceText(const std::vector<std::string>& inputs);
+
+}  // namespace bristle::render

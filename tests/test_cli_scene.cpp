@@ -1,0 +1,239 @@
+// `bristle render SCENE.json` and `bristle validate SCENE.json` end to end: a
+// small scene renders, twice to the same pixels, with the inputs hash; a brush
+// dragged through wet paint carries it on (and does not when the canvas dried
+// first); every bad input exits with its code and a one-line message, and
+// leaves no PNG behind (docs/scene-format.md).
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.h"
+#include "engine/fnv1a64.h"
+#include "render/png_io.h"
+
+using namespace bristle;
+using namespace bristle::testing;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+using nlohmann::json;
+
+namespace {
+
+const std::string kRound = sourcePath("scenes/brushes/round.json");
+const std::string kPull = sourcePath("scenes/trajectories/straight-pull.csv");
+constexpr double kPxPerMm = 4;
+constexpr double kHeightMm = 70;
+
+// Two round-brush pulls on an 80 x 70 mm canvas: red along y = 20 mm, then a
+// blue one turned 90 degrees that crosses it at x = 40 mm going up (+y).
+json crossingScene() {
+  json s = {{"format", "bristle-scene/1"},
+            {"name", "crossing"},
+            {"canvas", {{"size_mm", {80, kHeightMm}}, {"px_per_mm", kPxPerMm},
+                        {"background", "#f5f1e6"}}},
+            {"sim", {{"rate_hz", 60}, {"max_step_mm", 0.5}}},
+            {"solver", "slsqp"}};
+  s["strokes"] = json::array();
+  s["strokes"].push_back({{"brush", kRound}, {"trajectory", kPull},
+                          {"paint", {{"paints", {"cadmium-red"}}}}});
+  // The pull runs x 12 -> 67 at y 20; turned by 90 degrees and shifted it runs
+  // x = 60 - 20 = 40, y = -5 + (12 -> 67) = 7 -> 62.
+  s["strokes"].push_back({{"brush", kRound}, {"trajectory", kPull},
+                          {"paint", {{"paints", {"ultramarine"}}}},
+                          {"placement", {{"offset_mm", {60, -5}}, {"rotate_deg", 90}}}});
+  return s;
+}
+
+std::string writeScene(const TempDir& dir, const std::string& name, const json& scene) {
+  return dir.write(name, scene.dump(1));
+}
+
+bool exists(const std::string& path) { return std::filesystem::exists(path); }
+
+// Mean (R - B) over the painted pixels of a box of the canvas (mm): how red the
+// paint there is compared to blue. Painted = clearly darker than the paper.
+struct BoxStats {
+  double red_minus_blue = 0;
+  int painted = 0;
+};
+BoxStats boxStats(const render::Image8& img, double x0, double x1, double y0, double y1) {
+  BoxStats s;
+  double sum = 0;
+  for (int r = int((kHeightMm - y1) * kPxPerMm); r < int((kHeightMm - y0) * kPxPerMm); ++r)
+    for (int c = int(x0 * kPxPerMm); c < int(x1 * kPxPerMm); ++c) {
+      const std::uint8_t* p = &img.pixels[(size_t(r) * img.width + c) * 4];
+      // 24 levels below the paper's 0xf5/0xf1/0xe6 summed: paint, not grain.
+      if (int(p[0]) + p[1] + p[2] > 0xf5 + 0xf1 + 0xe6 - 24) continue;
+      sum += int(p[0]) - int(p[2]);
+      ++s.painted;
+    }
+  if (s.painted > 0) s.red_minus_blue = sum / s.painted;
+  return s;
+}
+
+std::string pngText(const std::string& png, const std::string& key) {
+  for (const auto& [k, v] : render::readPngText(png))
+    if (k == key) return v;
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a scene renders: canvas size, paint on it, inputs hash, determinism",
+          "[cli][scene]") {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "s.json", crossingScene());
+  const RunResult a = runBristle("render -q '" + scene + "' -o '" + dir.file("a.png") + "'");
+  INFO(a.err);
+  REQUIRE(a.code == 0);
+  const render::Image8 img = render::readPngRgba8(dir.file("a.png"));
+  CHECK(img.width == 320);
+  CHECK(img.height == 280);
+  // Both strokes left paint: red along y = 20 left of the crossing, blue along
+  // x = 40 above it.
+  const BoxStats red = boxStats(img, 14, 30, 14, 26);
+  const BoxStats blue = boxStats(img, 34, 46, 40, 55);
+  CHECK(red.painted > 100);
+  CHECK(red.red_minus_blue > 60);
+  CHECK(blue.painted > 100);
+  CHECK(blue.red_minus_blue < 0);
+
+  // The hash covers the scene, then each brush and trajectory once.
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx",
+                static_cast<unsigned long long>(fnv1a64Files({scene, kRound, kPull})));
+  CHECK(pngText(dir.file("a.png"), "bristle:inputs-fnv1a64") == hex);
+  CHECK(pngText(dir.file("a.png"), "bristle:scene") == "crossing");
+
+  // Same scene, same pixels (and the trace names each line's stroke).
+  const RunResult b = runBristle("render -q '" + scene + "' -o '" + dir.file("b.png") +
+                                 "' --trace '" + dir.file("t.jsonl") + "'");
+  REQUIRE(b.code == 0);
+  CHECK(render::readPngRgba8(dir.file("b.png")).pixels == img.pixels);
+  const std::string trace = readAll(dir.file("t.jsonl"));
+  CHECK_THAT(trace, Contains("\"stroke\":0"));
+  CHECK_THAT(trace, Contains("\"stroke\":1"));
+}
+
+TEST_CASE("a brush dragged through wet paint carries it on; dry_before stops that",
+          "[cli][scene]") {
+  TempDir dir;
+  json wet = crossingScene();
+  json dry = crossingScene();
+  dry["strokes"][1]["dry_before"] = true;
+  REQUIRE(runBristle("render -q '" + writeScene(dir, "wet.json", wet) + "' -o '" +
+                     dir.file("wet.png") + "'").code == 0);
+  REQUIRE(runBristle("render -q '" + writeScene(dir, "dry.json", dry) + "' -o '" +
+                     dir.file("dry.png") + "'").code == 0);
+  // The blue stroke after it crossed the red one (y 30..50 mm, x 36..44 mm).
+  const BoxStats w = boxStats(render::readPngRgba8(dir.file("wet.png")), 36, 44, 30, 50);
+  const BoxStats d = boxStats(render::readPngRgba8(dir.file("dry.png")), 36, 44, 30, 50);
+  REQUIRE(w.painted > 50);
+  REQUIRE(d.painted > 50);
+  INFO("R - B after the crossing: wet " << w.red_minus_blue << ", dry " << d.red_minus_blue);
+  // Picked-up red shifts the blue towards violet: R - B rises. 8 levels is
+  // well above the determinism of the render (identical pixels) and the
+  // difference a different grain alone would make (same seed in both).
+  constexpr double kCarriedLevels = 8;
+  CHECK(w.red_minus_blue > d.red_minus_blue + kCarriedLevels);
+}
+
+TEST_CASE("validate reports a scene's summary, and its problems with exit codes",
+          "[cli][scene]") {
+  TempDir dir;
+  const std::string good = writeScene(dir, "good.json", crossingScene());
+  RunResult r = runBristle("validate '" + good + "'");
+  CHECK(r.code == 0);
+  CHECK(r.out == good + ": ok (scene 'crossing', 2 strokes, 1 brush, 80 x 70 mm at 4 px/mm)\n");
+
+  json bad = crossingScene();
+  bad["strokes"][1]["paint"]["paints"][0] = "ultramarin";
+  r = runBristle("validate '" + writeScene(dir, "bad.json", bad) + "' '" + good + "'");
+  CHECK(r.code == 65);
+  CHECK_THAT(r.err, StartsWith("bristle: " + dir.file("bad.json") +
+                               ": /strokes/1/paint/paints/0: unknown pigment 'ultramarin'"));
+  CHECK_THAT(r.out, Contains(good + ": ok"));  // the other file is still checked
+
+  // The library's paintings are sound.
+  r = runBristle("validate '" + sourcePath("scenes/paintings/petals.json") + "' '" +
+                 sourcePath("scenes/paintings/calligraphy.json") + "' '" +
+                 sourcePath("scenes/paintings/landscape.json") + "'");
+  CHECK(r.code == 0);
+  CHECK(r.err.empty());
+}
+
+TEST_CASE("bad scenes exit with their code and one line, and leave no PNG", "[cli][scene]") {
+  TempDir dir;
+  struct Case {
+    const char* what;
+    std::function<void(json&)> edit;
+    int code;
+    std::string message;  // after "bristle: <scene>: "
+  };
+  const std::vector<Case> cases = {
+      {"unknown pigment", [](json& j) { j["strokes"][0]["paint"]["paints"][0] = "cadmium-rde"; },
+       65, "/strokes/0/paint/paints/0: unknown pigment 'cadmium-rde'"},
+      {"bad colour", [](json& j) { j["canvas"]["background"] = "#f5f1e"; }, 65,
+       "/canvas/background: colour '#f5f1e' does not parse"},
+      {"negative amount", [](json& j) { j["strokes"][1]["paint"]["amount"] = -1; }, 65,
+       "/strokes/1/paint/amount = -1: must be in (0, 1]"},
+      {"canvas too large", [](json& j) { j["canvas"]["size_mm"] = {5000, 5000}; }, 65,
+       "/canvas/size_mm: 5000 x 5000 mm at 4 px/mm is 20000 x 20000 px: larger than the limit"},
+      {"missing trajectory", [](json& j) { j["strokes"][1]["trajectory"] = "gone.csv"; }, 66,
+       "/strokes/1/trajectory: cannot read '"},
+      {"missing brush", [](json& j) { j["strokes"][0]["brush"] = "gone.json"; }, 66,
+       "/strokes/0/brush: cannot read '"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.what);
+    json j = crossingScene();
+    c.edit(j);
+    const std::string scene = writeScene(dir, "bad.json", j);
+    const std::string png = dir.file("bad.png");
+    const RunResult r = runBristle("render -q '" + scene + "' -o '" + png + "'");
+    CHECK(r.code == c.code);
+    CHECK_THAT(r.err, StartsWith("bristle: " + scene + ": " + c.message));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(exists(png));
+  }
+}
+
+TEST_CASE("with a scene, options the scene sets are usage errors naming them",
+          "[cli][scene]") {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "s.json", crossingScene());
+  for (const char* opt : {"--px-per-mm 3", "--brush x.json", "--solver ipopt", "--paint viridian"}) {
+    INFO(opt);
+    const RunResult r =
+        runBristle("render '" + scene + "' -o '" + dir.file("x.png") + "' " + opt);
+    CHECK(r.code == 64);
+    CHECK_THAT(r.err, Contains(std::string(opt).substr(0, std::string(opt).find(' ')) +
+                               " cannot be used with a scene"));
+    CHECK_FALSE(exists(dir.file("x.png")));
+  }
+  // Neither a scene nor a brush and trajectory.
+  const RunResult r = runBristle("render -o '" + dir.file("x.png") + "'");
+  CHECK(r.code == 64);
+  CHECK_THAT(r.err, Contains("give a SCENE.json, or --brush and --trajectory"));
+  // An output that cannot be created fails before the run: 73, no file.
+  const RunResult o = runBristle("render -q '" + scene + "' -o '" + dir.file("no/such/dir/x.png") + "'");
+  CHECK(o.code == 73);
+}
+
+TEST_CASE("a stroke that never touches the canvas is a warning naming the stroke",
+          "[cli][scene]") {
+  TempDir dir;
+  json j = crossingScene();
+  // Shifted 300 mm to the right: nowhere near the 80 mm canvas.
+  j["strokes"][1]["placement"]["offset_mm"] = {360, -5};
+  const std::string scene = writeScene(dir, "s.json", j);
+  const RunResult r = runBristle("render -q '" + scene + "' -o '" + dir.file("s.png") + "'");
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("warning: " + scene + ": /strokes/1: the brush never comes within "
+                             "reach of the canvas"));
+  CHECK(exists(dir.file("s.png")));
+}

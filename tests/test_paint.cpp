@@ -1,0 +1,417 @@
+// The paint model without GL (engine/pigments.h, engine/paint.h): Kubelka-Munk
+// layers, mixing, loading, and transfer driven by synthetic footprints.
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "engine/brush_geometry.h"
+#include "engine/error.h"
+#include "engine/fnv1a64.h"
+#include "engine/paint.h"
+#include "engine/pigments.h"
+#include "test_helpers.h"
+
+using namespace bristle;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// A flat-like brush: five spines side by side along x, 12 mm long.
+Brush fivesSpineBrush() {
+  std::vector<SpineSpec> spines;
+  for (int i = 0; i < 5; ++i)
+    spines.push_back(testing::makeSpine({4, 4, 4}, {10, 8, 6}, 0,
+                                        Eigen::Vector3d(-4.8 + 2.4 * i, 0, 0)));
+  for (SpineSpec& s : spines) s.width_mm.assign(4, 2.4);
+  Brush b = testing::makeBrush(spines, 0.4, 0.3);
+  b.paint_capacity = 1.0;
+  return b;
+}
+
+// HSV hue in degrees of a linear RGB colour.
+double hueDeg(const std::array<double, 3>& c) {
+  const double mx = std::max({c[0], c[1], c[2]}), mn = std::min({c[0], c[1], c[2]});
+  const double d = mx - mn;
+  if (d <= 0) return 0;
+  double h;
+  if (mx == c[0]) h = std::fmod((c[1] - c[2]) / d, 6.0);
+  else if (mx == c[1]) h = (c[2] - c[0]) / d + 2;
+  else h = (c[0] - c[1]) / d + 4;
+  h *= 60;
+  return h < 0 ? h + 360 : h;
+}
+double hueDistance(double a, double b) {
+  const double d = std::fabs(a - b);
+  return std::min(d, 360 - d);
+}
+
+// A synthetic footprint: a band `width` pixels wide and `height` tall whose
+// pixel (c, r) touches the brush's spine c * 5 / width at row v, at `depth_mm`.
+struct Footprint {
+  int width, height;
+  std::vector<float> texels;
+  Footprint(int w, int h, float v, float depth_mm) : width(w), height(h), texels(w * h * 4) {
+    for (int r = 0; r < h; ++r)
+      for (int c = 0; c < w; ++c) {
+        float* t = &texels[(r * w + c) * 4];
+        t[0] = kSpineTextureOffsetU + (c + 0.5f) / w;  // spine tube coordinate across
+        t[1] = v;
+        t[2] = depth_mm;
+        t[3] = 1;
+      }
+  }
+  FootprintView at(int col0, int row0) const {
+    return FootprintView{col0, row0, width, height, texels.data()};
+  }
+};
+
+CanvasGrid grid(int w, int h) {
+  CanvasGrid g;
+  g.width_px = w;
+  g.height_px = h;
+  g.px_per_mm = 8;
+  return g;
+}
+
+PaintLoad solid(const std::string& paint, double amount = 1.0) {
+  PaintLoad l;
+  l.paints = {paint};
+  l.amount = amount;
+  return l;
+}
+
+// Pixels of rows [r0, r1) whose wet film is thicker than min_mm.
+int covered(const PaintCanvas& canvas, int r0, int r1, double min_mm = 0.002) {
+  int n = 0;
+  for (int r = r0; r < r1; ++r)
+    for (int c = 0; c < canvas.grid().width_px; ++c)
+      if (canvas.wet(canvas.index(c, r)).volume_mm3 / canvas.pixelAreaMm2() > min_mm) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("Kubelka-Munk layer: closed-form limits", "[paint][km]") {
+  // Double precision of the closed forms; the equations lose nothing beyond a few ulps.
+  constexpr double kTol = 1e-12;
+  for (const Pigment& p : pigmentTable())
+    for (int c = 0; c < 3; ++c) {
+      INFO(p.name << " channel " << c);
+      const double k = p.k[c], s = p.s[c];
+      const double a = 1 + k / s, b = std::sqrt(a * a - 1);
+      // Infinitely thick: R_inf = a - b, nothing transmitted, whatever is beneath.
+      for (double rg : {0.0, 0.5, 0.9}) {
+        const KmLayer thick = kmLayer(k, s, 1e4, rg);
+        CHECK(thick.r == Approx(a - b).margin(kTol));
+        CHECK(thick.t == Approx(0).margin(kTol));
+      }
+      CHECK(kmRinf(k, s) == Approx(a - b).margin(kTol));
+      // Zero thickness: the background itself, everything transmitted.
+      const KmLayer none = kmLayer(k, s, 0, 0.7);
+      CHECK(none.r == 0.7);
+      CHECK(none.t == 1);
+      // Continuity at zero: a film of 1e-9 units changes R by ~(K + S) 1e-9 at most.
+      CHECK(kmLayer(k, s, 1e-9, 0.7).r == Approx(0.7).margin(1e-7));
+      // A film over a background of its own R_inf looks the same at any thickness.
+      CHECK(kmLayer(k, s, 0.3, a - b).r == Approx(a - b).margin(1e-9));
+      // Over black, R + T < 1: the film absorbs (K > 0).
+      const KmLayer over_black = kmLayer(k, s, 1.0, 0.0);
+      CHECK(over_black.r + over_black.t < 1);
+    }
+  // A film that does not absorb (K = 0) over black reflects or transmits it all.
+  for (double d : {0.1, 1.0, 10.0}) {
+    const KmLayer l = kmLayer(0, 0.8, d, 0);
+    CHECK(l.r + l.t == Approx(1).margin(kTol));
+    // ... and the K -> 0 limit of the hyperbolic form agrees with the K = 0 branch.
+    const KmLayer nearly = kmLayer(1e-7, 0.8, d, 0);
+    CHECK(nearly.r == Approx(l.r).margin(1e-5));
+  }
+}
+
+TEST_CASE("Kubelka-Munk: blue and yellow mix to a green, linear RGB does not", "[paint][km]") {
+  auto mixed = [](MixModel model) {
+    Optics blue, yellow, mix;
+    std::string why;
+    REQUIRE(resolvePaint("phthalo-blue", model, &blue, &why));
+    REQUIRE(resolvePaint("hansa-yellow", model, &yellow, &why));
+    for (int c = 0; c < 3; ++c) {
+      mix.k[c] = 0.5f * (blue.k[c] + yellow.k[c]);
+      mix.s[c] = 0.5f * (blue.s[c] + yellow.s[c]);
+    }
+    // A thick film over white paper, as a painter judges a mixture.
+    return filmOver(mix, 10.0, {0.9, 0.9, 0.9}, model);
+  };
+  const double km = hueDeg(mixed(MixModel::kKubelkaMunk));
+  const double rgb = hueDeg(mixed(MixModel::kLinearRgb));
+  INFO("KM hue " << km << ", linear RGB hue " << rgb);
+  // Green is hue 120. "Measurably closer": at least 45 degrees nearer, and the KM
+  // mixture is a green (within 40 degrees of it: yellow-green to green).
+  CHECK(hueDistance(km, 120) + 45 < hueDistance(rgb, 120));
+  CHECK(hueDistance(km, 120) < 40);
+}
+
+TEST_CASE("Paints: names, colours and their errors", "[paint]") {
+  Optics o;
+  std::string why;
+  CHECK(resolvePaint("ultramarine", MixModel::kKubelkaMunk, &o, &why));
+  CHECK(o.k[0] == Approx(0.86f));  // Curtis et al. 1997, French ultramarine
+  CHECK(resolvePaint("#336699", MixModel::kKubelkaMunk, &o, &why));
+  // A #rrggbb paint is opaque and thick it shows exactly that colour.
+  const double want[3] = {srgbToLinear(0x33 / 255.0), srgbToLinear(0x66 / 255.0),
+                          srgbToLinear(0x99 / 255.0)};
+  for (int c = 0; c < 3; ++c) CHECK(kmRinf(o.k[c], o.s[c]) == Approx(want[c]).margin(1e-6));
+  CHECK_FALSE(resolvePaint("unobtainium-blue", MixModel::kKubelkaMunk, &o, &why));
+  CHECK_THAT(why, Contains("unknown pigment 'unobtainium-blue'") && Contains("ultramarine"));
+  CHECK_FALSE(resolvePaint("#12345g", MixModel::kKubelkaMunk, &o, &why));
+  CHECK_THAT(why, Contains("'#12345g' is not a colour"));
+  // Every table entry is physical: K >= 0, S > 0.
+  for (const Pigment& p : pigmentTable())
+    for (int c = 0; c < 3; ++c) {
+      CHECK(p.k[c] >= 0);
+      CHECK(p.s[c] > 0);
+    }
+}
+
+TEST_CASE("BrushPaint: loading solid, across the width, at the tip; bad loads", "[paint]") {
+  const Brush brush = fivesSpineBrush();
+  BrushPaint paint(brush);
+  SECTION("solid fills every texel with amount x capacity") {
+    paint.load(solid("cadmium-red", 0.5), MixModel::kKubelkaMunk, "t");
+    const double want = 0.5 * kFullLoadFilmMm * paint.map().texelAreaMm2() * BrushTexelMap::kTexels;
+    CHECK(paint.totalVolumeMm3() == Approx(want).epsilon(1e-6));
+  }
+  SECTION("across: the -x side carries the first paint, the +x side the second") {
+    PaintLoad l;
+    l.mode = PaintLoad::Mode::kAcross;
+    l.paints = {"cadmium-red", "ultramarine"};
+    paint.load(l, MixModel::kKubelkaMunk, "t");
+    Optics red, blue;
+    std::string why;
+    resolvePaint("cadmium-red", MixModel::kKubelkaMunk, &red, &why);
+    resolvePaint("ultramarine", MixModel::kKubelkaMunk, &blue, &why);
+    const PaintCell& left = paint.cellAt(0, 10);
+    const PaintCell& right = paint.cellAt(BrushTexelMap::kColumns - 1, 10);
+    const PaintCell& mid = paint.cellAt(BrushTexelMap::kColumns / 2, 10);
+    CHECK(left.optics.k[0] == Approx(red.k[0]));
+    CHECK(right.optics.k[0] == Approx(blue.k[0]));
+    // The middle is a blend of both.
+    CHECK(mid.optics.k[0] > red.k[0] + 0.2f * (blue.k[0] - red.k[0]));
+    CHECK(mid.optics.k[0] < blue.k[0] - 0.2f * (blue.k[0] - red.k[0]));
+    // The spines map to the columns of their roots: spine 0 at the -x edge.
+    CHECK(paint.map().across(kSpineTextureOffsetU + 0.1f, 0.5f) < 0.25f);
+    CHECK(paint.map().across(kSpineTextureOffsetU + 0.9f, 0.5f) > 0.75f);
+  }
+  SECTION("tip: the last tip_length of the hairs carries the second paint") {
+    PaintLoad l;
+    l.mode = PaintLoad::Mode::kTip;
+    l.paints = {"titanium-white", "sumi-ink"};
+    l.tip_length = 0.25;
+    paint.load(l, MixModel::kKubelkaMunk, "t");
+    CHECK(paint.cellAt(5, BrushTexelMap::kRows - 1).optics.k[0] >
+          10 * paint.cellAt(5, 0).optics.k[0]);
+  }
+  SECTION("bad loads name the field") {
+    PaintLoad l = solid("cadmium-red", -0.5);
+    try {
+      paint.load(l, MixModel::kKubelkaMunk, "s.json: /strokes/0/paint");
+      FAIL("a negative amount was accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::kDataError);
+      CHECK_THAT(e.what(), Contains("s.json: /strokes/0/paint: /amount: must be in (0, 1]"));
+    }
+    l = solid("mauve-ish");
+    CHECK_THROWS_WITH(paint.load(l, MixModel::kKubelkaMunk, "w"),
+                      Contains("/paints/0: unknown pigment 'mauve-ish'"));
+    l = solid("#zzzzzz");
+    CHECK_THROWS_WITH(paint.load(l, MixModel::kKubelkaMunk, "w"), Contains("not a colour"));
+    l.mode = PaintLoad::Mode::kAcross;
+    l.paints = {"ultramarine"};
+    CHECK_THROWS_WITH(paint.load(l, MixModel::kKubelkaMunk, "w"),
+                      Contains("/paints: this loading takes 2 to 3 paints, got 1"));
+  }
+}
+
+TEST_CASE("Transfer conserves paint: brush + wet canvas is constant", "[paint][transfer]") {
+  const Brush brush = fivesSpineBrush();
+  BrushPaint paint(brush);
+  paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+  PaperSpec paper;
+  paper.tooth_depth_mm = 0.03;
+  PaintCanvas canvas(grid(96, 160), paper, MixModel::kKubelkaMunk);
+  const double total0 = paint.totalVolumeMm3();
+  // Float cells: each update rounds a cell's volume by ~6e-8 of itself; a few
+  // thousand updates of a random-walking error stay far below 1e-5 of the total.
+  constexpr double kConservationTol = 1e-5;
+  const Footprint fp(64, 12, 0.8f, 0.5f);  // pressed: the hairs reach into the grain
+  double deposited = 0, picked = 0;
+  // The brush goes down the canvas and back up over its own wet paint.
+  for (int step = 0; step < 280; ++step) {
+    const int row = step < 140 ? step : 280 - step;
+    const TransferStats st = transfer(fp.at(16, row), paint, canvas, TransferParams{});
+    deposited += st.deposited_mm3;
+    picked += st.picked_up_mm3;
+    const double total = paint.totalVolumeMm3() + canvas.wetVolumeMm3();
+    REQUIRE(total == Approx(total0).epsilon(kConservationTol));
+  }
+  // What left the brush is on the canvas, minus what came back.
+  CHECK(canvas.wetVolumeMm3() == Approx(deposited - picked).epsilon(kConservationTol));
+  CHECK(deposited > 0.05 * total0);  // it did paint
+  CHECK(picked > 0.1 * deposited);   // and going back over wet paint it picked some up
+  // Drying moves the wet paint into the dry layer, volume and all.
+  const double wet = canvas.wetVolumeMm3();
+  canvas.dry();
+  CHECK(canvas.wetVolumeMm3() == 0);
+  CHECK(canvas.dryVolumeMm3() == Approx(wet).epsilon(kConservationTol));
+}
+
+TEST_CASE("Transfer: a clean brush picks up wet paint and carries it on", "[paint][transfer]") {
+  const Brush brush = fivesSpineBrush();
+  PaintCanvas canvas(grid(64, 200), PaperSpec{}, MixModel::kKubelkaMunk);
+  const Footprint fp(48, 10, 0.8f, 0.5f);
+  {
+    BrushPaint yellow(brush);
+    yellow.load(solid("cadmium-yellow"), MixModel::kKubelkaMunk, "t");
+    for (int row = 0; row < 40; ++row) transfer(fp.at(8, row), yellow, canvas, TransferParams{});
+  }
+  BrushPaint clean(brush);
+  clean.clean();
+  REQUIRE(clean.totalVolumeMm3() == 0);
+  // Down through the yellow (rows 0..50) and on into clean paper.
+  for (int row = 0; row < 150; ++row) transfer(fp.at(8, row), clean, canvas, TransferParams{});
+  CHECK(clean.totalVolumeMm3() > 0);
+  // Below the yellow (which ends at row ~50) the canvas got paint from the brush,
+  // and it is yellow: cadmium yellow absorbs blue (K_b = 3.45), so where the
+  // carried paint lies the blue channel drops most.
+  auto region = [&](int r0, int r1, double* volume, std::array<double, 3>* mean_drop) {
+    *volume = 0;
+    *mean_drop = {0, 0, 0};
+    int n = 0;
+    for (int r = r0; r < r1; ++r)
+      for (int c = 0; c < 64; ++c) {
+        const size_t i = canvas.index(c, r);
+        if (canvas.wet(i).volume_mm3 <= 0) continue;
+        *volume += canvas.wet(i).volume_mm3;
+        const std::array<double, 3> refl = canvas.reflectance(i);
+        for (int k = 0; k < 3; ++k) (*mean_drop)[k] += canvas.dryReflectance(i)[k] - refl[k];
+        ++n;
+      }
+    for (double& d : *mean_drop) d /= std::max(n, 1);
+  };
+  double near_volume, far_volume;
+  std::array<double, 3> near_drop, far_drop;
+  region(60, 100, &near_volume, &near_drop);
+  region(160, 200, &far_volume, &far_drop);
+  INFO("carried volume " << near_volume << " then " << far_volume << " mm^3; drop in R, G, B "
+                         << near_drop[0] << " " << near_drop[1] << " " << near_drop[2]);
+  CHECK(near_volume > 0);
+  CHECK(near_drop[2] > near_drop[0] + 0.05);  // yellow: blue absorbed, red reflected
+  // ... and the carried paint fades as the brush gives it away.
+  CHECK(far_volume < 0.5 * near_volume);
+}
+
+TEST_CASE("Transfer: a brush running dry leaves less and less, then only scratches",
+          "[paint][transfer]") {
+  const Brush brush = fivesSpineBrush();
+  const double amount = GENERATE(0.1, 1.0);
+  BrushPaint paint(brush);
+  paint.load(solid("burnt-umber", amount), MixModel::kKubelkaMunk, "t");
+  PaperSpec paper;
+  paper.tooth_depth_mm = 0.05;
+  PaintCanvas canvas(grid(96, 420), paper, MixModel::kKubelkaMunk);
+  // A pressed brush: 10 x 3 mm of contact, depth varying across it (pressed unevenly).
+  Footprint fp(80, 24, 0.85f, 0.0f);
+  for (int r = 0; r < fp.height; ++r)
+    for (int c = 0; c < fp.width; ++c)
+      fp.texels[(r * fp.width + c) * 4 + 2] = 0.3f + 0.4f * std::fabs(std::sin(0.7f * c));
+  const double start_mm3 = paint.totalVolumeMm3();
+  for (int row = 0; row < 400; ++row) transfer(fp.at(8, row), paint, canvas, TransferParams{});
+  const int first = covered(canvas, 10, 110), middle = covered(canvas, 150, 250),
+            last = covered(canvas, 300, 400);
+  INFO("covered first " << first << ", middle " << middle << ", last " << last
+                         << "; brush keeps " << paint.totalVolumeMm3() / start_mm3);
+  INFO("amount " << amount);
+  if (amount == 1.0) {
+    // The control: a full brush keeps its coverage over the same 50 mm (to 3%,
+    // the spread the paper's grain gives stretches of this size).
+    CHECK(last > 0.97 * first);
+    return;
+  }
+  // Little paint: coverage falls steadily, faster as the brush empties: the middle
+  // has lost at least 5% of the beginning's coverage, the end 15% of the middle's
+  // and a quarter of the beginning's.
+  CHECK(middle < 0.95 * first);
+  CHECK(last < 0.85 * middle);
+  CHECK(last < 0.75 * first);
+  CHECK(paint.totalVolumeMm3() < 0.6 * start_mm3);  // it did spend its paint
+  CHECK(last > 0);  // ... broken, not gone: the hardest-pressed hairs and tooth peaks
+}
+
+TEST_CASE("Transfer: light pressure on toothy paper catches the peaks only",
+          "[paint][transfer]") {
+  const Brush brush = fivesSpineBrush();
+  auto coverage = [&](float depth_mm, double tooth_mm) {
+    BrushPaint paint(brush);
+    paint.load(solid("ivory-black"), MixModel::kKubelkaMunk, "t");
+    PaperSpec paper;
+    paper.tooth_depth_mm = tooth_mm;
+    PaintCanvas canvas(grid(64, 120), paper, MixModel::kKubelkaMunk);
+    const Footprint fp(48, 8, 0.85f, depth_mm);
+    for (int row = 0; row < 100; ++row) transfer(fp.at(8, row), paint, canvas, TransferParams{});
+    return covered(canvas, 8, 100, 1e-4);
+  };
+  // Footprint depths: a brush that barely touches (0.1 mm) and one whose hairs are
+  // pressed well into the paper (0.6 mm, TransferParams::hair_bridging x tooth
+  // reaches 0.4 mm).
+  const double light_toothy = coverage(0.1f, 0.05), light_smooth = coverage(0.1f, 0.0);
+  const double firm_toothy = coverage(0.6f, 0.05), firm_smooth = coverage(0.6f, 0.0);
+  INFO(light_toothy << " " << light_smooth << " " << firm_toothy << " " << firm_smooth);
+  CHECK(light_toothy < 0.6 * light_smooth);
+  CHECK(firm_toothy > 0.95 * firm_smooth);
+  CHECK(light_toothy < 0.6 * firm_toothy);
+}
+
+TEST_CASE("Transfer and paper are deterministic", "[paint][transfer]") {
+  const Brush brush = fivesSpineBrush();
+  auto run = [&] {
+    BrushPaint paint(brush);
+    PaintLoad l;
+    l.mode = PaintLoad::Mode::kAcross;
+    l.paints = {"cadmium-red", "viridian", "titanium-white"};
+    paint.load(l, MixModel::kKubelkaMunk, "t");
+    PaperSpec paper;
+    paper.seed = 7;
+    PaintCanvas canvas(grid(64, 100), paper, MixModel::kKubelkaMunk);
+    const Footprint fp(48, 8, 0.85f, 0.05f);
+    for (int row = 0; row < 80; ++row) transfer(fp.at(8, row), paint, canvas, TransferParams{});
+    std::string bytes;
+    for (size_t i = 0; i < canvas.pixels(); ++i)
+      bytes.append(reinterpret_cast<const char*>(&canvas.wet(i)), sizeof(PaintCell));
+    return fnv1a64(bytes);
+  };
+  CHECK(run() == run());
+  // The paper depends on its seed and nothing else; a different seed is other paper.
+  PaperSpec a, b;
+  b.seed = 2;
+  CHECK(paperTooth(a, 3.3, 4.4) == paperTooth(a, 3.3, 4.4));
+  CHECK(paperTooth(a, 3.3, 4.4) != paperTooth(b, 3.3, 4.4));
+}
+
+TEST_CASE("FNV-1a 64 matches its published test vectors", "[paint]") {
+  // draft-eastlake-fnv: FNV1a64("") = cbf29ce484222325, ("a") = af63dc4c8601ec8c,
+  // ("foobar") = 85944171f73967e8.
+  CHECK(hex64(fnv1a64("")) == "cbf29ce484222325");
+  CHECK(hex64(fnv1a64("a")) == "af63dc4c8601ec8c");
+  CHECK(hex64(fnv1a64("foobar")) == "85944171f73967e8");
+}
+
+TEST_CASE("PaintCanvas refuses bad paper and oversized canvases before allocating",
+          "[paint]") {
+  PaperSpec bad;
+  bad.colour = "cream";
+  CHECK_THROWS_WITH(PaintCanvas(grid(8, 8), bad, MixModel::kKubelkaMunk),
+                    Contains("paper colour 'cream'"));
+  // 16385 x 16385 would be ~8 GB of cells: refused by the check, not by the allocator.
+  CHECK_THROWS_AS(PaintCanvas(grid(kMaxCanvasSidePx + 1, 16), PaperSpec{}, MixModel::kKubelkaMunk),
+                  Error);
+}
