@@ -58,6 +58,27 @@ int runPreview(const PreviewArgs& args);
 // Lists the brushes (*.json) of a library folder.
 int runBrushes(const std::string& library_dir);
 
+// `bristle record`: a live session with a haptic device (or a played
+// trajectory), written as it goes; `bristle replay`: its render.
+struct RecordArgs {
+  std::string brush, output, device = "auto", trajectory, forces, png;
+  double duration_s = 0;       // 0: until Ctrl-C / end of the trajectory
+  double sim_rate_hz = 30;
+  double session_rate_hz = 100;
+  double px_per_mm = 8;
+  std::string solver = "ipopt";       // of the --png render (as replay's)
+  std::string live_solver = "slsqp";  // of the live simulation: it must keep up
+  bool quiet = false;
+};
+int runRecord(const RecordArgs& args);
+
+struct ReplayArgs {
+  std::string session, brush, output;
+  double px_per_mm = 8;
+  std::string solver = "ipopt";
+  bool quiet = false;
+};
+int runReplay(const ReplayArgs& args);
 // The PNG text "bristle:canvas": where the image lies on the canvas (mm).
 std::string canvasText(const CanvasGrid& grid);
 

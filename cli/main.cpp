@@ -24,9 +24,12 @@ constexpr const char* kFooter =
     "  bristle preview scenes/brushes/fan.json -o fan.png\n"
     "  bristle brushes\n"
     "  bristle validate scenes/brushes/round.json scenes/trajectories/s-curve.csv\n"
+    "  bristle record --brush scenes/brushes/round.json -o session.csv --png live.png\n"
+    "  bristle replay session.csv --brush scenes/brushes/round.json -o replay.png\n"
     "\n"
-    "Exit codes: 0 ok, 64 usage, 65 bad input data, 66 input missing, 70 internal\n"
-    "error, 73 cannot create output, 74 I/O error.\n";
+    "Exit codes: 0 ok, 64 usage, 65 bad input data, 66 input missing, 69 haptic\n"
+    "device unavailable (or failed), 70 internal error, 73 cannot create output,\n"
+    "74 I/O error.\n";
 
 }  // namespace
 
@@ -144,6 +147,60 @@ int main(int argc, char** argv) {
   preview->add_option("--px-per-mm", pv.px_per_mm, "Footprint resolution")->capture_default_str()->check(CLI::Range(0.5, 100.0));
   preview->add_flag("-q,--quiet", pv.quiet, "No output path on stdout");
 
+  bristle::cli::RecordArgs rec;
+  CLI::App* record = app.add_subcommand(
+      "record", "Paint live with a haptic device (or play a trajectory) and record the session");
+  record->footer(
+      "Examples:\n"
+      "  bristle record --brush scenes/brushes/round.json -o session.csv --png live.png\n"
+      "  bristle record --device none --trajectory scenes/trajectories/s-curve.csv \\\n"
+      "      --brush scenes/brushes/round.json -o session.csv --forces forces.csv\n"
+      "The session (bristle-trajectory/1 with buttons and forces) is written as it goes.\n"
+      "Ends on Ctrl-C, --duration, or the end of --trajectory. BRISTLE_HD_LIBRARY names\n"
+      "the OpenHaptics library (default libHD.so). Exit 69: device unavailable or failed.");
+  record->add_option("--brush", rec.brush, "Brush file (bristle-brush/1 JSON)")->required();
+  record->add_option("-o,--output", rec.output, "Session file to write (CSV)")->required();
+  record->add_option("--device", rec.device, "Haptic device")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "openhaptics", "none"}));
+  record->add_option("--trajectory", rec.trajectory,
+                     "Trajectory the 'none' device plays as the stylus (bristle-trajectory/1)");
+  record->add_option("--forces", rec.forces, "Write every servo tick's force (CSV, 1 kHz)");
+  record->add_option("--png", rec.png, "Render the recorded stroke to this PNG at the end");
+  record->add_option("--duration", rec.duration_s, "Stop after this many seconds (0: no limit)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 86400.0));
+  record->add_option("--sim-rate-hz", rec.sim_rate_hz, "Simulation frames per second")
+      ->capture_default_str()
+      ->check(CLI::Range(5.0, 500.0));
+  record->add_option("--session-rate-hz", rec.session_rate_hz, "Session rows per second")
+      ->capture_default_str()
+      ->check(CLI::Range(10.0, 1000.0));
+  record->add_option("--px-per-mm", rec.px_per_mm, "Resolution of --png")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 100.0));
+  record->add_option("--solver", rec.solver, "Spine solver of the --png render (as replay's)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  record->add_option("--live-solver", rec.live_solver,
+                     "Spine solver of the live simulation (SLSQP keeps 30 Hz on 2 cores)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  record->add_flag("-q,--quiet", rec.quiet, "No summary, no output paths on stdout");
+
+  bristle::cli::ReplayArgs rep;
+  CLI::App* replay = app.add_subcommand("replay", "Render a recorded session (same pixels as live)");
+  replay->add_option("session", rep.session, "Session file (from bristle record)")->required();
+  replay->add_option("--brush", rep.brush, "Brush file it was recorded with")->required();
+  replay->add_option("-o,--output", rep.output, "Output PNG")->required();
+  replay->add_option("--px-per-mm", rep.px_per_mm, "Canvas resolution (pixels per mm)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 100.0));
+  replay->add_option("--solver", rep.solver, "Spine solver")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  replay->add_flag("-q,--quiet", rep.quiet, "No output path on stdout");
+
   std::string help_topic;
   CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
   help->add_option("command", help_topic, "Command to explain");
@@ -170,14 +227,16 @@ int main(int argc, char** argv) {
     if (validate->parsed()) return bristle::cli::runValidate(files);
     if (brushes->parsed()) return bristle::cli::runBrushes(library);
     if (preview->parsed()) return bristle::cli::runPreview(pv);
+    if (record->parsed()) return bristle::cli::runRecord(rec);
+    if (replay->parsed()) return bristle::cli::runReplay(rep);
     if (help->parsed() && !help_topic.empty()) {
-      for (CLI::App* sub : {render, validate, brushes, preview}) {
+      for (CLI::App* sub : {render, validate, brushes, preview, record, replay}) {
         if (sub->get_name() == help_topic) {
           std::cout << sub->help();
           return 0;
         }
       }
-      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes)");
+      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay)");
       return static_cast<int>(bristle::ExitCode::kUsage);
     }
     std::cout << app.help();

@@ -9,6 +9,7 @@
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/canvas.h"
@@ -43,62 +44,6 @@ class Progress {
   std::chrono::steady_clock::time_point last_{};
 };
 
-// Paint options are input data: a paint, colour or amount that makes no sense
-// is a data error (65), named by its option.
-PaintLoad paintLoadArgs(const RenderArgs& args, MixModel model) {
-  PaintLoad load;
-  load.mode = args.load == "across" ? PaintLoad::Mode::kAcross
-              : args.load == "tip"  ? PaintLoad::Mode::kTip
-                                    : PaintLoad::Mode::kSolid;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = args.paint.find(',', start);
-    load.paints.push_back(args.paint.substr(start, comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  for (const std::string& p : load.paints) {
-    Optics optics;
-    std::string why;
-    if (!resolvePaint(p, model, &optics, &why))
-      throw Error(ExitCode::kDataError, "--paint " + args.paint + ": " + why);
-  }
-  const size_t lo = load.mode == PaintLoad::Mode::kAcross ? 2 : 1;
-  const size_t hi = load.mode == PaintLoad::Mode::kSolid ? 1 : load.mode == PaintLoad::Mode::kTip ? 2 : 3;
-  if (load.paints.size() < lo || load.paints.size() > hi)
-    throw Error(ExitCode::kDataError,
-                "--paint " + args.paint + ": --load " + args.load + " takes " +
-                    std::to_string(lo) + (hi > lo ? " to " + std::to_string(hi) : "") +
-                    " paints, got " + std::to_string(load.paints.size()));
-  if (!(args.amount > 0 && args.amount <= 1))
-    throw Error(ExitCode::kDataError, "--amount " + std::to_string(args.amount) +
-                                          ": must be in (0, 1], a fraction of the brush's "
-                                          "paint capacity");
-  if (!(args.tip_length >= 0 && args.tip_length <= 1))
-    throw Error(ExitCode::kDataError, "--tip-length: must be in [0, 1]");
-  load.amount = args.amount;
-  load.tip_length = args.tip_length;
-  return load;
-}
-
-PaperSpec paperArgs(const RenderArgs& args) {
-  PaperSpec paper;
-  Rgb c;
-  if (!parseHexColour(args.background, &c))
-    throw Error(ExitCode::kDataError,
-                "--background " + args.background + ": must be a colour like #f6f1e6");
-  if (!(args.paper_tooth_mm >= 0 && args.paper_tooth_mm <= 1))
-    throw Error(ExitCode::kDataError, "--paper-tooth: must be in [0, 1] mm");
-  if (!(args.paper_scale_mm > 0 && args.paper_scale_mm <= 100))
-    throw Error(ExitCode::kDataError, "--paper-scale: must be in (0, 100] mm");
-  paper.colour = args.background;
-  paper.tooth_depth_mm = args.paper_tooth_mm;
-  paper.tooth_scale_mm = args.paper_scale_mm;
-  paper.seed = args.paper_seed;
-  return paper;
-}
-
-
 }  // namespace
 
 // World placement of the image, so that pixels can be mapped back to canvas mm.
@@ -116,11 +61,27 @@ int runRender(const RenderArgs& args) {
   if (args.brush.empty() || args.trajectory.empty())
     throw Error(ExitCode::kUsage,
                 "render: give a SCENE.json, or --brush and --trajectory (see bristle render --help)");
-  const MixModel mix = args.mix == "rgb" ? MixModel::kLinearRgb : MixModel::kKubelkaMunk;
-  const PaintLoad load = paintLoadArgs(args, mix);
-  const PaperSpec paper = paperArgs(args);
-  if (args.solver != "ipopt" && args.solver != "slsqp")
-    throw Error(ExitCode::kUsage, "--solver " + args.solver + ": available: ipopt, slsqp");
+  StrokePngOptions png;
+  png.solver = args.solver;
+  png.solver_max_iterations = args.solver_max_iterations;
+  png.ipopt_options = args.ipopt_options;
+  png.px_per_mm = args.px_per_mm;
+  png.clip_mm = args.clip_mm;
+  png.max_step_mm = args.max_step_mm;
+  png.min_rate_hz = args.min_rate_hz;
+  png.paint = args.paint;
+  png.load = args.load;
+  png.amount = args.amount;
+  png.tip_length = args.tip_length;
+  png.mix = args.mix;
+  png.paper_tooth_mm = args.paper_tooth_mm;
+  png.paper_scale_mm = args.paper_scale_mm;
+  png.paper_seed = args.paper_seed;
+  png.impasto = args.impasto;
+  png.bits = args.bits;
+  png.background = args.background;
+  png.inputs = {args.brush, args.trajectory};
+  checkStrokePngOptions(png);
 
   const Brush brush = loadBrush(args.brush);
   Trajectory trajectory = loadTrajectory(args.trajectory);
@@ -130,13 +91,7 @@ int runRender(const RenderArgs& args) {
     for (TrajectorySample& s : trajectory.samples) s.pose.position_mm += offset;
   }
   validateTrajectoryForBrush(trajectory, brush);
-
-  render::StrokeOptions options;
-  options.px_per_mm = args.px_per_mm;
-  options.clip_mm = args.clip_mm;
-  options.sim.max_step_mm = args.max_step_mm;
-  options.sim.min_rate_hz = args.min_rate_hz;
-  const CanvasGrid grid = render::canvasForStroke(brush, trajectory, options);
+  render::canvasForStroke(brush, trajectory, strokeOptions(png));  // fails early if too large
 
   // Fail before the long run if an output cannot be created; each output is
   // written to a temporary file and renamed only when everything succeeded.
@@ -149,18 +104,6 @@ int runRender(const RenderArgs& args) {
     forces->stream().precision(9);
   }
 
-  IpoptSettings ipopt;
-  ipopt.max_iterations = args.solver_max_iterations;
-  for (const std::string& kv : args.ipopt_options) {
-    const size_t eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error(ExitCode::kUsage, "--ipopt-option " + kv + ": expected NAME=VALUE");
-    ipopt.extra_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
-  }
-  PaintCanvas canvas(grid, paper, mix);
-  BrushPaint paint(brush);
-  paint.load(load, mix, "--paint");
-  render::StrokeRenderer renderer;
   Progress progress(!args.quiet);
   int failed_reported = 0;
   constexpr int kMaxFailureLines = 5;  // then only the summary
@@ -177,23 +120,9 @@ int runRender(const RenderArgs& args) {
                    "); continuing from its last good state");
     progress.update(step, steps);
   };
-  // The chosen solver is the primary; a spine it fails on is tried with the other.
-  std::unique_ptr<SpineSolver> primary = makeIpoptSolver(ipopt), fallback = makeSlsqpSolver();
-  if (args.solver == "slsqp") std::swap(primary, fallback);
-  const render::StrokeResult result = renderer.render(
-      brush, trajectory, std::move(primary), options, &canvas, &paint, on_step,
-      std::move(fallback));
-
-  render::ComposeOptions compose;
-  compose.impasto = args.impasto;
-  render::PngText text = render::provenanceText({args.brush, args.trajectory});
-  text.push_back({"bristle:brush", brush.name});
-  text.push_back({"bristle:canvas", canvasText(grid)});
-  text.push_back({"bristle:paint", args.paint + " load=" + args.load + " mix=" + args.mix});
-  if (args.bits == 16)
-    render::writePng(args.output, render::composeRgb16(canvas, compose), text);
-  else
-    render::writePng(args.output, render::composeRgb8(canvas, compose), text);
+  const StrokePngResult png_result =
+      renderStrokePng(brush, trajectory, png, args.output, on_step);
+  const render::StrokeResult& result = png_result.stroke;
   if (trace) trace->commit();
   if (forces) forces->commit();
 
@@ -214,8 +143,8 @@ int runRender(const RenderArgs& args) {
     std::fprintf(stderr,
                  "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up; %.3g of %.3g mm^3 "
                  "left on the brush\n",
-                 result.deposited_mm3, result.picked_up_mm3, paint.totalVolumeMm3(),
-                 paint.capacityMm3() * args.amount);
+                 result.deposited_mm3, result.picked_up_mm3, png_result.left_on_brush_mm3,
+                 png_result.loaded_mm3);
     std::cout << args.output << "\n";
   }
   return 0;

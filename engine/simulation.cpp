@@ -249,8 +249,9 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
   // normal forces plus the friction forces -dE_f/dx on contact joints.
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   for (int s = 0; s < ns; ++s) {
-    const SpineState& st = state_.spines[s];
+    SpineState& st = state_.spines[s];
     const SpineProblem& p = problems_[s];
+    const Eigen::Vector3d f_before = f;
     Anisotropy a;
     a.strength = p.anisotropy_strength;
     a.exponent = p.anisotropy_exponent;
@@ -262,6 +263,7 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
         f.head<2>() -= p.friction_n[j] * frictionTerm(d, a, p.eps_mm).grad;
       }
     }
+    st.force_n = f - f_before;
   }
   state_.force_n = f;
   return state_;

@@ -35,6 +35,9 @@ struct SpineState {
   std::vector<bool> sliding;               // n: stiction state (false = sticks)
   EnergyTerms energy;
   SolveSummary summary;
+  // Canvas force on this spine (normal + friction, N); BrushState::force_n is
+  // the sum over spines. The haptic force model (paper eq. 21) is per spine.
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
 };
 
 struct BrushState {

@@ -1,0 +1,142 @@
+#include "cli/stroke_png.h"
+
+#include <memory>
+
+#include "cli/commands.h"
+#include "engine/canvas.h"
+#include "engine/error.h"
+#include "engine/paint.h"
+#include "engine/pigments.h"
+#include "render/compose.h"
+#include "render/png_io.h"
+
+namespace bristle::cli {
+
+namespace {
+
+MixModel mixOf(const StrokePngOptions& o) {
+  return o.mix == "rgb" ? MixModel::kLinearRgb : MixModel::kKubelkaMunk;
+}
+
+// Paint options are input data: a paint, colour or amount that makes no sense
+// is a data error (65), named by its option.
+PaintLoad paintLoadArgs(const StrokePngOptions& args, MixModel model) {
+  PaintLoad load;
+  load.mode = args.load == "across" ? PaintLoad::Mode::kAcross
+              : args.load == "tip"  ? PaintLoad::Mode::kTip
+                                    : PaintLoad::Mode::kSolid;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = args.paint.find(',', start);
+    load.paints.push_back(args.paint.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  for (const std::string& p : load.paints) {
+    Optics optics;
+    std::string why;
+    if (!resolvePaint(p, model, &optics, &why))
+      throw Error(ExitCode::kDataError, "--paint " + args.paint + ": " + why);
+  }
+  const size_t lo = load.mode == PaintLoad::Mode::kAcross ? 2 : 1;
+  const size_t hi = load.mode == PaintLoad::Mode::kSolid ? 1 : load.mode == PaintLoad::Mode::kTip ? 2 : 3;
+  if (load.paints.size() < lo || load.paints.size() > hi)
+    throw Error(ExitCode::kDataError,
+                "--paint " + args.paint + ": --load " + args.load + " takes " +
+                    std::to_string(lo) + (hi > lo ? " to " + std::to_string(hi) : "") +
+                    " paints, got " + std::to_string(load.paints.size()));
+  if (!(args.amount > 0 && args.amount <= 1))
+    throw Error(ExitCode::kDataError, "--amount " + std::to_string(args.amount) +
+                                          ": must be in (0, 1], a fraction of the brush's "
+                                          "paint capacity");
+  if (!(args.tip_length >= 0 && args.tip_length <= 1))
+    throw Error(ExitCode::kDataError, "--tip-length: must be in [0, 1]");
+  load.amount = args.amount;
+  load.tip_length = args.tip_length;
+  return load;
+}
+
+PaperSpec paperArgs(const StrokePngOptions& args) {
+  PaperSpec paper;
+  Rgb c;
+  if (!parseHexColour(args.background, &c))
+    throw Error(ExitCode::kDataError,
+                "--background " + args.background + ": must be a colour like #f6f1e6");
+  if (!(args.paper_tooth_mm >= 0 && args.paper_tooth_mm <= 1))
+    throw Error(ExitCode::kDataError, "--paper-tooth: must be in [0, 1] mm");
+  if (!(args.paper_scale_mm > 0 && args.paper_scale_mm <= 100))
+    throw Error(ExitCode::kDataError, "--paper-scale: must be in (0, 100] mm");
+  paper.colour = args.background;
+  paper.tooth_depth_mm = args.paper_tooth_mm;
+  paper.tooth_scale_mm = args.paper_scale_mm;
+  paper.seed = args.paper_seed;
+  return paper;
+}
+
+IpoptSettings ipoptSettings(const StrokePngOptions& o) {
+  IpoptSettings ipopt;
+  ipopt.max_iterations = o.solver_max_iterations;
+  for (const std::string& kv : o.ipopt_options) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error(ExitCode::kUsage, "--ipopt-option " + kv + ": expected NAME=VALUE");
+    ipopt.extra_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+  }
+  return ipopt;
+}
+
+}  // namespace
+
+void checkStrokePngOptions(const StrokePngOptions& o) {
+  paintLoadArgs(o, mixOf(o));
+  paperArgs(o);
+  if (o.solver != "ipopt" && o.solver != "slsqp")
+    throw Error(ExitCode::kUsage, "--solver " + o.solver + ": available: ipopt, slsqp");
+  ipoptSettings(o);
+}
+
+render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
+  render::StrokeOptions options;
+  options.px_per_mm = o.px_per_mm;
+  options.clip_mm = o.clip_mm;
+  options.sim.max_step_mm = o.max_step_mm;
+  options.sim.min_rate_hz = o.min_rate_hz;
+  return options;
+}
+
+StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
+                                const StrokePngOptions& o, const std::string& output,
+                                const render::StepCallback& on_step) {
+  const MixModel mix = mixOf(o);
+  const PaintLoad load = paintLoadArgs(o, mix);
+  const PaperSpec paper = paperArgs(o);
+  const render::StrokeOptions options = strokeOptions(o);
+  const CanvasGrid grid = render::canvasForStroke(brush, trajectory, options);
+  PaintCanvas canvas(grid, paper, mix);
+  BrushPaint paint(brush);
+  paint.load(load, mix, "--paint");
+  render::StrokeRenderer renderer;
+  // The chosen solver is the primary; a spine it fails on is tried with the other.
+  std::unique_ptr<SpineSolver> primary = makeIpoptSolver(ipoptSettings(o)),
+                               fallback = makeSlsqpSolver();
+  if (o.solver == "slsqp") std::swap(primary, fallback);
+  StrokePngResult r;
+  r.stroke = renderer.render(brush, trajectory, std::move(primary), options, &canvas, &paint,
+                             on_step, std::move(fallback));
+  r.left_on_brush_mm3 = paint.totalVolumeMm3();
+  r.loaded_mm3 = paint.capacityMm3() * o.amount;
+
+  render::ComposeOptions compose;
+  compose.impasto = o.impasto;
+  render::PngText text = render::provenanceText(o.inputs);
+  text.push_back({"bristle:brush", brush.name});
+  text.push_back({"bristle:canvas", canvasText(grid)});
+  text.push_back({"bristle:paint", o.paint + " load=" + o.load + " mix=" + o.mix});
+  if (o.bits == 16)
+    render::writePng(output, render::composeRgb16(canvas, compose), text);
+  else
+    render::writePng(output, render::composeRgb8(canvas, compose), text);
+  return r;
+}
+
+}  // namespace bristle::cli

@@ -1,0 +1,70 @@
+#include "haptics/none_device.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <time.h>
+
+#include <cmath>
+
+namespace bristle::haptics {
+
+NoneDevice::NoneDevice(Trajectory trajectory, const NoneDeviceOptions& options)
+    : trajectory_(std::move(trajectory)), options_(options) {}
+
+NoneDevice::~NoneDevice() { stop(); }
+
+void NoneDevice::start(TickFn tick, void* ctx) {
+  stop_ = false;
+  tick_ = 0;
+  thread_ = std::thread([this, tick, ctx] { run(tick, ctx); });
+}
+
+void NoneDevice::stop() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+void NoneDevice::run(TickFn tick, void* ctx) {
+  // A servo thread wants the CPU the moment its deadline comes: real-time
+  // FIFO priority when the system grants it (root, or CAP_SYS_NICE / an
+  // rtprio limit), else it runs at normal priority, which jitters under load
+  // (docs/PERFORMANCE.md). The OpenHaptics scheduler does the same for itself.
+  sched_param sp{};
+  sp.sched_priority = kRealtimePriority;
+  realtime_ = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
+  const long period_ns = std::lround(1e9 / options_.rate_hz);
+  timespec next{};
+  clock_gettime(CLOCK_MONOTONIC, &next);
+  while (!stop_.load(std::memory_order_relaxed)) {
+    if (!tick(ctx)) break;
+    ++tick_;
+    next.tv_nsec += period_ns;
+    while (next.tv_nsec >= 1000000000L) {
+      next.tv_nsec -= 1000000000L;
+      ++next.tv_sec;
+    }
+    // Absolute deadlines: a late wake-up does not push every later tick back.
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr) != 0) {
+    }
+  }
+}
+
+DeviceStatus NoneDevice::beginFrame(DeviceFrame* out) {
+  out->t_s = static_cast<double>(tick_) / options_.rate_hz;
+  const double t = trajectory_.startTime() + out->t_s;
+  out->pose = trajectory_.poseAt(t);
+  const TrajectorySample& s = trajectory_.samples[trajectory_.segmentAt(t)];
+  out->buttons = s.buttons;
+  out->motor_hot = false;
+  out->end_of_input = t > trajectory_.endTime();
+  return {};
+}
+
+DeviceStatus NoneDevice::endFrame(const Eigen::Vector3d& force_n) {
+  forces_.fetch_add(1, std::memory_order_relaxed);
+  const double m = force_n.norm();
+  if (m > max_force_n_.load(std::memory_order_relaxed)) max_force_n_.store(m);
+  return {};
+}
+
+}  // namespace bristle::haptics
