@@ -178,8 +178,8 @@ def leaf_half_keys(side, length):
     for i in range(n + 1):
         u = i / n
         x = length * u
-        y = side * 4.2 * math.sin(math.pi * (0.12 + 0.88 * u)) * (1 - 0.35 * u)
-        depth = 4.5 * (1 - u) ** 0.7 + 0.4
+        y = side * 2.6 * math.sin(math.pi * (0.12 + 0.88 * u)) * (1 - 0.35 * u)
+        depth = 3.2 * (1 - u) ** 0.7 + 0.3
         turn = 90 - side * 65 * u
         keys.append((x, y, depth, turn))
     return keys
@@ -208,12 +208,12 @@ def petals():
         "As petal-a with two ruffles and a slightly longer reach."],
         stroke(petal_keys(62, 2, 6.6), 22, "flat", tilt_deg=15, lean_deg=90))
     t_leaf_up = write_trajectory(d + "leaf-upper.csv", [
-        "Upper half of a One-Stroke leaf from (0, 0) to (17, 0): press, slide and",
+        "Upper half of a One-Stroke leaf from (0, 0) to (15, 0): press, slide and",
         "turn onto the chisel, lift to the point."],
-        stroke(leaf_half_keys(+1, 17), 28, "flat", tilt_deg=15, lean_deg=0))
+        stroke(leaf_half_keys(+1, 15), 28, "flat", tilt_deg=15, lean_deg=0))
     t_leaf_lo = write_trajectory(d + "leaf-lower.csv", [
         "Lower half of the leaf, the mirror image of leaf-upper."],
-        stroke(leaf_half_keys(-1, 17), 28, "flat", tilt_deg=15, lean_deg=0))
+        stroke(leaf_half_keys(-1, 15), 28, "flat", tilt_deg=15, lean_deg=0))
     ring = 34.0
     t_vine = write_trajectory(d + "vine.csv", [
         "A 70 degree arc of radius 34 mm about (0, 0), the flat on its chisel edge."],
@@ -224,7 +224,9 @@ def petals():
                10, "round", tilt_deg=12, lean_deg=45))
 
     cx, cy = 60.0, 58.0
-    red_white = {"mode": "across", "paints": ["cadmium-red", "titanium-white"], "amount": 1.0}
+    # Two thirds red at the centre side, white at the rim.
+    red_white = {"mode": "across", "paints": ["cadmium-red", "cadmium-red", "titanium-white"],
+                 "amount": 1.0}
     green_yellow = {"mode": "across", "paints": ["viridian", "cadmium-yellow"], "amount": 0.9}
     yellow_green = {"mode": "across", "paints": ["cadmium-yellow", "viridian"], "amount": 0.9}
     vine_paint = {"paints": ["viridian"], "amount": 0.6}
@@ -335,8 +337,8 @@ def puff_keys(radius, turns):
 def grass_keys(height, bend):
     """A dry-brush grass flick from (0, 0) upwards: the fan touches down and
     flicks up and a little sideways while lifting."""
-    return [(0, 0, 2.0, 0), (0.2 * bend, 0.3 * height, 2.5, 0), (0.6 * bend, 0.65 * height, 1.2, 0),
-            (bend, height, -0.5, 0)]
+    return [(0, 0, 9.0, 0), (0.2 * bend, 0.3 * height, 10.0, 0),
+            (0.6 * bend, 0.65 * height, 6.0, 0), (bend, height, -0.5, 0)]
 
 
 def landscape():
@@ -387,9 +389,10 @@ def landscape():
                           {"mode": "across", "paints": ["yellow-ochre", "burnt-sienna"], "amount": 0.7},
                           (5, 31)))
     # Dry-brush grass: little paint on the fan, flicked up in clumps.
-    grass = [{"paints": ["viridian"], "amount": 0.35},
-             {"paints": ["yellow-ochre"], "amount": 0.3},
-             {"paints": ["burnt-sienna"], "amount": 0.3}]
+    # Opaque paints: a glaze this thin would hardly show.
+    grass = [{"paints": ["#3d5f27"], "amount": 0.8},
+             {"paints": ["yellow-ochre"], "amount": 0.7},
+             {"paints": ["burnt-sienna"], "amount": 0.7}]
     k = 0
     for clump_x in [14, 45, 80, 115, 146]:
         for j in range(3):
