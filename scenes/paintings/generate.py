@@ -337,7 +337,7 @@ def puff_keys(radius, turns):
 def grass_keys(height, bend):
     """A dry-brush grass flick from (0, 0) upwards: the fan touches down and
     flicks up and a little sideways while lifting."""
-    return [(0, 0, 9.0, 0), (0.2 * bend, 0.3 * height, 10.0, 0),
+    return [(0, 0, 9.0, 0), (0.05 * bend, 0.08 * height, 11.0, 0), (0.2 * bend, 0.3 * height, 10.0, 0),
             (0.6 * bend, 0.65 * height, 6.0, 0), (bend, height, -0.5, 0)]
 
 
@@ -363,10 +363,10 @@ def landscape():
                 (150, 0, 3.0, 90)], 70, "flat", tilt_deg=15, lean_deg=0))
     t_grass_l = write_trajectory(d + "grass-left.csv", [
         "A grass flick from (0, 0) up and to the left with the fan brush."],
-        stroke(grass_keys(16, -4), 55, "fan", tilt_deg=15, lean_deg=90))
+        stroke(grass_keys(16, -4), 25, "fan", tilt_deg=15, lean_deg=90))
     t_grass_r = write_trajectory(d + "grass-right.csv", [
         "A grass flick from (0, 0) up and to the right with the fan brush."],
-        stroke(grass_keys(13, 5), 55, "fan", tilt_deg=15, lean_deg=90))
+        stroke(grass_keys(13, 5), 25, "fan", tilt_deg=15, lean_deg=90))
 
     strokes = []
     sky_grey = "#8e9bb3"
@@ -397,7 +397,7 @@ def landscape():
     for clump_x in [14, 45, 80, 115, 146]:
         for j in range(3):
             x = clump_x + 6 * j - 9 + 2 * math.sin(3.7 * k)
-            y = 6 + 5 * math.sin(1.3 * k) ** 2
+            y = 17 + 4 * math.sin(1.3 * k) ** 2
             strokes.append(placed("fan", t_grass_l if (j + k) % 2 else t_grass_r, grass[k % 3],
                                   (x, y), rotate=10 * math.sin(2.3 * k), dry_before=(k == 0)))
             k += 1
