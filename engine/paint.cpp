@@ -19,12 +19,16 @@ double smoothstep(double x) {
 // Half-width (in w) of the blend between two paints loaded side by side: a
 // painter dabs a double-loaded brush back and forth on the palette, which works
 // the two colours into each other over a band in the middle of the brush.
-constexpr double kAcrossBlendHalfWidth = 0.08;
+constexpr double kAcrossBlendHalfWidth = 0.1;
 // Half-width (in v) of the blend between body and tip paint.
 constexpr double kTipBlendHalfWidth = 0.05;
 // How much a fully diluted paint (dilution 1) thins its pigment: K and S scaled
 // by 1 - this, and how much faster it flows (flow = 1 + dilution).
 constexpr double kDilutionThinning = 0.7;
+// Spread of the hairs' paint-holding (see transfer) and the width of the tooth
+// band over which a drying texel goes from no paint to full paint.
+constexpr double kHairVariation = 0.6;
+constexpr float kInvDryEdge = 1 / 0.15f;
 // Volumes below this (mm^3) are treated as no paint (float noise, ~1e-6 of a pixel's film).
 constexpr float kVolumeEpsMm3 = 1e-12f;
 
@@ -97,7 +101,11 @@ BrushTexelMap::BrushTexelMap(const Brush& brush) {
   x1_ = hi;
   texel_area_mm2_ = std::max(hi - lo, 1e-3) * std::max(length, 1e-3) / kTexels;
 
-  for (const SpineSpec& s : brush.spines) spine_w_.push_back(lateral(s.root_mm.x()));
+  for (const SpineSpec& s : brush.spines) {
+    spine_w_.push_back(lateral(s.root_mm.x()));
+    const double width = s.width_mm.empty() ? 0 : s.width_mm.front();
+    spine_dw_.push_back(static_cast<float>(width / (x1_ - x0_)));
+  }
 
   if (brush.strips.present()) {
     const StripLayout layout = layoutStrips(brush);
@@ -142,9 +150,10 @@ float BrushTexelMap::lateral(double x_mm) const {
 float BrushTexelMap::across(float u, float v) const {
   if (u >= kSpineTextureOffsetU) {
     if (spines_ == 0) return 0.5f;
-    const int s = std::clamp(static_cast<int>((u - kSpineTextureOffsetU) * spines_), 0,
-                             spines_ - 1);
-    return spine_w_[s];
+    const float su = (u - kSpineTextureOffsetU) * spines_;
+    const int s = std::clamp(static_cast<int>(su), 0, spines_ - 1);
+    // Across the tube, from its -x side to its +x side (engine/spine_strips.h).
+    return std::clamp(spine_w_[s] + (su - s - 0.5f) * spine_dw_[s], 0.0f, 1.0f);
   }
   if (u >= kStripTextureOffsetU) {
     if (strips_ == 0) return 0.5f;
@@ -357,10 +366,20 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   const BrushTexelMap& map = brush.map();
   const double area_px = canvas.pixelAreaMm2();
   const double texel_area = map.texelAreaMm2();
-  const float tooth_depth = static_cast<float>(canvas.paper().tooth_depth_mm);
+  const float valley_reach =
+      static_cast<float>(canvas.paper().tooth_depth_mm * params.hair_bridging);
   const float inv_clip = static_cast<float>(1.0 / params.clip_mm);
 
   // Per texel: how far it has run dry -> the contact it needs before it deposits.
+  // Hairs differ in how much paint they keep as the brush runs dry: a fixed
+  // offset per texel column (one lateral position of the bundle), in
+  // [-kHairVariation / 2, kHairVariation / 2], so that dry marks streak along the stroke.
+  static const std::array<float, BrushTexelMap::kColumns> hair_bias = [] {
+    std::array<float, BrushTexelMap::kColumns> b{};
+    for (int c = 0; c < BrushTexelMap::kColumns; ++c)
+      b[c] = static_cast<float>(kHairVariation * (latticeValue(c, 0, 0x6861697273ULL) - 0.5));
+    return b;
+  }();
   std::array<float, T> threshold;
   const double full_film = std::max(brush.fullFilmMm(), 1e-12);
   for (int t = 0; t < T; ++t) {
@@ -381,16 +400,25 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
       if (col < 0 || col >= g.width_px) continue;
       const size_t i = canvas.index(col, row);
       // The brush reaches the paper where it dips below the paper's surface: the
-      // peaks (tooth 1) at the top of the contact band, the valleys tooth_depth lower.
+      // peaks (tooth 1) at the top of the contact band, the valleys lower. Hairs
+      // bridge the grain rather than follow it: reaching the floor of a valley
+      // tooth_depth deep takes hair_bridging times that much pressing (footprint
+      // depth), so a light touch catches only the peaks.
       // Contact saturates (x (2 - x)): hairs bend and spread as they press, so a
       // hair half-way into the band already lays down three quarters of its paint.
-      const float x =
-          std::clamp((px[2] - tooth_depth * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
+      const float x = std::clamp(
+          (px[2] - valley_reach * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
       const float contact = x * (2 - x);
       if (contact <= 0) continue;
       const int t = map.texel(px[0], px[1]);
-      const float th = threshold[t];
-      const float dep = th < 1 ? std::clamp((contact - th) / (1 - th), 0.0f, 1.0f) : 0.0f;
+      // A texel running dry gives paint only where the paper stands high enough
+      // (tooth) and its hair still holds some (hair_bias): broken, streaky marks.
+      const float gate = std::clamp(
+          (canvas.tooth(i) + hair_bias[t % BrushTexelMap::kColumns] - threshold[t]) *
+                  kInvDryEdge +
+              1.0f,
+          0.0f, 1.0f);
+      const float dep = contact * gate;
       touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), contact,
                          dep});
       demand[t] += dep;
@@ -403,7 +431,10 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   std::array<double, T> per_pixel;  // deposit per unit of `deposit` contact (mm^3)
   for (int t = 0; t < T; ++t) {
     const double v = brush.cell(t).volume_mm3;
-    const double want = rate * (v / texel_area) * area_px;  // film fraction onto one pixel
+    // The paper takes paint at a rate set by the paint, not by how much the hairs
+    // hold: a fixed share of a full load's film per step, as long as the texel
+    // has it. So a lightly loaded brush runs out sooner, not thinner.
+    const double want = rate * full_film * area_px;
     const double total = want * demand[t];
     const double cap = params.max_out_fraction * v;
     per_pixel[t] = total > cap && total > 0 ? want * cap / total : want;

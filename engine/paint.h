@@ -68,6 +68,7 @@ class BrushTexelMap {
   double texel_area_mm2_ = 1;
   int spines_ = 0, strips_ = 0;
   std::vector<float> spine_w_;    // per spine: w of its root
+  std::vector<float> spine_dw_;   // per spine: its width at the root, in w
   std::vector<float> strip_w_;    // per strip texture row: w of its root
   std::vector<float> surface_w_;  // kSurfaceBinsV x kSurfaceBinsU: w of the rest surface
 };
@@ -175,20 +176,29 @@ struct FootprintView {
 struct TransferParams {
   // The contact band (mm): brush geometry this far into the band presses fully.
   double clip_mm = 0.1;
-  // Per step, a touching texel hands this fraction of its film thickness to each
-  // pixel under it, in proportion to contact ...
+  // Pressing (footprint depth, mm) it takes for hairs to reach the floor of the
+  // paper's grain, in units of the grain's depth. A hair spans several grain
+  // features (tooth_scale ~ 0.4 mm against hairs ~0.1 mm thick and far longer)
+  // and bends into a valley only under load; 8x lets a firm stroke (depth
+  // ~1 mm where spines press) fill the grain while a stroke that barely touches
+  // (depth ~0.1 - 0.3 mm) marks only its peaks on a 0.05 mm grain.
+  double hair_bridging = 8.0;
+  // Per step, a touching texel hands this fraction of a full load's film to each
+  // pixel under it, in proportion to contact, while it has paint (at most
+  // max_out_fraction of what it holds) ...
   double deposit_rate = 0.03;
   // ... and each touching pixel gives up this fraction of its wet paint to the texel.
   // Wet film settles where deposit and pickup balance: deposit_rate / pickup_rate
-  // of the brush's film (0.15 * 0.3 mm = 0.045 mm, about 2 optical units).
+  // of a full load's film (0.15 * 0.3 mm = 0.045 mm, about 2 optical units).
   double pickup_rate = 0.2;
   // A texel hands over at most this fraction of its paint in one step.
   double max_out_fraction = 0.5;
   // Below this fraction of a full load a texel begins to run dry: it deposits only
-  // where contact exceeds a threshold growing to dry_threshold when empty, so a
-  // spent brush marks only the paper's peaks and the hardest-pressed hairs.
-  double dry_load = 0.5;
-  double dry_threshold = 0.85;
+  // where the paper's tooth (0 valley .. 1 peak, shifted per hair) exceeds a
+  // threshold growing to dry_threshold when empty, so a spent brush marks only the
+  // paper's peaks and the best-loaded hairs: broken, scratchy marks.
+  double dry_load = 0.25;
+  double dry_threshold = 0.9;
   // Paint flows within each column of the brush texture (one lateral position of
   // the bundle) towards texels that lost paint, the belly feeding the tip by
   // capillarity: this fraction of each texel's difference from the column mean

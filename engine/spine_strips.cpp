@@ -27,6 +27,10 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
       // towards the canvas. The half tube spans side -> down -> -side.
       Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(t);
       if (side.norm() < 1e-6) side = brush_x - brush_x.dot(t) * t;
+      // The tube starts on the brush's -x side, so that u runs across the
+      // brush's width axis whichever way the hair points (the paint texture's
+      // "across", engine/paint.h).
+      if (side.dot(brush_x) > 0) side = -side;
       side.normalize();
       Eigen::Vector3d down = t.cross(side);
       if (down.z() > 0) down = -down;

@@ -16,7 +16,8 @@
 namespace bristle {
 
 // A vertex of brush geometry in world mm with its brush texture coordinate:
-// u runs across the brush (spine s covers [s, s + 1] / spines, side to side),
+// u runs across the brush (spine s covers [s, s + 1] / spines, side to side,
+// from the side towards the brush frame's -x to the side towards its +x),
 // v along it (0 at the root, 1 at the tip).
 struct BrushVertex {
   float x_mm, y_mm, z_mm;
