@@ -146,13 +146,15 @@ def write_scene(name, scene):
 
 # --- 1. One-Stroke petals -----------------------------------------------------
 
-def petal_keys(sweep_deg, ruffles, reach):
+def petal_keys(sweep_deg, ruffles, reach, trail_mm):
     """A One-Stroke petal around the flower centre (0, 0), pointing along +x.
 
     The double-loaded flat stands with its width along the radius (paints[1],
     the +x end of the brush, outside) and sweeps across the petal, pressed,
     wiggling in and out to ruffle the outer edge; then it slides back to the
-    centre on its chisel and lifts.
+    centre on its chisel and lifts. The handle leans towards +x all along;
+    the pressed hairs trail about trail_mm behind it (towards -x), so the
+    handle runs that much further out than the paint lands.
     """
     keys = []
     n = 14
@@ -162,9 +164,10 @@ def petal_keys(sweep_deg, ruffles, reach):
         r = reach + 0.9 * math.sin(ruffles * math.pi * u) * math.sin(math.pi * u)
         depth = 3.5 + 1.5 * math.sin(math.pi * u)
         a = math.radians(phi)
-        keys.append((r * math.cos(a), r * math.sin(a), depth, phi))
+        keys.append((r * math.cos(a) + trail_mm, r * math.sin(a), depth, phi))
     a = math.radians(sweep_deg / 2 + 8)
-    keys.append((0.55 * reach * math.cos(a), 0.55 * reach * math.sin(a), 1.0, sweep_deg / 2 + 25))
+    keys.append((0.55 * reach * math.cos(a) + trail_mm, 0.55 * reach * math.sin(a), 1.0,
+                 sweep_deg / 2 + 25))
     return keys
 
 
@@ -179,7 +182,7 @@ def leaf_half_keys(side, length):
         u = i / n
         x = length * u
         y = side * 2.6 * math.sin(math.pi * (0.12 + 0.88 * u)) * (1 - 0.35 * u)
-        depth = 3.2 * (1 - u) ** 0.7 + 0.3
+        depth = 2.6 * (1 - u) ** 0.7 + 0.3
         turn = 90 - side * 65 * u
         keys.append((x, y, depth, turn))
     return keys
@@ -201,19 +204,19 @@ def vine_keys(radius, start_deg, span_deg):
 def petals():
     d = "petals/"
     t_petal_a = write_trajectory(d + "petal-a.csv", [
-        "One-Stroke petal about (0, 0), pointing along +x: a flat sweeps 58 degrees",
+        "One-Stroke petal about (0, 0), pointing along +x: a flat sweeps 70 degrees",
         "with its width along the radius, ruffling the outer edge, then slides back",
-        "to the centre on its chisel."], stroke(petal_keys(58, 3, 6.0), 22, "flat", tilt_deg=15, lean_deg=90))
+        "to the centre on its chisel."], stroke(petal_keys(70, 3, 8.0, 8.5), 22, "flat", tilt_deg=12, lean_deg=0))
     t_petal_b = write_trajectory(d + "petal-b.csv", [
         "As petal-a with two ruffles and a slightly longer reach."],
-        stroke(petal_keys(62, 2, 6.6), 22, "flat", tilt_deg=15, lean_deg=90))
+        stroke(petal_keys(74, 2, 8.6, 8.5), 22, "flat", tilt_deg=12, lean_deg=0))
     t_leaf_up = write_trajectory(d + "leaf-upper.csv", [
-        "Upper half of a One-Stroke leaf from (0, 0) to (15, 0): press, slide and",
+        "Upper half of a One-Stroke leaf from (0, 0) to (22, 0): press, slide and",
         "turn onto the chisel, lift to the point."],
-        stroke(leaf_half_keys(+1, 15), 28, "flat", tilt_deg=15, lean_deg=0))
+        stroke(leaf_half_keys(+1, 22), 28, "flat", tilt_deg=15, lean_deg=0))
     t_leaf_lo = write_trajectory(d + "leaf-lower.csv", [
         "Lower half of the leaf, the mirror image of leaf-upper."],
-        stroke(leaf_half_keys(-1, 15), 28, "flat", tilt_deg=15, lean_deg=0))
+        stroke(leaf_half_keys(-1, 22), 28, "flat", tilt_deg=15, lean_deg=0))
     ring = 34.0
     t_vine = write_trajectory(d + "vine.csv", [
         "A 70 degree arc of radius 34 mm about (0, 0), the flat on its chisel edge."],
