@@ -147,33 +147,6 @@ float BrushTexelMap::lateral(double x_mm) const {
   return static_cast<float>(std::clamp((x_mm - x0_) / (x1_ - x0_), 0.0, 1.0));
 }
 
-float BrushTexelMap::across(float u, float v) const {
-  if (u >= kSpineTextureOffsetU) {
-    if (spines_ == 0) return 0.5f;
-    const float su = (u - kSpineTextureOffsetU) * spines_;
-    const int s = std::clamp(static_cast<int>(su), 0, spines_ - 1);
-    // Across the tube, from its -x side to its +x side (engine/spine_strips.h).
-    return std::clamp(spine_w_[s] + (su - s - 0.5f) * spine_dw_[s], 0.0f, 1.0f);
-  }
-  if (u >= kStripTextureOffsetU) {
-    if (strips_ == 0) return 0.5f;
-    const int k = std::clamp(static_cast<int>((u - kStripTextureOffsetU) * strips_), 0,
-                             strips_ - 1);
-    return strip_w_[k];
-  }
-  const float uw = u - std::floor(u);
-  const int bu = std::min(kSurfaceBinsU - 1, static_cast<int>(uw * kSurfaceBinsU));
-  const int bv = std::clamp(static_cast<int>(v * kSurfaceBinsV), 0, kSurfaceBinsV - 1);
-  return surface_w_[bv * kSurfaceBinsU + bu];
-}
-
-int BrushTexelMap::texel(float u, float v) const {
-  const float w = across(u, v);
-  const int col = std::clamp(static_cast<int>(w * kColumns), 0, kColumns - 1);
-  const int row = std::clamp(static_cast<int>(v * kRows), 0, kRows - 1);
-  return row * kColumns + col;
-}
-
 // ---------------------------------------------------------------- BrushPaint
 
 BrushPaint::BrushPaint(const Brush& brush)
@@ -352,15 +325,20 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
     float contact, deposit;
   };
   // Per-step scratch, reused (the engine runs on one thread per canvas).
-  thread_local std::vector<Touch> touches;
-  thread_local std::vector<double> demand, out_sum, in_sum;
-  thread_local std::vector<std::array<double, 6>> in_optics;
+  thread_local std::vector<Touch> tl_touches;
+  thread_local std::vector<double> tl_demand, tl_out_sum, tl_in_sum;
+  thread_local std::vector<std::array<float, 6>> tl_in_optics;
+  // Plain references: no thread-local lookup inside the pixel loops.
+  std::vector<Touch>& touches = tl_touches;
+  std::vector<double>&demand = tl_demand, &out_sum = tl_out_sum, &in_sum = tl_in_sum;
+  std::vector<std::array<float, 6>>& in_optics = tl_in_optics;
   constexpr int T = BrushTexelMap::kTexels;
   touches.clear();
   demand.assign(T, 0.0);
   out_sum.assign(T, 0.0);
   in_sum.assign(T, 0.0);
   in_optics.assign(T, {0, 0, 0, 0, 0, 0});
+  touches.reserve(static_cast<size_t>(fp.width) * fp.height);
 
   const CanvasGrid& g = canvas.grid();
   const BrushTexelMap& map = brush.map();
@@ -428,7 +406,7 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
 
   // 2. Deposit and pickup per pixel, from the texels' paint at the start of the step.
   const double rate = params.deposit_rate * brush.flow();
-  std::array<double, T> per_pixel;  // deposit per unit of `deposit` contact (mm^3)
+  std::array<float, T> per_pixel;  // deposit per unit of `deposit` contact (mm^3)
   for (int t = 0; t < T; ++t) {
     const double v = brush.cell(t).volume_mm3;
     // The paper takes paint at a rate set by the paint, not by how much the hairs
@@ -437,19 +415,21 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
     const double want = rate * full_film * area_px;
     const double total = want * demand[t];
     const double cap = params.max_out_fraction * v;
-    per_pixel[t] = total > cap && total > 0 ? want * cap / total : want;
+    per_pixel[t] = static_cast<float>(total > cap && total > 0 ? want * cap / total : want);
   }
+  const float pickup = static_cast<float>(params.pickup_rate);
   for (const Touch& h : touches) {
     PaintCell& px = canvas.wet(h.pixel);
     const PaintCell& tex = brush.cell(h.texel);
-    const float out = static_cast<float>(per_pixel[h.texel] * h.deposit);
-    const float in = static_cast<float>(params.pickup_rate) * h.contact * px.volume_mm3;
+    const float out = per_pixel[h.texel] * h.deposit;
+    const float in = pickup * h.contact * px.volume_mm3;
     if (in > 0) {
       in_sum[h.texel] += in;
-      auto& acc = in_optics[h.texel];
+      // Optics sums in float: they set a colour, not a volume (1e-7 is invisible).
+      std::array<float, 6>& acc = in_optics[h.texel];
       for (int k = 0; k < 3; ++k) {
-        acc[k] += double(in) * px.optics.k[k];
-        acc[3 + k] += double(in) * px.optics.s[k];
+        acc[k] += in * px.optics.k[k];
+        acc[3 + k] += in * px.optics.s[k];
       }
     }
     out_sum[h.texel] += out;

@@ -13,7 +13,9 @@
 //
 // Volumes are in mm^3; a film's thickness is its volume over its area.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,6 +23,7 @@
 #include "engine/brush.h"
 #include "engine/canvas.h"
 #include "engine/paint_spec.h"
+#include "engine/brush_geometry.h"  // texture offsets of the geometry parts
 #include "engine/pigments.h"
 
 namespace bristle {
@@ -72,6 +75,34 @@ class BrushTexelMap {
   std::vector<float> strip_w_;    // per strip texture row: w of its root
   std::vector<float> surface_w_;  // kSurfaceBinsV x kSurfaceBinsU: w of the rest surface
 };
+
+// Inline: called once per touching pixel per step.
+inline float BrushTexelMap::across(float u, float v) const {
+  if (u >= kSpineTextureOffsetU) {
+    if (spines_ == 0) return 0.5f;
+    const float su = (u - kSpineTextureOffsetU) * spines_;
+    const int s = std::clamp(static_cast<int>(su), 0, spines_ - 1);
+    // Across the tube, from its -x side to its +x side (engine/spine_strips.h).
+    return std::clamp(spine_w_[s] + (su - s - 0.5f) * spine_dw_[s], 0.0f, 1.0f);
+  }
+  if (u >= kStripTextureOffsetU) {
+    if (strips_ == 0) return 0.5f;
+    const int k = std::clamp(static_cast<int>((u - kStripTextureOffsetU) * strips_), 0,
+                             strips_ - 1);
+    return strip_w_[k];
+  }
+  const float uw = u - std::floor(u);
+  const int bu = std::min(kSurfaceBinsU - 1, static_cast<int>(uw * kSurfaceBinsU));
+  const int bv = std::clamp(static_cast<int>(v * kSurfaceBinsV), 0, kSurfaceBinsV - 1);
+  return surface_w_[bv * kSurfaceBinsU + bu];
+}
+
+inline int BrushTexelMap::texel(float u, float v) const {
+  const float w = across(u, v);
+  const int col = std::clamp(static_cast<int>(w * kColumns), 0, kColumns - 1);
+  const int row = std::clamp(static_cast<int>(v * kRows), 0, kRows - 1);
+  return row * kColumns + col;
+}
 
 // The paint on a brush.
 class BrushPaint {

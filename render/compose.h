@@ -15,7 +15,7 @@ namespace bristle::render {
 struct ComposeOptions {
   bool impasto = false;
   // Direction towards the light in the canvas frame (x right, y up, z out of the
-  // canvas): from the upper left, 40 degrees above the canvas, as a painting hung
+  // canvas): from the upper left, 45 degrees above the canvas, as a painting hung
   // under a window is lit. Need not be unit length.
   double light[3] = {-0.55, 0.55, 0.78};
   // Height exaggeration of the relief: 1 is the physical paint thickness. The

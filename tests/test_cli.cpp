@@ -3,11 +3,15 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <unordered_map>
 
+#include "bristle/version.h"
 #include "cli_runner.h"
+#include "engine/fnv1a64.h"
 #include "engine/brush.h"
 #include "engine/trajectory.h"
 #include "render/png_io.h"
@@ -70,8 +74,11 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
           "[cli]") {
   TempDir dir;
   const std::string png = dir.file("s.png"), trace = dir.file("s.jsonl");
+  // Smooth paper: this test checks where the brush touches, not the paper's grain
+  // (on a toothy paper a joint that barely touches may meet a valley and leave no
+  // paint, tests/test_paint_render.cpp).
   const RunResult run = runBristle("render --brush '" + kBrush + "' --trajectory '" + kSCurve +
-                                   "' -o '" + png + "' --trace '" + trace + "'");
+                                   "' -o '" + png + "' --trace '" + trace + "' --paper-tooth 0");
   INFO(run.err);
   REQUIRE(run.code == 0);
   CHECK_THAT(run.out, Contains(png));
@@ -338,4 +345,71 @@ TEST_CASE("help and version", "[cli]") {
   const RunResult top = runBristle("--help");
   CHECK(top.code == 0);
   CHECK_THAT(top.out, Contains("Examples:"));
+}
+
+TEST_CASE("render: paint options, 16-bit output and the inputs hash", "[cli][paint]") {
+  TempDir dir;
+  const std::string traj = sourcePath("scenes/trajectories/press-lift.csv");
+  auto render = [&](const std::string& name, const std::string& extra) {
+    const std::string png = dir.file(name);
+    const RunResult r = runBristle("render -q --brush '" + kBrush + "' --trajectory '" + traj +
+                                   "' -o '" + png + "' " + extra);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    return png;
+  };
+  const std::string km = render("km.png", "--paint phthalo-blue,hansa-yellow --load tip");
+  const std::string rgb =
+      render("rgb.png", "--paint phthalo-blue,hansa-yellow --load tip --mix rgb");
+  const std::string deep = render("deep.png", "--paint phthalo-blue,hansa-yellow --load tip "
+                                              "--bits 16 --impasto");
+  // The PNG header's bit depth (byte 24: after the signature, IHDR length, type,
+  // width and height).
+  auto bitDepth = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(25, '\0');
+    in.read(head.data(), 25);
+    return int(static_cast<unsigned char>(head[24]));
+  };
+  CHECK(bitDepth(km) == 8);
+  CHECK(bitDepth(deep) == 16);
+  // The two mix models paint different colours from the same strokes.
+  CHECK(render::readPngRgba8(km).pixels != render::readPngRgba8(rgb).pixels);
+  // Provenance: the version and FNV-1a 64 of the brush's and trajectory's bytes.
+  std::map<std::string, std::string> text;
+  for (const auto& [k, v] : render::readPngText(deep)) text[k] = v;
+  CHECK(text["bristle:version"] == kVersion);
+  CHECK(text["bristle:inputs-fnv1a64"] == hex64(fnv1a64Files({kBrush, traj})));
+  CHECK(text["bristle:inputs-fnv1a64"].size() == 16);
+}
+
+TEST_CASE("render: bad paint input is a one-line data error (65), no PNG", "[cli][paint]") {
+  TempDir dir;
+  const std::string out = dir.file("out.png");
+  auto render = [&](const std::string& extra) {
+    return runBristle("render -q --brush '" + kBrush + "' --trajectory '" + kSCurve + "' -o '" +
+                      out + "' " + extra);
+  };
+  struct Case {
+    std::string args, message;
+  };
+  for (const Case& c : {
+           Case{"--paint unobtainium", "--paint unobtainium: unknown pigment 'unobtainium'"},
+           Case{"--paint '#12g456'", "'#12g456' is not a colour like #1c2433"},
+           Case{"--paint ultramarine,sumi-ink", "--load solid takes 1 paints, got 2"},
+           Case{"--amount -0.5", "--amount -0.500000: must be in (0, 1]"},
+           Case{"--background cream", "--background cream: must be a colour"},
+           Case{"--paper-tooth -1", "--paper-tooth: must be in [0, 1] mm"},
+       }) {
+    INFO(c.args);
+    const RunResult r = render(c.args);
+    CHECK(r.code == 65);
+    CHECK_THAT(r.err, Contains(c.message));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+  // Choices the command line knows are usage errors (64).
+  CHECK(render("--mix cmyk").code == 64);
+  CHECK(render("--load sideways").code == 64);
+  CHECK(render("--bits 12").code == 64);
 }
