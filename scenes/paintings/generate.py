@@ -393,9 +393,9 @@ def landscape():
                           (5, 31)))
     # Dry-brush grass: little paint on the fan, flicked up in clumps.
     # Opaque paints: a glaze this thin would hardly show.
-    grass = [{"paints": ["#3d5f27"], "amount": 0.8},
-             {"paints": ["yellow-ochre"], "amount": 0.7},
-             {"paints": ["burnt-sienna"], "amount": 0.7}]
+    grass = [{"paints": ["#3d5f27"], "amount": 1.0},
+             {"paints": ["yellow-ochre"], "amount": 1.0},
+             {"paints": ["burnt-sienna"], "amount": 1.0}]
     k = 0
     for clump_x in [14, 45, 80, 115, 146]:
         for j in range(3):
@@ -411,7 +411,7 @@ def landscape():
                        "fields with the flat, dry-brush grass flicked up with the fan "
                        "(paper Fig. 11).",
         "canvas": {"size_mm": [160, 100], "px_per_mm": 6, "background": "#f2eee3",
-                   "paper": {"tooth_depth_mm": 0.05, "tooth_scale_mm": 0.5, "seed": 11}},
+                   "paper": {"tooth_depth_mm": 0.01, "tooth_scale_mm": 0.5, "seed": 11}},
         "sim": {"rate_hz": 100, "max_step_mm": 0.3},
         "mix": "km",
         "solver": "slsqp",
