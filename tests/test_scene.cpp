@@ -411,3 +411,26 @@ TEST_CASE("the three paintings load", "[scene]") {
     CHECK(sceneWarnings(s).empty());
   }
 }
+
+TEST_CASE("the annotated example of docs/scene-format.md is a sound scene", "[scene]") {
+  const std::string doc = slurp((kSourceDir / "docs/scene-format.md").string());
+  const size_t open = doc.find("```jsonc");
+  REQUIRE(open != std::string::npos);
+  const size_t start = doc.find('\n', open) + 1;
+  const size_t end = doc.find("```", start);
+  // Without its // comments (the page says so).
+  std::string text;
+  std::istringstream lines(doc.substr(start, end - start));
+  for (std::string line; std::getline(lines, line);)
+    text += line.substr(0, line.find("//")) + "\n";
+  const std::string dir = (kSourceDir / "scenes/paintings").string();
+  const Scene s = parseScene(text, "example.json", dir);
+  CHECK(s.name == "two petals");
+  REQUIRE(s.strokes.size() == 2);
+  CHECK(s.strokes[1].dry_before);
+  // The files it names are where the page says (relative to scenes/paintings/).
+  for (const SceneStroke& st : s.strokes) {
+    CHECK(fs::exists(st.brush_path));
+    CHECK(fs::exists(st.trajectory_path));
+  }
+}

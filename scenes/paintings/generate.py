@@ -146,13 +146,15 @@ def write_scene(name, scene):
 
 # --- 1. One-Stroke petals -----------------------------------------------------
 
-def petal_keys(sweep_deg, ruffles, reach):
+def petal_keys(sweep_deg, ruffles, reach, trail_mm):
     """A One-Stroke petal around the flower centre (0, 0), pointing along +x.
 
     The double-loaded flat stands with its width along the radius (paints[1],
     the +x end of the brush, outside) and sweeps across the petal, pressed,
     wiggling in and out to ruffle the outer edge; then it slides back to the
-    centre on its chisel and lifts.
+    centre on its chisel and lifts. The handle leans towards +x all along;
+    the pressed hairs trail about trail_mm behind it (towards -x), so the
+    handle runs that much further out than the paint lands.
     """
     keys = []
     n = 14
@@ -162,9 +164,10 @@ def petal_keys(sweep_deg, ruffles, reach):
         r = reach + 0.9 * math.sin(ruffles * math.pi * u) * math.sin(math.pi * u)
         depth = 3.5 + 1.5 * math.sin(math.pi * u)
         a = math.radians(phi)
-        keys.append((r * math.cos(a), r * math.sin(a), depth, phi))
+        keys.append((r * math.cos(a) + trail_mm, r * math.sin(a), depth, phi))
     a = math.radians(sweep_deg / 2 + 8)
-    keys.append((0.55 * reach * math.cos(a), 0.55 * reach * math.sin(a), 1.0, sweep_deg / 2 + 25))
+    keys.append((0.55 * reach * math.cos(a) + trail_mm, 0.55 * reach * math.sin(a), 1.0,
+                 sweep_deg / 2 + 25))
     return keys
 
 
@@ -178,8 +181,8 @@ def leaf_half_keys(side, length):
     for i in range(n + 1):
         u = i / n
         x = length * u
-        y = side * 4.2 * math.sin(math.pi * (0.12 + 0.88 * u)) * (1 - 0.35 * u)
-        depth = 4.5 * (1 - u) ** 0.7 + 0.4
+        y = side * 2.6 * math.sin(math.pi * (0.12 + 0.88 * u)) * (1 - 0.35 * u)
+        depth = 2.6 * (1 - u) ** 0.7 + 0.3
         turn = 90 - side * 65 * u
         keys.append((x, y, depth, turn))
     return keys
@@ -201,19 +204,19 @@ def vine_keys(radius, start_deg, span_deg):
 def petals():
     d = "petals/"
     t_petal_a = write_trajectory(d + "petal-a.csv", [
-        "One-Stroke petal about (0, 0), pointing along +x: a flat sweeps 58 degrees",
+        "One-Stroke petal about (0, 0), pointing along +x: a flat sweeps 70 degrees",
         "with its width along the radius, ruffling the outer edge, then slides back",
-        "to the centre on its chisel."], stroke(petal_keys(58, 3, 6.0), 22, "flat", tilt_deg=15, lean_deg=90))
+        "to the centre on its chisel."], stroke(petal_keys(70, 3, 8.0, 8.5), 22, "flat", tilt_deg=12, lean_deg=0))
     t_petal_b = write_trajectory(d + "petal-b.csv", [
         "As petal-a with two ruffles and a slightly longer reach."],
-        stroke(petal_keys(62, 2, 6.6), 22, "flat", tilt_deg=15, lean_deg=90))
+        stroke(petal_keys(74, 2, 8.6, 8.5), 22, "flat", tilt_deg=12, lean_deg=0))
     t_leaf_up = write_trajectory(d + "leaf-upper.csv", [
-        "Upper half of a One-Stroke leaf from (0, 0) to (17, 0): press, slide and",
+        "Upper half of a One-Stroke leaf from (0, 0) to (22, 0): press, slide and",
         "turn onto the chisel, lift to the point."],
-        stroke(leaf_half_keys(+1, 17), 28, "flat", tilt_deg=15, lean_deg=0))
+        stroke(leaf_half_keys(+1, 22), 28, "flat", tilt_deg=15, lean_deg=0))
     t_leaf_lo = write_trajectory(d + "leaf-lower.csv", [
         "Lower half of the leaf, the mirror image of leaf-upper."],
-        stroke(leaf_half_keys(-1, 17), 28, "flat", tilt_deg=15, lean_deg=0))
+        stroke(leaf_half_keys(-1, 22), 28, "flat", tilt_deg=15, lean_deg=0))
     ring = 34.0
     t_vine = write_trajectory(d + "vine.csv", [
         "A 70 degree arc of radius 34 mm about (0, 0), the flat on its chisel edge."],
@@ -224,7 +227,9 @@ def petals():
                10, "round", tilt_deg=12, lean_deg=45))
 
     cx, cy = 60.0, 58.0
-    red_white = {"mode": "across", "paints": ["cadmium-red", "titanium-white"], "amount": 1.0}
+    # Two thirds red at the centre side, white at the rim.
+    red_white = {"mode": "across", "paints": ["cadmium-red", "cadmium-red", "titanium-white"],
+                 "amount": 1.0}
     green_yellow = {"mode": "across", "paints": ["viridian", "cadmium-yellow"], "amount": 0.9}
     yellow_green = {"mode": "across", "paints": ["cadmium-yellow", "viridian"], "amount": 0.9}
     vine_paint = {"paints": ["viridian"], "amount": 0.6}
@@ -278,10 +283,10 @@ YONG = [
     ("heng-zhe-gou", "横折钩 horizontal, turn (lift a little, press again), long vertical, "
      "hook to the left",
      [(29, 73, 1.5), (31, 74, 4.0), (40, 74.6, 3.0), (50, 75.3, 3.0), (55, 76.5, 4.5),
-      (56.5, 76, 1.5), (57.5, 73, 5.0), (57, 60, 4.0), (56.5, 40, 4.0), (56.5, 22, 4.0),
-      (56.5, 13, 5.0), (55, 12, 4.0), (49, 17, 1.8), (46, 20, 0.3)]),
+      (56.5, 76.5, -0.3), (57.5, 74, 4.6), (57, 60, 4.8), (56.5, 40, 4.8), (56.5, 22, 4.8),
+      (56.5, 13, 5.5), (55, 12, 4.0), (49, 17, 1.8), (46, 20, 0.3)]),
     ("heng-pie", "横撇 short horizontal, turn, sweep down to the left, tapering",
-     [(17, 56, 1.5), (19, 57, 3.5), (28, 57.4, 2.8), (37, 58.5, 4.0), (38.5, 57, 1.5),
+     [(17, 56, 1.5), (19, 57, 3.5), (28, 57.4, 2.8), (37, 58.5, 4.0), (38.5, 58, -0.3),
       (36, 52, 4.0), (28, 44, 3.2), (20, 35, 2.2), (12, 28, 0.8), (9, 26, 0.1)]),
     ("pie", "撇 short left-falling stroke from the upper right, tapering",
      [(83, 65, 1.5), (82, 63, 4.0), (77, 58, 3.5), (70, 52, 2.5), (63, 47, 1.0),
@@ -335,8 +340,8 @@ def puff_keys(radius, turns):
 def grass_keys(height, bend):
     """A dry-brush grass flick from (0, 0) upwards: the fan touches down and
     flicks up and a little sideways while lifting."""
-    return [(0, 0, 2.0, 0), (0.2 * bend, 0.3 * height, 2.5, 0), (0.6 * bend, 0.65 * height, 1.2, 0),
-            (bend, height, -0.5, 0)]
+    return [(0, 0, 9.0, 0), (0.05 * bend, 0.08 * height, 11.0, 0), (0.2 * bend, 0.3 * height, 10.0, 0),
+            (0.6 * bend, 0.65 * height, 6.0, 0), (bend, height, -0.5, 0)]
 
 
 def landscape():
@@ -361,10 +366,10 @@ def landscape():
                 (150, 0, 3.0, 90)], 70, "flat", tilt_deg=15, lean_deg=0))
     t_grass_l = write_trajectory(d + "grass-left.csv", [
         "A grass flick from (0, 0) up and to the left with the fan brush."],
-        stroke(grass_keys(16, -4), 55, "fan", tilt_deg=15, lean_deg=90))
+        stroke(grass_keys(16, -4), 25, "fan", tilt_deg=15, lean_deg=90))
     t_grass_r = write_trajectory(d + "grass-right.csv", [
         "A grass flick from (0, 0) up and to the right with the fan brush."],
-        stroke(grass_keys(13, 5), 55, "fan", tilt_deg=15, lean_deg=90))
+        stroke(grass_keys(13, 5), 25, "fan", tilt_deg=15, lean_deg=90))
 
     strokes = []
     sky_grey = "#8e9bb3"
@@ -387,14 +392,15 @@ def landscape():
                           {"mode": "across", "paints": ["yellow-ochre", "burnt-sienna"], "amount": 0.7},
                           (5, 31)))
     # Dry-brush grass: little paint on the fan, flicked up in clumps.
-    grass = [{"paints": ["viridian"], "amount": 0.35},
-             {"paints": ["yellow-ochre"], "amount": 0.3},
-             {"paints": ["burnt-sienna"], "amount": 0.3}]
+    # Opaque paints: a glaze this thin would hardly show.
+    grass = [{"paints": ["#3d5f27"], "amount": 1.0},
+             {"paints": ["yellow-ochre"], "amount": 1.0},
+             {"paints": ["burnt-sienna"], "amount": 1.0}]
     k = 0
     for clump_x in [14, 45, 80, 115, 146]:
         for j in range(3):
             x = clump_x + 6 * j - 9 + 2 * math.sin(3.7 * k)
-            y = 6 + 5 * math.sin(1.3 * k) ** 2
+            y = 17 + 4 * math.sin(1.3 * k) ** 2
             strokes.append(placed("fan", t_grass_l if (j + k) % 2 else t_grass_r, grass[k % 3],
                                   (x, y), rotate=10 * math.sin(2.3 * k), dry_before=(k == 0)))
             k += 1
@@ -405,7 +411,7 @@ def landscape():
                        "fields with the flat, dry-brush grass flicked up with the fan "
                        "(paper Fig. 11).",
         "canvas": {"size_mm": [160, 100], "px_per_mm": 6, "background": "#f2eee3",
-                   "paper": {"tooth_depth_mm": 0.05, "tooth_scale_mm": 0.5, "seed": 11}},
+                   "paper": {"tooth_depth_mm": 0.01, "tooth_scale_mm": 0.5, "seed": 11}},
         "sim": {"rate_hz": 100, "max_step_mm": 0.3},
         "mix": "km",
         "solver": "slsqp",
