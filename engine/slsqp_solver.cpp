@@ -283,7 +283,9 @@ class SlsqpSolver : public SpineSolver {
       setScaling(p, q, &opt);
       std::vector<double>& y = y_;
       y.resize(nv);
-      for (int v = 0; v < nv; ++v) y[v] = q[v] / cb.inv_w[v];
+      // Clamped again in y: q / inv_w and limit * w can differ in the last bit,
+      // and NLopt refuses a start outside its bounds.
+      for (int v = 0; v < nv; ++v) y[v] = std::clamp(q[v] / cb.inv_w[v], lo_[v], hi_[v]);
       double e = 0;
       try {
         r = opt.opt.optimize(y, e);
@@ -291,7 +293,7 @@ class SlsqpSolver : public SpineSolver {
         // The wrapper throws on ROUNDOFF_LIMITED after writing the best point to y.
         r = nlopt::ROUNDOFF_LIMITED;
       }
-      for (int v = 0; v < nv; ++v) q[v] = y[v] * cb.inv_w[v];
+      for (int v = 0; v < nv; ++v) q[v] = std::clamp(y[v] * cb.inv_w[v], -limitRad(v), limitRad(v));
       o.evaluations = opt.opt.get_numevals();
       o.message = resultName(r);
       // NLopt returns its best point: the lowest energy among the points within

@@ -341,6 +341,32 @@ TEST_CASE("one whole-brush Ipopt NLP and per-spine Ipopt solves reach the same o
   CHECK(compared >= 4);
 }
 
+TEST_CASE("slsqp starts from angles on their limits", "[solvers][slsqp]") {
+  // SLSQP works on scaled angles y = w q with bounds limit * w; q / (1 / w) can
+  // land one ulp outside limit * w, which NLopt refuses ("bounds fail") unless
+  // the start is clamped in y. Seen on press-lift.csv with the round brush. Many
+  // pressed depths give many scales, so an unclamped start fails on them
+  // (measured: all 40 failed without the clamp).
+  PressedSpine pressed;
+  int solved = 0;
+  for (int i = 0; i < 40; ++i) {
+    SpineProblem problem = pressed.problem;
+    problem.handle.position_mm.z() += 0.05 * i;
+    SpineSolution sol = pressed.start;
+    sol.q[0] = kThetaLimitRad;  // the first joint bent as far as it goes
+    const SpineProblem* pp = &problem;
+    SpineSolution* ps = &sol;
+    const SolveSummary summary = makeSlsqpSolver()->solve({&pp, 1}, {&ps, 1});
+    INFO("depth step " << i << ": " << summary.message);
+    CHECK(summary.message.find("bounds") == std::string::npos);
+    CHECK(summary.usable());
+    solved += summary.usable();
+    for (size_t v = 0; v < sol.q.size(); ++v)
+      CHECK(std::fabs(sol.q[v]) <= (v % 2 == 0 ? kThetaLimitRad : kPhiLimitRad));
+  }
+  CHECK(solved == 40);
+}
+
 TEST_CASE("slsqp fails cleanly and leaves the solutions alone", "[solvers][slsqp]") {
   PressedSpine pressed;
   SpineSolution sol = pressed.start;
