@@ -85,4 +85,7 @@ std::string canvasText(const CanvasGrid& grid);
 // Prints "bristle: <message>" on stderr.
 void printError(const std::string& message);
 
+// The end-of-run warning about steps whose solve failed (nothing if none did).
+void warnFailedSolves(int failed_steps, int steps, int failed_spine_solves);
+
 }  // namespace bristle::cli

@@ -56,6 +56,13 @@ std::string canvasText(const CanvasGrid& g) {
 
 void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
 
+void warnFailedSolves(int failed_steps, int steps, int failed_spine_solves) {
+  if (failed_steps <= 0) return;
+  printError("warning: " + std::to_string(failed_steps) + " of " + std::to_string(steps) +
+             " steps had a failed solve (" + std::to_string(failed_spine_solves) +
+             " spine solves); those spines continued from their last good state");
+}
+
 int runRender(const RenderArgs& args) {
   if (!args.scene.empty()) return runRenderScene(args);
   if (args.brush.empty() || args.trajectory.empty())
@@ -129,11 +136,8 @@ int runRender(const RenderArgs& args) {
   if (!result.touched)
     printError("warning: the brush never touched the canvas (" + args.trajectory +
                "): the image is blank");
-  if (result.stats.failed_steps > 0)
-    printError("warning: " + std::to_string(result.stats.failed_steps) + " of " +
-               std::to_string(result.stats.steps) + " steps had a failed solve (" +
-               std::to_string(result.stats.failed_spine_solves) +
-               " spine solves); those spines continued from their last good state");
+  warnFailedSolves(result.stats.failed_steps, result.stats.steps,
+                   result.stats.failed_spine_solves);
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,

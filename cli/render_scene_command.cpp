@@ -102,14 +102,12 @@ int runRenderScene(const RenderArgs& args) {
 
   // Strokes out of reach were named before the run; the others are news.
   for (int i : result.untouched)
-    if (!warnedAbout(warnings, scene.strokes[size_t(i)].pointer)) printError("warning: " + scene.path + ": " + scene.strokes[size_t(i)].pointer +
-               ": the brush never touched the canvas (trajectory " +
-               scene.strokes[size_t(i)].trajectory_path + ")");
-  if (result.stats.failed_steps > 0)
-    printError("warning: " + std::to_string(result.stats.failed_steps) + " of " +
-               std::to_string(result.stats.steps) + " steps had a failed solve (" +
-               std::to_string(result.stats.failed_spine_solves) +
-               " spine solves); those spines continued from their last good state");
+    if (!warnedAbout(warnings, scene.strokes[size_t(i)].pointer))
+      printError("warning: " + scene.path + ": " + scene.strokes[size_t(i)].pointer +
+                 ": the brush never touched the canvas (trajectory " +
+                 scene.strokes[size_t(i)].trajectory_path + ")");
+  warnFailedSolves(result.stats.failed_steps, result.stats.steps,
+                   result.stats.failed_spine_solves);
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,

@@ -8,10 +8,30 @@
 #include <cmath>
 
 #include "engine/brush.h"
+#include "engine/error.h"
 #include "engine/simulation.h"
 #include "engine/trajectory.h"
 
 namespace bristle::testing {
+
+// What a call threw, if it threw a bristle::Error: for checking exit codes and
+// messages of bad input.
+struct Caught {
+  bool thrown = false;
+  int code = 0;
+  std::string message;
+};
+
+template <class F>
+inline Caught catchError(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return {true, static_cast<int>(e.code()), e.what()};
+  }
+  return {};
+}
+
 
 // A spine hanging from the ferrule centre, with the given per-joint data.
 inline SpineSpec makeSpine(std::vector<double> lengths_mm, std::vector<double> k_nmm,

@@ -17,8 +17,11 @@
 #include "engine/brush.h"
 #include "engine/error.h"
 #include "engine/trajectory.h"
+#include "test_helpers.h"
 
 using namespace bristle;
+using bristle::testing::Caught;
+using bristle::testing::catchError;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
 
@@ -27,22 +30,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSourceDir = fs::path(__FILE__).parent_path().parent_path();
-
-struct Caught {
-  bool thrown = false;
-  int code = 0;
-  std::string message;
-};
-
-template <class F>
-Caught catchError(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return {true, static_cast<int>(e.code()), e.what()};
-  }
-  return {};
-}
 
 }  // namespace
 

@@ -15,8 +15,11 @@
 
 #include "engine/error.h"
 #include "engine/scene.h"
+#include "test_helpers.h"
 
 using namespace bristle;
+using bristle::testing::Caught;
+using bristle::testing::catchError;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
 using nlohmann::json;
@@ -32,22 +35,6 @@ const std::string kPull = (kSourceDir / "scenes/trajectories/straight-pull.csv")
 // Positions and quaternions are compared after a rotation by 90 degrees: a
 // few ulps of sin/cos, far below any millimetre that matters.
 constexpr double kPoseTol = 1e-12;
-
-struct Caught {
-  bool thrown = false;
-  int code = 0;
-  std::string message;
-};
-
-template <class F>
-Caught catchError(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return {true, static_cast<int>(e.code()), e.what()};
-  }
-  return {};
-}
 
 // A small, sound scene: two strokes of the library's flat along the demo pull.
 json goodScene() {
