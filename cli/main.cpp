@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({"ipopt", "slsqp"}));
   render->add_option("--solver-max-iterations", r.solver_max_iterations,
-                     "Iteration limit per solve; a step that hits it counts as failed")
+                     "Iteration limit per solve (Ipopt iterations, SLSQP energy evaluations); a spine that hits it with both solvers keeps its last state")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
   render->add_option("--offset-mm", r.offset_mm,

@@ -117,8 +117,11 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
   paint.load(load, mix, "--paint");
   render::StrokeRenderer renderer;
   // The chosen solver is the primary; a spine it fails on is tried with the other.
+  // --solver-max-iterations limits both: Ipopt's iterations, SLSQP's energy evaluations.
+  SlsqpSettings slsqp;
+  slsqp.max_evaluations = o.solver_max_iterations;
   std::unique_ptr<SpineSolver> primary = makeIpoptSolver(ipoptSettings(o)),
-                               fallback = makeSlsqpSolver();
+                               fallback = makeSlsqpSolver(slsqp);
   if (o.solver == "slsqp") std::swap(primary, fallback);
   StrokePngResult r;
   r.stroke = renderer.render(brush, trajectory, std::move(primary), options, &canvas, &paint,

@@ -212,7 +212,8 @@ TEST_CASE("render: a trajectory that never touches the canvas gives a blank imag
 TEST_CASE("render: failed solves are counted, traced and reported, and the run goes on", "[cli]") {
   TempDir dir;
   const std::string trace = dir.file("t.jsonl");
-  // Two iterations cannot converge a contact step: every such solve fails.
+  // Two iterations (Ipopt) or evaluations (SLSQP, the fallback) cannot converge a
+  // contact step: every such solve fails with both solvers.
   const RunResult r = runBristle(
       "render -q --solver-max-iterations 2 --brush '" + kBrush + "' --trajectory '" +
       sourcePath("scenes/trajectories/press-lift.csv") + "' -o '" + dir.file("f.png") +
