@@ -5,13 +5,15 @@
 #include <string>
 #include <vector>
 
+#include "cli/paint_options.h"
+
 namespace bristle {
 struct CanvasGrid;
 }
 
 namespace bristle::cli {
 
-struct RenderArgs {
+struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::string scene;  // positional: a bristle-scene/1 file instead of --brush/--trajectory
   std::vector<std::string> given;  // the options given on the command line ("--trace", ...)
   std::string brush, trajectory, output;
@@ -24,18 +26,6 @@ struct RenderArgs {
   int solver_max_iterations = 200;
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::vector<double> offset_mm;           // x, y, z added to every handle position
-  // Paint (issue 5): comma-separated pigment names or #rrggbb colours.
-  std::string paint = "#1c2433";       // a blue-black ink
-  std::string load = "solid";          // solid | across | tip
-  double amount = 1.0;                 // fraction of the brush's paint capacity
-  double tip_length = 0.3;             // --load tip: share of the hair length
-  std::string mix = "km";              // km | rgb
-  double paper_tooth_mm = 0.03;
-  double paper_scale_mm = 0.4;
-  unsigned long long paper_seed = 1;
-  bool impasto = false;
-  int bits = 8;
-  std::string background = "#f6f1e6";  // paper
   bool quiet = false;
 };
 int runRender(const RenderArgs& args);
@@ -60,7 +50,7 @@ int runBrushes(const std::string& library_dir);
 
 // `bristle record`: a live session with a haptic device (or a played
 // trajectory), written as it goes; `bristle replay`: its render.
-struct RecordArgs {
+struct RecordArgs : PaintOptions {  // of the --png render
   std::string brush, output, device = "auto", trajectory, forces, png;
   double duration_s = 0;       // 0: until Ctrl-C / end of the trajectory
   double sim_rate_hz = 30;
@@ -72,7 +62,7 @@ struct RecordArgs {
 };
 int runRecord(const RecordArgs& args);
 
-struct ReplayArgs {
+struct ReplayArgs : PaintOptions {
   std::string session, brush, output;
   double px_per_mm = 8;
   std::string solver = "ipopt";

@@ -31,6 +31,39 @@ constexpr const char* kFooter =
     "device unavailable (or failed), 70 internal error, 73 cannot create output,\n"
     "74 I/O error.\n";
 
+// Paint and paper options of a single-stroke render (render, record --png, replay).
+void addPaintOptions(CLI::App* app, bristle::cli::PaintOptions& p) {
+  app->add_option("--paint,--colour,--color", p.paint,
+                  "Paint(s) on the brush: NAME[,NAME..], pigment names or #rrggbb")
+      ->capture_default_str();
+  app->add_option("--load", p.load,
+                  "Loading: solid (one paint), across (2-3 paints side by side across the "
+                  "brush's width), tip (body paint, tip paint)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"solid", "across", "tip"}));
+  app->add_option("--amount", p.amount, "Paint on the brush, a fraction of its capacity (0, 1]")
+      ->capture_default_str();
+  app->add_option("--tip-length", p.tip_length,
+                  "--load tip: share of the hair length the tip paint covers")
+      ->capture_default_str();
+  app->add_option("--mix", p.mix, "Pigment mixing: km (Kubelka-Munk) or rgb (linear RGB)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"km", "rgb"}));
+  app->add_option("--paper-tooth", p.paper_tooth_mm,
+                  "Depth of the paper's grain (mm); light strokes catch only its peaks")
+      ->capture_default_str();
+  app->add_option("--paper-scale", p.paper_scale_mm, "Feature size of the paper's grain (mm)")
+      ->capture_default_str();
+  app->add_option("--paper-seed", p.paper_seed, "Seed of the paper's grain")
+      ->capture_default_str();
+  app->add_flag("--impasto", p.impasto, "Light the paint's thickness from the upper left");
+  app->add_option("--bits", p.bits, "Bits per PNG channel")
+      ->capture_default_str()
+      ->check(CLI::IsMember({8, 16}));
+  app->add_option("--background", p.background, "Paper colour (#rrggbb)")
+      ->capture_default_str();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -87,35 +120,7 @@ int main(int argc, char** argv) {
                      "Brush geometry below this height touches the paper (mm)")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 2.0));
-  render->add_option("--paint,--colour,--color", r.paint,
-                     "Paint(s) on the brush: NAME[,NAME..], pigment names or #rrggbb")
-      ->capture_default_str();
-  render->add_option("--load", r.load,
-                     "Loading: solid (one paint), across (2-3 paints side by side across the "
-                     "brush's width), tip (body paint, tip paint)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"solid", "across", "tip"}));
-  render->add_option("--amount", r.amount, "Paint on the brush, a fraction of its capacity (0, 1]")
-      ->capture_default_str();
-  render->add_option("--tip-length", r.tip_length,
-                     "--load tip: share of the hair length the tip paint covers")
-      ->capture_default_str();
-  render->add_option("--mix", r.mix, "Pigment mixing: km (Kubelka-Munk) or rgb (linear RGB)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"km", "rgb"}));
-  render->add_option("--paper-tooth", r.paper_tooth_mm,
-                     "Depth of the paper's grain (mm); light strokes catch only its peaks")
-      ->capture_default_str();
-  render->add_option("--paper-scale", r.paper_scale_mm, "Feature size of the paper's grain (mm)")
-      ->capture_default_str();
-  render->add_option("--paper-seed", r.paper_seed, "Seed of the paper's grain")
-      ->capture_default_str();
-  render->add_flag("--impasto", r.impasto, "Light the paint's thickness from the upper left");
-  render->add_option("--bits", r.bits, "Bits per PNG channel")
-      ->capture_default_str()
-      ->check(CLI::IsMember({8, 16}));
-  render->add_option("--background", r.background, "Paper colour (#rrggbb)")
-      ->capture_default_str();
+  addPaintOptions(render, r);
   render->add_flag("-q,--quiet", r.quiet, "No progress, no output path on stdout");
 
   std::vector<std::string> files;
@@ -186,6 +191,7 @@ int main(int argc, char** argv) {
                      "Spine solver of the live simulation (SLSQP keeps 30 Hz on 2 cores)")
       ->capture_default_str()
       ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  addPaintOptions(record, rec);
   record->add_flag("-q,--quiet", rec.quiet, "No summary, no output paths on stdout");
 
   bristle::cli::ReplayArgs rep;
@@ -199,6 +205,7 @@ int main(int argc, char** argv) {
   replay->add_option("--solver", rep.solver, "Spine solver")
       ->capture_default_str()
       ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  addPaintOptions(replay, rep);
   replay->add_flag("-q,--quiet", rep.quiet, "No output path on stdout");
 
   std::string help_topic;

@@ -89,6 +89,7 @@ const char* endText(haptics::ServoLoop::End e) {
 
 int runRecord(const RecordArgs& args) {
   StrokePngOptions png;
+  static_cast<PaintOptions&>(png) = args;
   png.solver = args.solver;
   png.px_per_mm = args.px_per_mm;
   png.inputs = {args.brush, args.output};
@@ -152,6 +153,7 @@ int runRecord(const RecordArgs& args) {
 
 int runReplay(const ReplayArgs& args) {
   StrokePngOptions png;
+  static_cast<PaintOptions&>(png) = args;
   png.solver = args.solver;
   png.px_per_mm = args.px_per_mm;
   png.inputs = {args.brush, args.session};

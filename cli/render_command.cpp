@@ -76,17 +76,7 @@ int runRender(const RenderArgs& args) {
   png.clip_mm = args.clip_mm;
   png.max_step_mm = args.max_step_mm;
   png.min_rate_hz = args.min_rate_hz;
-  png.paint = args.paint;
-  png.load = args.load;
-  png.amount = args.amount;
-  png.tip_length = args.tip_length;
-  png.mix = args.mix;
-  png.paper_tooth_mm = args.paper_tooth_mm;
-  png.paper_scale_mm = args.paper_scale_mm;
-  png.paper_seed = args.paper_seed;
-  png.impasto = args.impasto;
-  png.bits = args.bits;
-  png.background = args.background;
+  static_cast<PaintOptions&>(png) = args;
   png.inputs = {args.brush, args.trajectory};
   checkStrokePngOptions(png);
 

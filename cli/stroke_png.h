@@ -6,13 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "cli/paint_options.h"
 #include "engine/brush.h"
 #include "engine/trajectory.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::cli {
 
-struct StrokePngOptions {
+struct StrokePngOptions : PaintOptions {  // paint and paper, as `bristle render`'s
   std::string solver = "ipopt";  // primary; the other one is the fallback
   int solver_max_iterations = 200;
   std::vector<std::string> ipopt_options;  // NAME=VALUE
@@ -20,18 +21,6 @@ struct StrokePngOptions {
   double clip_mm = 0.1;
   double max_step_mm = 0.25;
   double min_rate_hz = 120;
-  // Paint and paper (docs/paint.md), as `bristle render`'s options.
-  std::string paint = "#1c2433";
-  std::string load = "solid";  // solid | across | tip
-  double amount = 1.0;
-  double tip_length = 0.3;
-  std::string mix = "km";  // km | rgb
-  double paper_tooth_mm = 0.03;
-  double paper_scale_mm = 0.4;
-  unsigned long long paper_seed = 1;
-  bool impasto = false;
-  int bits = 8;
-  std::string background = "#f6f1e6";
   std::vector<std::string> inputs;  // files named in the PNG's provenance text
 };
 

@@ -600,6 +600,39 @@ TEST_CASE("record through the stand-in libHD, replay: the same PNG", "[haptics][
   CHECK(lineCount(bristle::testing::readAll(dir.file("f.csv"))) >= 801);
 }
 
+TEST_CASE("record --png and replay take render's paint options", "[haptics][cli]") {
+  TempDir dir;
+  const std::string stroke = shortStroke(dir);
+  const std::string brush = sourcePath("scenes/brushes/round.json");
+  const std::string paint = " --paint cadmium-red --paper-tooth 0 --background '#ffffff'";
+  const RunResult rec = runBristle("record -q --device none --trajectory " + stroke +
+                                   " --brush " + brush + " -o " + dir.file("s.csv") + " --png " +
+                                   dir.file("live.png") + paint);
+  INFO(rec.err);
+  REQUIRE(rec.code == 0);
+  const RunResult same = runBristle("replay -q " + dir.file("s.csv") + " --brush " + brush +
+                                    " -o " + dir.file("same.png") + paint);
+  REQUIRE(same.code == 0);
+  const RunResult plain = runBristle("replay -q " + dir.file("s.csv") + " --brush " + brush +
+                                     " -o " + dir.file("plain.png"));
+  REQUIRE(plain.code == 0);
+  const render::Image8 live = render::readPngRgba8(dir.file("live.png"));
+  CHECK(live.pixels == render::readPngRgba8(dir.file("same.png")).pixels);
+  CHECK(live.pixels != render::readPngRgba8(dir.file("plain.png")).pixels);
+  // Red paint on white paper: some pixel is strongly red (R high, G and B low).
+  bool red = false;
+  for (size_t i = 0; i + 3 < live.pixels.size(); i += 4)
+    red = red || (live.pixels[i] > 150 && live.pixels[i + 1] < 100 && live.pixels[i + 2] < 100);
+  CHECK(red);
+  // A bad paint is refused before the session starts, like render's.
+  const RunResult bad = runBristle("record -q --device none --trajectory " + stroke +
+                                   " --brush " + brush + " -o " + dir.file("b.csv") +
+                                   " --png " + dir.file("b.png") + " --paint cadmium-rd");
+  CHECK(bad.code == 65);
+  CHECK(bad.err.find("cadmium-rd") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir.file("b.csv")));
+}
+
 TEST_CASE("forces never exceed the stand-in device's nominal maximum", "[haptics][cli]") {
   TempDir dir;
   ScopedEnv lib("BRISTLE_HD_LIBRARY", STANDIN_HD);
