@@ -85,15 +85,23 @@ const char* endText(haptics::ServoLoop::End e) {
   return "running";
 }
 
-}  // namespace
-
-int runRecord(const RecordArgs& args) {
+// The render of a session (record --png, replay): the same options for both,
+// checked before anything runs.
+template <class Args>
+StrokePngOptions sessionPngOptions(const Args& args, const std::string& session) {
   StrokePngOptions png;
   static_cast<PaintOptions&>(png) = args;
   png.solver = args.solver;
   png.px_per_mm = args.px_per_mm;
-  png.inputs = {args.brush, args.output};
+  png.inputs = {args.brush, session};
   checkStrokePngOptions(png);
+  return png;
+}
+
+}  // namespace
+
+int runRecord(const RecordArgs& args) {
+  const StrokePngOptions png = sessionPngOptions(args, args.output);
   const Brush brush = loadBrush(args.brush);
   const std::string hash = haptics::brushFileHash(args.brush);
   if (!args.png.empty()) checkCanCreate(args.png);
@@ -152,12 +160,7 @@ int runRecord(const RecordArgs& args) {
 }
 
 int runReplay(const ReplayArgs& args) {
-  StrokePngOptions png;
-  static_cast<PaintOptions&>(png) = args;
-  png.solver = args.solver;
-  png.px_per_mm = args.px_per_mm;
-  png.inputs = {args.brush, args.session};
-  checkStrokePngOptions(png);
+  const StrokePngOptions png = sessionPngOptions(args, args.session);
   const Brush brush = loadBrush(args.brush);
   checkCanCreate(args.output);
   renderSession(brush, args.session, haptics::brushFileHash(args.brush), png, args.output);

@@ -175,29 +175,39 @@ struct PressedSpine {
 
 }  // namespace
 
+// SOLVER-NOTES.md's probe: 4 joints of 4 mm, K 10 -> 5 N mm/rad, D 0.005 N mm,
+// mu 0.4, handle tilted 20 degrees; from 0.5 mm above the first touch, 60 steps
+// pressing the root 6.4 mm below it (path[0..60]), then 140 steps dragging 0.2 mm
+// each (path[61..200]).
+struct SpineProbe {
+  Brush brush;
+  std::vector<Pose> path;
+  static constexpr int kPressSteps = 60, kDragSteps = 140;
+
+  SpineProbe() {
+    SpineSpec spine = makeSpine({4, 4, 4, 4}, {10, 10 - 5.0 / 3, 10 - 10.0 / 3, 5}, 0.005);
+    spine.rest_angles_rad[0] = Eigen::Vector2d(0.03, 0);
+    brush = makeBrush({spine}, 0.4, 0.4);
+    Pose p = tilted(poseAt(0, 0, 0), 20 * std::numbers::pi / 180, Eigen::Vector3d::UnitY());
+    SpineFk fk;
+    const std::vector<double> rest{0.03, 0, 0, 0, 0, 0, 0, 0};
+    spineForwardKinematics(spine, p, rest.data(), 0, &fk);
+    const double touch_mm = -fk.x.back().z();  // the tip is the lowest point
+    for (int i = 0; i <= kPressSteps; ++i) {
+      p.position_mm.z() = touch_mm + 0.5 - (0.5 + 6.4) * i / kPressSteps;
+      path.push_back(p);
+    }
+    for (int i = 1; i <= kDragSteps; ++i) {
+      p.position_mm.x() = 0.2 * i;
+      path.push_back(p);
+    }
+  }
+};
+
 TEST_CASE("slsqp and ipopt follow the same press-then-drag stroke: one spine",
           "[solvers][slsqp]") {
-  // SOLVER-NOTES.md's probe: 4 joints of 4 mm, K 10 -> 5 N mm/rad, D 0.005 N mm,
-  // mu 0.4, handle tilted 20 degrees; 60 steps pressing the root 6.4 mm below
-  // the first touch, then 140 steps dragging 0.2 mm each.
-  SpineSpec spine = makeSpine({4, 4, 4, 4}, {10, 10 - 5.0 / 3, 10 - 10.0 / 3, 5}, 0.005);
-  spine.rest_angles_rad[0] = Eigen::Vector2d(0.03, 0);
-  const Brush brush = makeBrush({spine}, 0.4, 0.4);
-  Pose p = tilted(poseAt(0, 0, 0), 20 * std::numbers::pi / 180, Eigen::Vector3d::UnitY());
-  SpineFk fk;
-  const std::vector<double> rest{0.03, 0, 0, 0, 0, 0, 0, 0};
-  spineForwardKinematics(spine, p, rest.data(), 0, &fk);
-  const double touch_mm = -fk.x.back().z();  // the tip is the lowest point
-  std::vector<Pose> path;
-  for (int i = 0; i <= 60; ++i) {
-    p.position_mm.z() = touch_mm + 0.5 - (0.5 + 6.4) * i / 60;
-    path.push_back(p);
-  }
-  for (int i = 1; i <= 140; ++i) {
-    p.position_mm.x() = 0.2 * i;
-    path.push_back(p);
-  }
-  checkSlsqpFollowsIpopt(brush, path, 10);
+  const SpineProbe probe;
+  checkSlsqpFollowsIpopt(probe.brush, probe.path, 10);
 }
 
 TEST_CASE("preconditioned slsqp converges in few evaluations while dragging",
@@ -208,27 +218,15 @@ TEST_CASE("preconditioned slsqp converges in few evaluations while dragging",
   // of 15 sits between the two: it fails if the scaling stops working, and
   // leaves room for solver-option changes that cost a few evaluations.
   constexpr double kMaxMeanEvaluations = 15;
-  SpineSpec spine = makeSpine({4, 4, 4, 4}, {10, 10 - 5.0 / 3, 10 - 10.0 / 3, 5}, 0.005);
-  spine.rest_angles_rad[0] = Eigen::Vector2d(0.03, 0);
-  const Brush brush = makeBrush({spine}, 0.4, 0.4);
-  Pose p = tilted(poseAt(0, 0, 0), 20 * std::numbers::pi / 180, Eigen::Vector3d::UnitY());
-  SpineFk fk;
-  const std::vector<double> rest{0.03, 0, 0, 0, 0, 0, 0, 0};
-  spineForwardKinematics(spine, p, rest.data(), 0, &fk);
-  const double touch_mm = -fk.x.back().z();
-  Simulation sim(brush, SimOptions{}, makeSlsqpSolver());
+  const SpineProbe probe;
+  Simulation sim(probe.brush, SimOptions{}, makeSlsqpSolver());
   double t = 0;
-  p.position_mm.z() = touch_mm + 0.5;
-  sim.reset(p, t);
-  for (int i = 1; i <= 60; ++i) {
-    p.position_mm.z() = touch_mm + 0.5 - (0.5 + 6.4) * i / 60;
-    sim.step(p, t += 0.01);
-  }
+  sim.reset(probe.path[0], t);
   long evaluations = 0;
   int steps = 0;
-  for (int i = 1; i <= 140; ++i) {
-    p.position_mm.x() = 0.2 * i;
-    sim.step(p, t += 0.01);
+  for (size_t i = 1; i < probe.path.size(); ++i) {
+    sim.step(probe.path[i], t += 0.01);
+    if (i <= size_t(SpineProbe::kPressSteps)) continue;  // pressing: not counted
     const SolveSummary& summary = sim.state().spines[0].summary;
     REQUIRE(summary.usable());
     evaluations += summary.iterations;
