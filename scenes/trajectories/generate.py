@@ -114,8 +114,29 @@ def broadside_pull():
            "motion, lift off. The One-Stroke motion of a double-loaded flat."], rows)
 
 
+def tilted_drag():
+    rows = []
+    # The handle leans 45 degrees sideways (towards +y, across the motion), so
+    # the belly of the brush, not its tip, drags along the paper: the side
+    # stroke painters use for broad, uneven marks.
+    q = trail_quaternion(0, 1, math.radians(45))
+    duration = 2.2
+    for i in range(int(duration * RATE_HZ) + 1):
+        t = i / RATE_HZ
+        # 0-0.4 s: come down; 0.4-1.9 s: drag 50 mm along +x; 1.9-2.2 s: lift.
+        down = smoothstep(t / 0.4)
+        lift = smoothstep((t - 1.9) / 0.3)
+        x = 12 + 50 * smoothstep((t - 0.4) / 1.5)
+        z = 20 - 10 * down + 11 * lift
+        rows.append((t, x, 30.0, z) + q)
+    write("tilted-drag.csv",
+          ["A handle leaning 45 degrees across the motion (hairs towards -y),",
+           "dragged 50 mm along +x on the belly of the brush, lifted."], rows)
+
+
 if __name__ == "__main__":
     broadside_pull()
     straight_pull()
     s_curve()
     press_lift()
+    tilted_drag()
