@@ -69,6 +69,16 @@ struct ReplayArgs : PaintOptions {
   bool quiet = false;
 };
 int runReplay(const ReplayArgs& args);
+// `bristle sheet`: a grid of strokes, brushes x trajectories (engine/sheet.h).
+struct SheetArgs {
+  std::string sheet, output;
+  double px_per_mm = 0;  // 0: the sheet's
+  std::string solver;    // empty: the sheet's
+  bool impasto = false;
+  bool quiet = false;
+};
+int runSheet(const SheetArgs& args);
+
 // The PNG text "bristle:canvas": where the image lies on the canvas (mm).
 std::string canvasText(const CanvasGrid& grid);
 

@@ -26,6 +26,7 @@ constexpr const char* kFooter =
     "  bristle validate scenes/brushes/round.json scenes/trajectories/s-curve.csv\n"
     "  bristle record --brush scenes/brushes/round.json -o session.csv --png live.png\n"
     "  bristle replay session.csv --brush scenes/brushes/round.json -o replay.png\n"
+    "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
     "\n"
     "Exit codes: 0 ok, 64 usage, 65 bad input data, 66 input missing, 69 haptic\n"
     "device unavailable (or failed), 70 internal error, 73 cannot create output,\n"
@@ -208,6 +209,25 @@ int main(int argc, char** argv) {
   addPaintOptions(replay, rep);
   replay->add_flag("-q,--quiet", rep.quiet, "No output path on stdout");
 
+  bristle::cli::SheetArgs sh;
+  CLI::App* sheet = app.add_subcommand(
+      "sheet", "Render a stroke sheet: a labelled grid of brushes x trajectories");
+  sheet->footer(
+      "Examples:\n"
+      "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
+      "  bristle sheet scenes/sheets/small.json -o small.png --px-per-mm 4 --solver slsqp\n"
+      "Every cell is one brush along one trajectory on its own canvas, all at one scale,\n"
+      "centred on its inked area; rows are brushes (their names), columns trajectories\n"
+      "(their file stems). The sheet format is docs/sheet-format.md.");
+  sheet->add_option("sheet", sh.sheet, "Sheet file (bristle-sheet/1 JSON)")->required();
+  sheet->add_option("-o,--output", sh.output, "Output PNG")->required();
+  sheet->add_option("--px-per-mm", sh.px_per_mm, "Resolution, instead of the sheet's px_per_mm")
+      ->check(CLI::Range(0.5, 100.0));
+  sheet->add_option("--solver", sh.solver, "Spine solver, instead of the sheet's")
+      ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  sheet->add_flag("--impasto", sh.impasto, "Light the paint's thickness from the upper left");
+  sheet->add_flag("-q,--quiet", sh.quiet, "No progress, no summary, no output path on stdout");
+
   std::string help_topic;
   CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
   help->add_option("command", help_topic, "Command to explain");
@@ -236,14 +256,15 @@ int main(int argc, char** argv) {
     if (preview->parsed()) return bristle::cli::runPreview(pv);
     if (record->parsed()) return bristle::cli::runRecord(rec);
     if (replay->parsed()) return bristle::cli::runReplay(rep);
+    if (sheet->parsed()) return bristle::cli::runSheet(sh);
     if (help->parsed() && !help_topic.empty()) {
-      for (CLI::App* sub : {render, validate, brushes, preview, record, replay}) {
+      for (CLI::App* sub : {render, validate, brushes, preview, record, replay, sheet}) {
         if (sub->get_name() == help_topic) {
           std::cout << sub->help();
           return 0;
         }
       }
-      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay)");
+      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay, sheet)");
       return static_cast<int>(bristle::ExitCode::kUsage);
     }
     std::cout << app.help();
