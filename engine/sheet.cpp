@@ -1,7 +1,9 @@
 #include "engine/sheet.h"
 
+#include <cmath>
 #include <filesystem>
 #include <map>
+#include <sstream>
 
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
@@ -16,10 +18,12 @@ namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "bristle-sheet/1";
 
-// A list of file paths ("brushes", "trajectories"): 1..kMaxSheetAxis non-empty
-// strings, no file twice (a repeated row or column says nothing new).
+// A list of files ("brushes", "trajectories"): 1..kMaxSheetAxis entries, each a
+// non-empty path, or (brushes only) an object {"path": ..., "lift_mm": ...}; no
+// file twice (a repeated row or column says nothing new). Lifts go to *lifts.
 std::vector<std::string> pathList(const JsonObject& top, const std::string& key,
-                                  const std::string& base_dir, const std::string& what) {
+                                  const std::string& base_dir, const std::string& what,
+                                  std::vector<double>* lifts) {
   const nlohmann::json& list = top.raw(key);
   const std::string pointer = top.childPointer(key);
   top.requireAt(list.is_array() && !list.empty() && list.size() <= size_t(kMaxSheetAxis), pointer,
@@ -29,14 +33,29 @@ std::vector<std::string> pathList(const JsonObject& top, const std::string& key,
   std::map<std::string, size_t> seen;
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string pi = pointer + "/" + std::to_string(i);
-    top.requireAt(list[i].is_string() && !list[i].get<std::string>().empty(), pi, list[i],
-                  "must be a " + what + " file path (relative to the sheet's folder)");
-    const std::string resolved = resolveInputPath(base_dir, list[i].get<std::string>());
+    std::string path;
+    double lift = 0;
+    if (lifts && list[i].is_object()) {
+      const JsonObject entry(list[i], pi, top.file());
+      path = entry.string("path");
+      lift = entry.number("lift_mm", 0.0);
+      entry.require(std::fabs(lift) <= kMaxSheetLiftMm, "lift_mm",
+                    "must be within +-" + std::to_string(int(kMaxSheetLiftMm)) + " mm");
+      entry.rejectUnknownKeys();
+      entry.require(!path.empty(), "path", "must be a brush file path");
+    } else {
+      top.requireAt(list[i].is_string() && !list[i].get<std::string>().empty(), pi, list[i],
+                    "must be a " + what + " file path (relative to the sheet's folder)" +
+                        (lifts ? " or {\"path\": ..., \"lift_mm\": ...}" : ""));
+      path = list[i].get<std::string>();
+    }
+    const std::string resolved = resolveInputPath(base_dir, path);
     const auto [it, fresh] = seen.emplace(resolved, i);
     if (!fresh)
       top.fail(pi, "'" + resolved + "' is listed already at " + pointer + "/" +
                        std::to_string(it->second));
     out.push_back(resolved);
+    if (lifts) lifts->push_back(lift);
   }
   return out;
 }
@@ -52,8 +71,8 @@ Sheet parseSheetOnly(const nlohmann::json& root, const std::string& path,
   top.require(!sheet.name.empty(), "name", "must not be empty");
   sheet.title = top.string("title", "");
 
-  sheet.brush_paths = pathList(top, "brushes", base_dir, "brush");
-  sheet.trajectory_paths = pathList(top, "trajectories", base_dir, "trajectory");
+  sheet.brush_paths = pathList(top, "brushes", base_dir, "brush", &sheet.brush_lift_mm);
+  sheet.trajectory_paths = pathList(top, "trajectories", base_dir, "trajectory", nullptr);
 
   const std::string layout = top.string("layout", "brushes-in-rows");
   top.require(layout == "brushes-in-rows" || layout == "brushes-in-columns", "layout",
@@ -125,11 +144,27 @@ PaperSpec Sheet::defaultSheetPaper() {
 }
 
 std::string Sheet::brushLabel(size_t b) const {
-  return b < brushes.size() ? brushes[b].name : fs::path(brush_paths.at(b)).stem().string();
+  std::string label = b < brushes.size() ? brushes[b].name : fs::path(brush_paths.at(b)).stem().string();
+  // A lifted row says so: its strokes are not held as the others are.
+  if (b < brush_lift_mm.size() && brush_lift_mm[b] != 0) {
+    std::ostringstream ss;
+    ss.precision(3);
+    ss << (brush_lift_mm[b] > 0 ? " +" : " ") << brush_lift_mm[b] << " mm";
+    label += ss.str();
+  }
+  return label;
 }
 
 std::string Sheet::trajectoryLabel(size_t t) const {
   return fs::path(trajectory_paths.at(t)).stem().string();
+}
+
+Trajectory Sheet::cellTrajectory(size_t b, size_t t) const {
+  Trajectory out = trajectories.at(t);
+  const double lift = brush_lift_mm.at(b);
+  if (lift != 0)
+    for (TrajectorySample& s : out.samples) s.pose.position_mm.z() += lift;
+  return out;
 }
 
 bool looksLikeSheet(const std::string& text) {
@@ -167,7 +202,7 @@ Sheet loadSheet(const std::string& path) {
   for (size_t b = 0; b < sheet.brushes.size(); ++b)
     for (size_t t = 0; t < sheet.trajectories.size(); ++t) {
       try {
-        validateTrajectoryForBrush(sheet.trajectories[t], sheet.brushes[b]);
+        validateTrajectoryForBrush(sheet.cellTrajectory(b, t), sheet.brushes[b]);
       } catch (const Error& e) {
         throw Error(e.code(), path + ": /brushes/" + std::to_string(b) + " with /trajectories/" +
                                   std::to_string(t) + ": brush '" + sheet.brushes[b].name +

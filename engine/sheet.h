@@ -22,6 +22,7 @@ inline constexpr int kMaxSheetAxis = 64;       // brushes, and trajectories
 inline constexpr int kMinSheetLabelPx = 8;     // smaller is not legible
 inline constexpr int kMaxSheetLabelPx = 96;
 inline constexpr double kMaxSheetCellMm = 1000;
+inline constexpr double kMaxSheetLiftMm = 100;
 
 struct Sheet {
   std::string path;  // the sheet file, for messages
@@ -29,6 +30,10 @@ struct Sheet {
   std::string title;  // drawn above the grid; empty: no title line
   std::vector<std::string> brush_paths;       // resolved against the sheet's folder
   std::vector<std::string> trajectory_paths;  // resolved likewise
+  // Per brush: every handle position of its row raised by this much (mm), as
+  // `bristle render --offset-mm 0 0 LIFT`: the standard trajectories are made
+  // for the 20 mm round; longer brushes are held higher to press as deep.
+  std::vector<double> brush_lift_mm;
   std::vector<Brush> brushes;                 // loadSheet fills these, in order
   std::vector<Trajectory> trajectories;
   bool brushes_in_columns = false;  // "layout": rows are brushes unless this is set
@@ -50,9 +55,12 @@ struct Sheet {
 
   bool autoCell() const { return cell_width_mm == 0 && cell_height_mm == 0; }
   // Row and column label of the cell of brush b, trajectory t: the brush's
-  // "name" and the trajectory file's stem.
+  // "name" (with its lift, "badger +6 mm", if any) and the trajectory file's stem.
   std::string brushLabel(size_t b) const;
   std::string trajectoryLabel(size_t t) const;
+  // The trajectory of the cell of brush b and trajectory t: as recorded, raised
+  // by the brush's lift.
+  Trajectory cellTrajectory(size_t b, size_t t) const;
 
   static PaintLoad defaultSheetPaint();
   static PaperSpec defaultSheetPaper();

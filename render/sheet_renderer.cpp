@@ -91,7 +91,8 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
       cell.brush = size_t(sheet.brushes_in_columns ? c : r);
       cell.trajectory = size_t(sheet.brushes_in_columns ? r : c);
       planned.push_back(static_cast<long>(
-          planStepTimes(sheet.trajectories[cell.trajectory], sheet.brushes[cell.brush], sheet.sim)
+          planStepTimes(sheet.cellTrajectory(cell.brush, cell.trajectory),
+                        sheet.brushes[cell.brush], sheet.sim)
               .size()));
       planned_total += planned.back();
       out.cells.push_back(cell);
@@ -106,7 +107,7 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
   for (int i = 0; i < n; ++i) {
     SheetCell& cell = out.cells[size_t(i)];
     const Brush& brush = sheet.brushes[cell.brush];
-    const Trajectory& trajectory = sheet.trajectories[cell.trajectory];
+    const Trajectory trajectory = sheet.cellTrajectory(cell.brush, cell.trajectory);
     const CanvasGrid grid = canvasForStroke(brush, trajectory, stroke_options);
     PaintCanvas canvas(grid, sheet.paper, sheet.mix);
     BrushPaint paint(brush);
