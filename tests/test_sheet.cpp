@@ -3,16 +3,20 @@
 // naming the file, the JSON pointer and the rule (docs/sheet-format.md); the
 // inputs it lists and their hash.
 
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "engine/sheet.h"
+#include "engine/text_file.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -319,4 +323,29 @@ TEST_CASE("the shipped sheets are sound", "[sheet]") {
   const Sheet lib = loadSheet((kSourceDir / "scenes/sheets/library.json").string());
   CHECK(lib.brushes.size() == 7);
   CHECK(lib.trajectories.size() == 4);
+}
+
+TEST_CASE("the annotated example of docs/sheet-format.md is a sound sheet", "[sheet]") {
+  const std::string doc = readTextFile((kSourceDir / "docs/sheet-format.md").string());
+  const size_t open = doc.find("```jsonc");
+  REQUIRE(open != std::string::npos);
+  const size_t start = doc.find('\n', open) + 1;
+  const size_t end = doc.find("```", start);
+  // Without its // comments (the page says so).
+  std::string text;
+  std::istringstream lines(doc.substr(start, end - start));
+  for (std::string line; std::getline(lines, line);) text += line.substr(0, line.find("//")) + "\n";
+  // Saved in scenes/sheets/, as the page says: then it loads with every file.
+  const fs::path saved = kSourceDir / "scenes/sheets" / ("doc-example-" + std::to_string(::getpid()) + ".json");
+  std::ofstream(saved) << text;
+  const Caught e = catchError([&] {
+    const Sheet s = loadSheet(saved.string());
+    CHECK(s.name == "rounds and flats");
+    CHECK(s.brush_lift_mm == std::vector<double>{0, 5});
+    CHECK(s.trajectories.size() == 2);
+    CHECK(s.label_px == 14);
+  });
+  fs::remove(saved);
+  CHECK(e.message.empty());
+  CHECK_FALSE(e.thrown);
 }
