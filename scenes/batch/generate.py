@@ -41,13 +41,13 @@ def standard():
 
 
 def paintings():
-    return {"format": "bristle-batch/1", "jobs": [
-        {"id": "petals", "scene": "../paintings/petals.json"},
-        {"id": "petals-impasto", "scene": "../paintings/petals.json",
-         "options": {"impasto": True}},
-        {"id": "calligraphy", "scene": "../paintings/calligraphy.json"},
-        {"id": "landscape", "scene": "../paintings/landscape.json"},
-    ]}
+    """The three paintings, flat and with impasto: what scripts/demo renders."""
+    jobs = []
+    for p in ["petals", "calligraphy", "landscape"]:
+        jobs.append({"id": f"painting-{p}", "scene": f"../paintings/{p}.json"})
+        jobs.append({"id": f"painting-{p}-impasto", "scene": f"../paintings/{p}.json",
+                     "options": {"impasto": True}})
+    return {"format": "bristle-batch/1", "jobs": jobs}
 
 
 if __name__ == "__main__":
