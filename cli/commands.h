@@ -78,6 +78,15 @@ struct SheetArgs {
   bool quiet = false;
 };
 int runSheet(const SheetArgs& args);
+// `bristle batch`: the jobs of a manifest (engine/batch.h), each in its own
+// process, up to `jobs` at once (cli/batch_command.cpp).
+struct BatchArgs {
+  std::string manifest, out_dir, shard, log;
+  int jobs = 1;
+  int shard_count = 0;  // with JOB_COMPLETION_INDEX (Kubernetes)
+  bool overwrite = false, json = false, dry_run = false, quiet = false;
+};
+int runBatch(const BatchArgs& args);
 
 // The PNG text "bristle:canvas": where the image lies on the canvas (mm).
 std::string canvasText(const CanvasGrid& grid);
