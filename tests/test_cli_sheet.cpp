@@ -247,3 +247,27 @@ TEST_CASE("sheet --help explains with a real example", "[cli][sheet]") {
   CHECK(h.code == 0);
   CHECK_THAT(h.out, Contains("bristle sheet scenes/sheets/library.json -o"));
 }
+
+TEST_CASE("a clipped cell and a brush that never paints are warnings naming the cell",
+          "[cli][sheet]") {
+  TempDir dir;
+  json j = librarySmallSheet();
+  // 30 x 20 mm: the 55 mm pulls do not fit; the flat held 30 mm higher never
+  // reaches the paper.
+  j["cell_mm"] = {30, 20};
+  j["brushes"][1] = {{"path", sourcePath("scenes/brushes/flat.json")}, {"lift_mm", 30}};
+  const std::string sheet = writeJson(dir, "s.json", j);
+  const std::string png = dir.file("s.png");
+  const RunResult r = runBristle("sheet -q '" + sheet + "' -o '" + png + "'");
+  INFO(r.err);
+  CHECK(r.code == 0);  // warnings, not errors: the sheet shows what happened
+  CHECK(fs::exists(png));
+  CHECK_THAT(r.err, Contains("bristle: warning: " + sheet +
+                             ": brush 'round' on trajectory 'straight-pull': the stroke ("));
+  CHECK_THAT(r.err, Contains("is larger than the cell; its middle is shown (/cell_mm)"));
+  CHECK_THAT(r.err, Contains("bristle: warning: " + sheet +
+                             ": brush 'flat +30 mm' on trajectory 'press-lift': the brush left "
+                             "no visible paint"));
+  // The round's press-lift fits: no warning names it.
+  CHECK(r.err.find("brush 'round' on trajectory 'press-lift'") == std::string::npos);
+}

@@ -4,13 +4,17 @@
 // brushes-in-columns layout the transpose of the default, and a fixed cell that
 // is too small said to be clipped (docs/sheet-format.md).
 
+#include <stdlib.h>  // mkdtemp
+
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <cstdint>
 #include <string>
 
 #include "engine/fnv1a64.h"
 #include "engine/sheet.h"
 #include "render/sheet_renderer.h"
+#include "render/text.h"
 
 using namespace bristle;
 using namespace bristle::render;
@@ -208,4 +212,32 @@ TEST_CASE("a fixed cell smaller than a stroke shows its middle and says so", "[s
     CHECK(c.clipped == (c.trajectory == 0));
     CHECK(c.window.width == 120);
   }
+}
+
+TEST_CASE("a column label wider than its cell is shortened to fit it", "[sheet]") {
+  namespace fs = std::filesystem;
+  std::string tmpl = (fs::temp_directory_path() / "bristle-sheet-label-XXXXXX").string();
+  const fs::path dir = ::mkdtemp(tmpl.data());
+  const fs::path traj = dir / "a-press-and-lift-with-a-name-far-longer-than-its-cell.csv";
+  fs::copy_file(std::string(BRISTLE_SOURCE_DIR) + "/scenes/trajectories/press-lift.csv", traj);
+  Sheet sheet = loadSheet(kSmall);
+  sheet.brushes.resize(1);
+  sheet.brush_paths.resize(1);
+  sheet.brush_lift_mm.resize(1);
+  sheet.trajectories = {loadTrajectory(traj.string())};
+  sheet.trajectory_paths = {traj.string()};
+  sheet.cell_width_mm = 20;  // 80 px at 4 px/mm: room for a few characters only
+  sheet.cell_height_mm = 20;
+  const SheetImage s = renderSheet(sheet);
+  fs::remove_all(dir);
+  REQUIRE(s.layout.column_labels.size() == 1);
+  const PixelRect& label = s.layout.column_labels[0];
+  CHECK(label.width > 0);
+  CHECK(label.width <= s.layout.cell_width_px);
+  // Centred over its cell.
+  const PixelRect& cell = s.layout.cells[0];
+  CHECK(std::abs((label.x + label.width / 2) - (cell.x + cell.width / 2)) <= 1);
+  // The whole name would not have fitted: it was shortened, not just placed.
+  Font font;
+  CHECK(font.rasterize(sheet.trajectoryLabel(0), sheet.label_px).width > s.layout.cell_width_px);
 }
