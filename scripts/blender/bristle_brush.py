@@ -30,7 +30,6 @@ bl_info = {
     "location": "File > Import / Export > bristle brush (.json)",
     "description": "Model a bristle brush (armature spines + skinned cage) and export it "
                    "as a bristle-brush/1 file, or import one",
-    "doc_url": "https://github.com/bristle/bristle/blob/main/docs/blender.md",
     "category": "Import-Export",
 }
 
@@ -613,7 +612,8 @@ def import_brush(context, brush, set_units=True):
         units.length_unit = 'MILLIMETERS'
     bu_per_mm = 1.0 / (units.scale_length * 1000.0)
 
-    if context.view_layer.objects.active is not None and context.object.mode != 'OBJECT':
+    active = context.view_layer.objects.active
+    if active is not None and active.mode != 'OBJECT':
         bpy.ops.object.mode_set(mode='OBJECT')
     name = brush["name"]
     arm_data = bpy.data.armatures.new(name)

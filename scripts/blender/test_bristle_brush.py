@@ -202,8 +202,8 @@ def prefetch(runs):
 
 
 REFUSED = ["no-armature", "branching", "no-groups", "stray-group", "scaled", "bad-friction",
-           "misspelt-prop", "bad-stiffness", "two-armatures"]
-FIXABLE = ["unnormalised", "missing-props"]
+           "misspelt-prop", "bad-stiffness", "two-armatures", "ngon", "root-above"]
+FIXABLE = ["unnormalised", "missing-props", "modifier-order"]
 
 
 def messages(stderr):
@@ -231,7 +231,8 @@ def setUpModule():
                SCRIPT)] +
              [([os.path.join(TMP, c + ".json")], fixture(c), SCRIPT) for c in FIXABLE] +
              [([os.path.join(TMP, n)], fixture("handmade"), SCRIPT)
-              for n in ("handmade.json", "handmade-again.json")])
+              for n in ("handmade.json", "handmade-again.json")] +
+             [([os.path.join(TMP, "posed.json")], fixture("posed"), SCRIPT)])
 
 
 def tearDownModule():
@@ -267,6 +268,14 @@ class HandMadeBrush(unittest.TestCase):
         rc, _, err = run_blender([again], blend=fixture("handmade"))
         self.assertEqual(rc, 0, err)
         with open(self.out, "rb") as a, open(again, "rb") as b:
+            self.assertEqual(a.read(), b.read())
+
+    def test_pose_is_ignored(self):
+        # The same model with every bone posed exports the rest shape, byte for byte.
+        posed = os.path.join(TMP, "posed.json")
+        rc, _, err = run_blender([posed], blend=fixture("posed"))
+        self.assertEqual(rc, 0, err)
+        with open(self.out, "rb") as a, open(posed, "rb") as b:
             self.assertEqual(a.read(), b.read())
 
     def test_validates_and_paints(self):
@@ -388,6 +397,12 @@ class BadModels(unittest.TestCase):
     def test_bad_bone_stiffness(self):
         self.refused("bad-stiffness", "bone 'hair1.0'", "'stiffness_nmm_per_rad' = -2")
 
+    def test_polygon_beyond_quads(self):
+        self.refused("ngon", "cage 'handmade-cage'", "face 0 has 5 vertices")
+
+    def test_root_above_the_ferrule_mouth(self):
+        self.refused("root-above", "bone 'hair0.0'", "z = 1 mm", "z <= 0")
+
     def test_two_armatures_need_a_choice(self):
         self.refused("two-armatures", "'first'", "'second'", "--armature")
         out = os.path.join(TMP, "second.json")
@@ -430,6 +445,13 @@ class FixableModels(unittest.TestCase):
         for spine in brush["spines"]:
             self.assertEqual(spine["stiffness_nmm_per_rad"], [8.0, 8.0, 8.0])
         self.assertNotIn("friction", brush)
+
+
+    def test_armature_modifier_after_subdivision(self):
+        brush, warnings = self.export("modifier-order")
+        self.assertEqual(len(warnings), 1, warnings)
+        self.assertIn("cage 'handmade-cage': the Armature modifier comes after 'Subdivision'", warnings[0])
+        self.assertEqual(brush["surface"]["refinement_level"], 2)
 
 
 class CommandLine(unittest.TestCase):

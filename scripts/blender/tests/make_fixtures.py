@@ -254,3 +254,39 @@ build_handmade("first")
 second, _, _ = build_handmade("second")
 bpy.context.view_layer.objects.active = None
 save("two-armatures")
+
+reset()
+arm, cage, _ = build_handmade()
+for pb in arm.pose.bones:  # a pose is not the rest shape: the export must ignore it
+    pb.rotation_mode = 'XYZ'
+    pb.rotation_euler = (0.4, 0.1, -0.2)
+save("posed")
+
+reset()
+arm, cage, _ = build_handmade()
+# What Ctrl+P > With Automatic Weights does to a cage that already has a
+# Subdivision Surface modifier: the Armature modifier ends up after it.
+bpy.context.view_layer.objects.active = cage
+bpy.ops.object.modifier_move_to_index(modifier="Armature", index=1)
+save("modifier-order")
+
+reset()
+arm, cage, _ = build_handmade()
+mesh = cage.data
+verts = [v.co.copy() for v in mesh.vertices]
+faces = [list(p.vertices) for p in mesh.polygons]
+faces[0:2] = [[faces[0][0], faces[0][1], faces[0][2], faces[1][2], faces[0][3]]]  # two quads -> a pentagon
+new = bpy.data.meshes.new("ngon")
+new.from_pydata(verts, [], faces)
+cage.data = new  # the group names stay on the object; faces are checked before weights
+save("ngon")
+
+reset()
+arm, cage, _ = build_handmade()
+bpy.context.view_layer.objects.active = arm
+bpy.ops.object.mode_set(mode='EDIT')
+for eb in arm.data.edit_bones:  # the whole brush 1 mm up: roots inside the ferrule
+    eb.head.z += 1 * M_PER_MM
+    eb.tail.z += 1 * M_PER_MM
+bpy.ops.object.mode_set(mode='OBJECT')
+save("root-above")
