@@ -10,6 +10,7 @@
 #     was designed as, passes `bristle validate`, and paints a stroke;
 #   - every library brush (scenes/brushes/*.json) imports, survives a .blend save and
 #     load, and exports to an equivalent brush;
+#   - posing the imported bones deforms the cage in Blender the way bristle skins it;
 #   - the add-on registers its File menu entries and its operators work;
 #   - bad models fail with a non-zero exit code and a one-line message naming the
 #     object, bone or property; fixable ones export with a warning.
@@ -232,7 +233,8 @@ def setUpModule():
              [([os.path.join(TMP, c + ".json")], fixture(c), SCRIPT) for c in FIXABLE] +
              [([os.path.join(TMP, n)], fixture("handmade"), SCRIPT)
               for n in ("handmade.json", "handmade-again.json")] +
-             [([os.path.join(TMP, "posed.json")], fixture("posed"), SCRIPT)])
+             [([os.path.join(TMP, "posed.json")], fixture("posed"), SCRIPT)] +
+             [(LIBRARY, None, os.path.join(HERE, "tests", "check_skinning.py"))])
 
 
 def tearDownModule():
@@ -356,6 +358,20 @@ class AddOn(unittest.TestCase):
         with open(os.path.join(TMP, "addon-fan.json")) as f:
             got = json.load(f)
         self.assertEqual(differences(got, want), [])
+
+
+class Skinning(unittest.TestCase):
+    def test_blender_deforms_the_cage_as_bristle_skins_it(self):
+        # Bent library brushes: Blender's Armature modifier against bristle's skinning
+        # formula, vertex by vertex (tests/check_skinning.py holds the tolerance).
+        rc, out, err = run_blender(LIBRARY, script=os.path.join(HERE, "tests", "check_skinning.py"))
+        self.assertEqual(rc, 0, out[-3000:] + err[-3000:])
+        with_surface = []
+        for path in LIBRARY:
+            with open(path) as f:
+                if "surface" in json.load(f):
+                    with_surface.append(path)
+        self.assertEqual(out.count("largest deviation"), len(with_surface), out)
 
 
 class BadModels(unittest.TestCase):
