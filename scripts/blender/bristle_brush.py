@@ -340,7 +340,7 @@ class _Export:
             faces.append([int(v) for v in poly.vertices])
         if not cage.vertex_groups:
             raise BrushError("%s: has no vertex groups; name one after each bone it follows "
-                             "(e.g. Object > Parent > With Automatic Weights)" % where)
+                             "(e.g. Ctrl+P > Armature Deform > With Automatic Weights)" % where)
         bone_of = {}
         for s, chain in enumerate(chains):
             for k, bone in enumerate(chain):

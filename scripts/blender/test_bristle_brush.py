@@ -18,7 +18,6 @@
 import concurrent.futures
 import glob
 import json
-import math
 import os
 import shutil
 import struct
@@ -204,7 +203,7 @@ def prefetch(runs):
 
 REFUSED = ["no-armature", "branching", "no-groups", "stray-group", "scaled", "bad-friction",
            "misspelt-prop", "bad-stiffness", "two-armatures", "ngon", "root-above"]
-FIXABLE = ["unnormalised", "missing-props", "modifier-order"]
+FIXABLE = ["unnormalised", "missing-props", "modifier-order", "auto-weights"]
 
 
 def messages(stderr):
@@ -468,6 +467,23 @@ class FixableModels(unittest.TestCase):
         self.assertEqual(len(warnings), 1, warnings)
         self.assertIn("cage 'handmade-cage': the Armature modifier comes after 'Subdivision'", warnings[0])
         self.assertEqual(brush["surface"]["refinement_level"], 2)
+
+
+    def test_automatic_weights(self):
+        # Ctrl+P > Armature Deform > With Automatic Weights: bone-heat weights, which
+        # Blender does not normalise, and the Armature modifier after Subdivision.
+        brush, warnings = self.export("auto-weights")
+        self.assertEqual(len(warnings), 2, warnings)
+        self.assertIn("the Armature modifier comes after 'Subdivision'", warnings[0])
+        self.assertIn("do not sum to 1", warnings[1])
+        skin = brush["surface"]["skin"]
+        self.assertEqual(len(skin), len(brush["surface"]["cage_vertices_mm"]))
+        for entries in skin:
+            # Rounded to 1e-6 each: a list of m weights sums to 1 within m * 5e-7.
+            self.assertAlmostEqual(sum(w for _, _, w in entries), 1.0, delta=len(entries) * 5e-7)
+        # The mouth ring (vertices 0-5) follows the first bones: point 0.
+        for entries in skin[:6]:
+            self.assertEqual({p for _, p, _ in entries}, {0})
 
 
 class CommandLine(unittest.TestCase):

@@ -10,7 +10,6 @@
 #   blender -b --factory-startup --python-exit-code 1 --python check_skinning.py -- A.json ...
 # Prints the largest deviation per brush; exits 1 if one exceeds TOL_MM.
 
-import math
 import os
 import sys
 

@@ -127,7 +127,8 @@ def build_handmade(name="handmade", pose_props_on=2):
     for s in range(3):
         for k in range(3):
             # Spine 2 keeps its properties on the pose bones (the pose-mode panel).
-            holder = arm.pose.bones[bone_name(s, k)] if s == pose_props_on else arm_data.bones[bone_name(s, k)]
+            name_k = bone_name(s, k)
+            holder = arm.pose.bones[name_k] if s == pose_props_on else arm_data.bones[name_k]
             holder["stiffness_nmm_per_rad"] = STIFFNESS[k]
             holder["damping_nmm"] = DAMPING[k]
     for key, value in PROPS.items():
@@ -264,7 +265,7 @@ save("posed")
 
 reset()
 arm, cage, _ = build_handmade()
-# What Ctrl+P > With Automatic Weights does to a cage that already has a
+# What Ctrl+P > Armature Deform > With Automatic Weights does to a cage that already has a
 # Subdivision Surface modifier: the Armature modifier ends up after it.
 bpy.context.view_layer.objects.active = cage
 bpy.ops.object.modifier_move_to_index(modifier="Armature", index=1)
@@ -290,3 +291,18 @@ for eb in arm.data.edit_bones:  # the whole brush 1 mm up: roots inside the ferr
     eb.tail.z += 1 * M_PER_MM
 bpy.ops.object.mode_set(mode='OBJECT')
 save("root-above")
+
+reset()
+# The non-programmer's path: a cage with no weights and no Armature modifier, parented
+# with Ctrl+P > Armature Deform > With Automatic Weights (bone heat), which also adds
+# the modifier (after the Subdivision Surface modifier the cage already has).
+arm, cage, _ = build_handmade()
+cage.vertex_groups.clear()
+cage.modifiers.remove(cage.modifiers["Armature"])
+bpy.context.view_layer.update()  # the cage's base exists from here on: it can be selected
+for o in bpy.context.view_layer.objects:
+    o.select_set(o in (arm, cage))
+bpy.context.view_layer.objects.active = arm
+bpy.ops.object.parent_set(type='ARMATURE_AUTO')
+assert cage.parent == arm and cage.vertex_groups, "automatic weights failed"
+save("auto-weights")
