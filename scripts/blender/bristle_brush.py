@@ -415,13 +415,15 @@ class _Export:
                 value = self.arm[key]
                 ok_type = (isinstance(value, str) if kind is str else
                            isinstance(value, (int, float)) and not isinstance(value, bool))
+                if kind is not str and ok_type and not math.isfinite(value):
+                    ok_type = False  # JSON has no NaN or infinity
                 if kind is int and ok_type and float(value) != int(value):
                     ok_type = False
                 if not ok_type:
                     raise BrushError("%s: custom property '%s' = %r must be %s"
                                      % (self.where, key, value,
                                         {str: "a string", int: "a whole number",
-                                         float: "a number"}[kind]))
+                                         float: "a finite number"}[kind]))
                 value = kind(value)
                 if check is not None and not check(value):
                     raise BrushError("%s: custom property '%s' = %r must be %s"
