@@ -335,6 +335,29 @@ class LibraryRoundTrip(unittest.TestCase):
         self.assertEqual(rc, 0, err)
         self.assertEqual(out.count(": ok"), 7, out)
 
+    def test_edit_and_export_again(self):
+        # Import round, edit it in Blender (tests/edit_round.py: turn a tip bone, lower
+        # its stiffness, raise mu_static), export: exactly those three values change.
+        path = os.path.join(ROOT, "scenes", "brushes", "round.json")
+        blend = os.path.join(TMP, "round-to-edit.blend")
+        out = os.path.join(TMP, "round-edited.json")
+        rc, _, err = run_blender(["--import", path, "--save", blend])
+        self.assertEqual(rc, 0, err)
+        cmd = [BLENDER, "-b", "--factory-startup", blend, "--python-exit-code", "1",
+               "--python", os.path.join(HERE, "tests", "edit_round.py"), "--python", SCRIPT, "--", out]
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=120)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with open(path) as f:
+            want = json.load(f)
+        want["spines"][0]["rest_angles_rad"][3][0] = 0.1
+        want["spines"][0]["stiffness_nmm_per_rad"][3] = 4.0
+        want["friction"]["mu_static"] = 0.5
+        with open(out) as f:
+            got = json.load(f)
+        self.assertEqual(differences(got, want), [])
+        rc, _, err = run_bristle(["validate", out])
+        self.assertEqual(rc, 0, err)
+
     def test_comparison_can_fail(self):
         # The comparison itself: one changed value beyond its tolerance is reported.
         with open(LIBRARY[0]) as f:
