@@ -596,6 +596,26 @@ def read_brush_file(path):
     return brush
 
 
+def import_brush_file(context, path, set_units=True):
+    """read_brush_file + import_brush. The reader checks the structure the importer
+    relies on first; whatever else is wrong with the file (an index out of range, a
+    number that is a string, ...) is reported in one line too: `bristle validate`
+    then names the exact field."""
+    brush = read_brush_file(path)
+    before = set(bpy.data.objects)
+    try:
+        return import_brush(context, brush, set_units)
+    except (KeyError, IndexError, TypeError, ValueError) as e:
+        # Leave the scene as it was: no half-built brush.
+        active = context.view_layer.objects.active
+        if active is not None and active.mode != 'OBJECT':
+            bpy.ops.object.mode_set(mode='OBJECT')
+        for obj in set(bpy.data.objects) - before:
+            bpy.data.objects.remove(obj)
+        raise BrushError("%s: not a valid bristle brush (%s: %s); `bristle validate %s` names "
+                         "the field" % (path, type(e).__name__, e, os.path.basename(path)))
+
+
 def bone_name(spine, segment):
     return "spine%d.%d" % (spine, segment)
 
@@ -756,7 +776,7 @@ class IMPORT_SCENE_OT_bristle_brush(bpy.types.Operator, ImportHelper):
 
     def execute(self, context):
         try:
-            import_brush(context, read_brush_file(self.filepath), self.set_units)
+            import_brush_file(context, self.filepath, self.set_units)
         except BrushError as e:
             self.report({'ERROR'}, str(e))
             return {'CANCELLED'}
@@ -836,7 +856,7 @@ def main(argv):
         opts = _parse_args(argv)
         arm_name = opts["armature"]
         if opts["import"]:
-            arm = import_brush(bpy.context, read_brush_file(opts["import"]))
+            arm = import_brush_file(bpy.context, opts["import"])
             arm_name = arm.name
         if opts["out"]:
             scene = bpy.context.scene

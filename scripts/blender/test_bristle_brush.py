@@ -525,6 +525,20 @@ class CommandLine(unittest.TestCase):
         self.assertEqual(rc, 73, err)
         self.assertIn("no-such-dir", messages(err)[0])
 
+    def test_brush_the_importer_cannot_build(self):
+        # Well-formed JSON with a skin entry naming spine 9 of a 7-spine brush.
+        with open(os.path.join(ROOT, "scenes", "brushes", "round.json")) as f:
+            brush = json.load(f)
+        brush["surface"]["skin"][3][0][0] = 9
+        bad = os.path.join(TMP, "bad-skin.json")
+        with open(bad, "w") as f:
+            json.dump(brush, f)
+        rc, _, err = run_blender(["--import", bad, os.path.join(TMP, "bad-skin-out.json")])
+        self.assertEqual(rc, 65, err)
+        self.assertEqual(len(messages(err)), 1, err)
+        self.assertIn("bad-skin.json: not a valid bristle brush", messages(err)[0])
+        self.assertFalse(os.path.exists(os.path.join(TMP, "bad-skin-out.json")))
+
     def test_malformed_brush(self):
         bad = os.path.join(TMP, "bad.json")
         with open(bad, "w") as f:

@@ -1,7 +1,8 @@
 # Checks bristle_brush.py as an add-on, inside Blender: register() adds the File >
 # Import and File > Export entries, the import operator builds a brush, the export
 # operator writes it back (OUTDIR/addon-<name>.json, compared by the caller), an
-# export with nothing to export is refused with the reason, unregister() cleans up.
+# export with nothing to export and an import of a broken brush are refused with the
+# reason (leaving the scene as it was), unregister() cleans up.
 #
 #   blender -b --factory-startup --python-exit-code 1 --python check_addon.py -- BRUSH.json OUTDIR
 # Exits non-zero (an AssertionError) on the first failed check.
@@ -34,6 +35,22 @@ try:
 except RuntimeError as e:  # bpy turns an operator's ERROR report into RuntimeError
     assert "no armature" in str(e), str(e)
 assert not os.path.exists(os.path.join(out_dir, "addon-empty.json"))
+
+# A brush the importer cannot build (spine 0 has no stiffness values): refused, and
+# nothing half-built is left in the scene.
+import json  # noqa: E402
+with open(brush_path) as f:
+    broken = json.load(f)
+broken["spines"][0]["stiffness_nmm_per_rad"] = []
+broken_path = os.path.join(out_dir, "addon-broken.json")
+with open(broken_path, "w") as f:
+    json.dump(broken, f)
+try:
+    bpy.ops.import_scene.bristle_brush(filepath=broken_path)
+    raise AssertionError("importing a broken brush succeeded")
+except RuntimeError as e:
+    assert "not a valid bristle brush" in str(e), str(e)
+assert len(bpy.context.scene.objects) == 0, list(bpy.context.scene.objects)
 
 name = os.path.splitext(os.path.basename(brush_path))[0]
 assert bpy.ops.import_scene.bristle_brush(filepath=brush_path) == {'FINISHED'}
