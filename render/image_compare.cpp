@@ -238,25 +238,53 @@ std::vector<ToleranceCheck> checkTolerance(const ImageComparison& c,
 
 Image8 differenceImage(const Image16& a, const Image16& b, double gain) {
   requireComparable(a, b);
-  // Context grey for equal pixels; the red ramp for differing ones.
+  // Context grey for equal pixels; the red ramp for differing ones; the marker
+  // colour for equal pixels near a difference.
   constexpr double kContextLevel = 0.3;
   constexpr double kRedFloor = 64, kRedSpan = 191;
-  Image8 out{a.width, a.height, 3, {}};
-  const std::size_t count = static_cast<std::size_t>(a.width) * a.height;
+  constexpr std::uint8_t kMarker[3] = {255, 200, 0};
+  const int w = a.width, h = a.height;
+  const std::size_t count = static_cast<std::size_t>(w) * h;
+  std::vector<int> largest(count, 0);
+  for (std::size_t i = 0; i < count; ++i) {
+    for (int ch = 0; ch < 4; ++ch) {
+      const int d = std::abs(int(a.pixels[4 * i + ch]) - int(b.pixels[4 * i + ch]));
+      largest[i] = std::max(largest[i], d);
+    }
+  }
+  // Pixels within kDifferenceMarkerPx of a difference (a square): a max
+  // filter along the rows, then along the columns.
+  const int r = kDifferenceMarkerPx;
+  std::vector<std::uint8_t> row_near(count, 0), near(count, 0);
+  for (int y = 0; y < h; ++y) {
+    const std::size_t row = std::size_t(y) * w;
+    for (int x = 0; x < w; ++x) {
+      for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k) {
+        if (largest[row + k] > 0) row_near[row + x] = 1;
+      }
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k) {
+        if (row_near[std::size_t(k) * w + x]) near[std::size_t(y) * w + x] = 1;
+      }
+    }
+  }
+  Image8 out{w, h, 3, {}};
   out.pixels.resize(count * 3);
   for (std::size_t i = 0; i < count; ++i) {
     const std::uint16_t* p = &a.pixels[4 * i];
-    const std::uint16_t* q = &b.pixels[4 * i];
-    int largest = 0;
-    for (int ch = 0; ch < 4; ++ch) largest = std::max(largest, std::abs(int(p[ch]) - int(q[ch])));
     std::uint8_t* o = &out.pixels[3 * i];
-    if (largest == 0) {
-      const double y = (kLumaR * p[0] + kLumaG * p[1] + kLumaB * p[2]) / kFullScale;
-      o[0] = o[1] = o[2] = static_cast<std::uint8_t>(std::lround(255 * kContextLevel * y));
-    } else {
-      const double amplified = std::min(1.0, gain * largest / kFullScale);
+    if (largest[i] > 0) {
+      const double amplified = std::min(1.0, gain * largest[i] / kFullScale);
       o[0] = static_cast<std::uint8_t>(std::lround(kRedFloor + kRedSpan * amplified));
       o[1] = o[2] = 0;
+    } else if (near[i]) {
+      std::copy(kMarker, kMarker + 3, o);
+    } else {
+      const double y = (kLumaR * p[0] + kLumaG * p[1] + kLumaB * p[2]) / kFullScale;
+      o[0] = o[1] = o[2] = static_cast<std::uint8_t>(std::lround(255 * kContextLevel * y));
     }
   }
   return out;

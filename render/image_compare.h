@@ -82,10 +82,13 @@ inline bool allPass(const std::vector<ToleranceCheck>& checks) {
   return true;
 }
 
-// The amplified difference image (8-bit RGB): where the pixels are equal, a's
-// luma dimmed to 30% (so one sees where one is); where they differ, red
+// The amplified difference image (8-bit RGB): where the pixels differ, red
 // 64 + 191 * min(1, gain * d) with d the largest channel difference as a
-// fraction of full scale -- even the smallest difference shows as dark red.
+// fraction of full scale (even the smallest difference shows as dark red);
+// equal pixels within kDifferenceMarkerPx of a difference are marker yellow
+// (255, 200, 0), so that a single differing pixel can be found in a large
+// image; all other pixels are a's luma dimmed to 30% grey, to see where one is.
+inline constexpr int kDifferenceMarkerPx = 3;
 Image8 differenceImage(const Image16& a, const Image16& b, double gain);
 
 }  // namespace bristle::render

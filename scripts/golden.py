@@ -179,12 +179,25 @@ def failure_text(m):
     return "; ".join(parts)
 
 
+def longest_first(goldens, work):
+    """The goldens in the order to start them: slowest first (render times of the
+    last run in work/summary.json; scenes first when unknown), so that two workers
+    do not end with one long render alone."""
+    last = {}
+    try:
+        with open(os.path.join(work, "summary.json"), encoding="utf-8") as f:
+            last = {r["name"]: r["render_s"] for r in json.load(f)["results"]}
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    return sorted(goldens, key=lambda g: -last.get(g["name"], 1e6 if "scene" in g else 1e5))
+
+
 def run_all(bristle, goldens, work, jobs, log=print):
     for sub in ("new", "diff"):
         os.makedirs(os.path.join(work, sub), exist_ok=True)
     results = []
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-        futures = [pool.submit(check_one, bristle, g, work) for g in goldens]
+        futures = [pool.submit(check_one, bristle, g, work) for g in longest_first(goldens, work)]
         for f in concurrent.futures.as_completed(futures):
             r = f.result()
             results.append(r)

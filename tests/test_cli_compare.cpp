@@ -120,8 +120,9 @@ TEST_CASE("compare: --json has every metric, the tolerance and the verdict", "[c
   CHECK(int(p[0]) > 64);
   CHECK(int(p[1]) == 0);
   CHECK(int(p[2]) == 0);
-  const std::uint8_t* e = &diff.pixels[4 * (10 * 40 + 21)];
+  const std::uint8_t* e = &diff.pixels[4 * (10 * 40 + 30)];  // 10 px away: grey
   CHECK(int(e[0]) == int(e[1]));
+  CHECK(int(e[1]) == int(e[2]));
 
   // Identical images: PSNR is infinite, which JSON writes as null.
   const nlohmann::json same =

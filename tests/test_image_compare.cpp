@@ -6,11 +6,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "render/image_compare.h"
 #include "render/png_io.h"
@@ -241,24 +243,37 @@ TEST_CASE("compare: the hash depends on the size, not only the samples", "[compa
 }
 
 TEST_CASE("compare: the difference image shows where and how much", "[compare]") {
-  const Image16 a = flat(3, 2, 100, 100, 100);
+  const int w = 12, h = 9;
+  const Image16 a = flat(w, h, 100, 100, 100);
   Image16 b = a;
-  b.pixels[4 * 4 + 0] = level16(110);  // pixel (1, 1): R off by 10 steps
+  b.pixels[4 * (4 * w + 5) + 0] = level16(110);  // pixel (5, 4): R off by 10 steps
   const double gain = 16;
   const Image8 d = differenceImage(a, b, gain);
-  REQUIRE(d.width == 3);
-  REQUIRE(d.height == 2);
+  REQUIRE(d.width == w);
+  REQUIRE(d.height == h);
   REQUIRE(d.channels == 3);
-  // Equal pixels: luma 100/255 dimmed to 30% -> 30 (of 255), grey.
-  CHECK(int(d.pixels[0]) == 30);
-  CHECK(int(d.pixels[1]) == 30);
-  CHECK(int(d.pixels[2]) == 30);
+  const auto at = [&](int x, int y) { return &d.pixels[3 * (std::size_t(y) * w + x)]; };
   // The differing pixel: red 64 + 191 * min(1, 16 * 10/255) = 183.85 -> 184.
-  CHECK(int(d.pixels[3 * 4 + 0]) == 184);
-  CHECK(int(d.pixels[3 * 4 + 1]) == 0);
-  CHECK(int(d.pixels[3 * 4 + 2]) == 0);
+  CHECK(int(at(5, 4)[0]) == 184);
+  CHECK(int(at(5, 4)[1]) == 0);
+  CHECK(int(at(5, 4)[2]) == 0);
+  // Equal pixels up to 3 px away (a square) carry the yellow marker ...
+  for (const auto& [x, y] : {std::pair{2, 1}, std::pair{8, 7}, std::pair{5, 1}, std::pair{6, 5}}) {
+    CHECK(int(at(x, y)[0]) == 255);
+    CHECK(int(at(x, y)[1]) == 200);
+    CHECK(int(at(x, y)[2]) == 0);
+  }
+  // ... and beyond, luma 100/255 dimmed to 30% -> 30 (of 255), grey.
+  for (const auto& [x, y] : {std::pair{1, 4}, std::pair{9, 4}, std::pair{5, 0}, std::pair{0, 0}}) {
+    CHECK(int(at(x, y)[0]) == 30);
+    CHECK(int(at(x, y)[1]) == 30);
+    CHECK(int(at(x, y)[2]) == 30);
+  }
   // A gain that saturates: full red.
-  CHECK(int(differenceImage(a, b, 1000).pixels[3 * 4]) == 255);
+  CHECK(int(differenceImage(a, b, 1000).pixels[3 * (4 * w + 5)]) == 255);
+  // Equal images: all grey.
+  const Image8 same = differenceImage(a, a, gain);
+  CHECK(std::all_of(same.pixels.begin(), same.pixels.end(), [](std::uint8_t v) { return v == 30; }));
 }
 
 TEST_CASE("compare: tolerance presets are what the docs say", "[compare]") {
