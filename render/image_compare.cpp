@@ -138,15 +138,22 @@ CompareTolerance tolerancePreset(const std::string& name) {
 
 std::uint64_t pixelHash(const Image16& image) {
   std::string bytes;
-  bytes.reserve(8 + image.pixels.size() * 2);
   for (const std::uint32_t v : {std::uint32_t(image.width), std::uint32_t(image.height)}) {
     for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
   }
-  for (const std::uint16_t s : image.pixels) {
-    bytes.push_back(static_cast<char>(s >> 8));
-    bytes.push_back(static_cast<char>(s & 0xff));
+  std::uint64_t h = fnv1a64(bytes);
+  // Row by row, so the hash needs no copy of the whole image.
+  const std::size_t row_samples = static_cast<std::size_t>(image.width) * image.channels;
+  for (std::size_t start = 0; start < image.pixels.size(); start += row_samples) {
+    bytes.clear();
+    const std::size_t end = std::min(image.pixels.size(), start + row_samples);
+    for (std::size_t i = start; i < end; ++i) {
+      bytes.push_back(static_cast<char>(image.pixels[i] >> 8));
+      bytes.push_back(static_cast<char>(image.pixels[i] & 0xff));
+    }
+    h = fnv1a64(bytes, h);
   }
-  return fnv1a64(bytes);
+  return h;
 }
 
 double ssim(const Image16& a, const Image16& b, int* window) {

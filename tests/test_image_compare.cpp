@@ -235,6 +235,14 @@ TEST_CASE("compare: 8- and 16-bit, RGB and RGBA files of one picture are identic
   CHECK(compareImages(a, translucent, 1).max_abs[3] == Approx(32768 * 255.0 / 65535).epsilon(kArithmeticTol));
 }
 
+TEST_CASE("compare: the pixel hash is FNV-1a 64 of the documented bytes", "[compare]") {
+  // 1x1 RGBA (1, 2, 3, 65535): bytes 01 00 00 00 | 01 00 00 00 | 00 01 00 02 00 03
+  // ff ff; FNV-1a 64 of them computed independently (Python, offset basis
+  // 0xcbf29ce484222325, prime 0x100000001b3).
+  const Image16 one{1, 1, 4, {1, 2, 3, 65535}};
+  CHECK(pixelHash(one) == 0x6be1cdb26cd91cabULL);
+}
+
 TEST_CASE("compare: the hash depends on the size, not only the samples", "[compare]") {
   const Image16 wide = flat(4, 2, 9, 9, 9), tall = flat(2, 4, 9, 9, 9);
   CHECK(wide.pixels == tall.pixels);
