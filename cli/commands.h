@@ -70,6 +70,16 @@ struct ReplayArgs : PaintOptions {
   bool quiet = false;
 };
 int runReplay(const ReplayArgs& args);
+// `bristle batch`: the jobs of a manifest (engine/batch.h), each in its own
+// process, up to `jobs` at once (cli/batch_command.cpp).
+struct BatchArgs {
+  std::string manifest, out_dir, shard, log;
+  int jobs = 1;
+  int shard_count = 0;  // with JOB_COMPLETION_INDEX (Kubernetes)
+  bool overwrite = false, json = false, dry_run = false, quiet = false;
+};
+int runBatch(const BatchArgs& args);
+
 // `bristle compare A B`: image metrics against a tolerance; 0 within, 1 not.
 // The limits are NaN unless given; they override the preset's.
 struct CompareArgs {

@@ -27,10 +27,11 @@ constexpr const char* kFooter =
     "  bristle record --brush scenes/brushes/round.json -o session.csv --png live.png\n"
     "  bristle replay session.csv --brush scenes/brushes/round.json -o replay.png\n"
     "  bristle compare golden/round-s-curve.png new.png --tolerance strict --diff d.png\n"
+    "  bristle batch scenes/batch/standard.json --out renders/ --jobs 2\n"
     "\n"
-    "Exit codes: 0 ok, 64 usage, 65 bad input data, 66 input missing, 69 haptic\n"
-    "device unavailable (or failed), 70 internal error, 73 cannot create output,\n"
-    "74 I/O error.\n";
+    "Exit codes: 0 ok, 1 images differ (compare), 64 usage, 65 bad input\n"
+    "data, 66 input missing, 69 haptic device unavailable (or failed), 70 internal\n"
+    "error, 73 cannot create output, 74 I/O error.\n";
 
 // Paint and paper options of a single-stroke render (render, record --png, replay).
 void addPaintOptions(CLI::App* app, bristle::cli::PaintOptions& p) {
@@ -209,6 +210,35 @@ int main(int argc, char** argv) {
   addPaintOptions(replay, rep);
   replay->add_flag("-q,--quiet", rep.quiet, "No output path on stdout");
 
+  bristle::cli::BatchArgs ba;
+  CLI::App* batch = app.add_subcommand("batch", "Render the jobs of a manifest, a few at a time");
+  batch->footer(
+      "Examples:\n"
+      "  bristle batch scenes/batch/standard.json --out renders/ --jobs 2\n"
+      "  bristle batch jobs.json --out renders/ --shard 1/4 --json\n"
+      "  sbatch --array=0-3 scripts/slurm/bristle-batch.sbatch jobs.json renders/\n"
+      "Each job runs in its own bristle process; outputs appear only complete, and are\n"
+      "skipped when already up to date (the job's key is stored in the PNG). A failed job\n"
+      "does not stop the others. Without --shard, the shard comes from Slurm's\n"
+      "SLURM_ARRAY_TASK_ID/_COUNT/_MIN or Kubernetes' JOB_COMPLETION_INDEX (+ --shard-count).\n"
+      "SIGTERM or Ctrl-C abandons running jobs and leaves no partial file.\n"
+      "Exit: 0 when every job of the shard succeeded, else the first failed job's code;\n"
+      "143/130 when stopped by SIGTERM/SIGINT. See docs/batch.md.");
+  batch->add_option("manifest", ba.manifest, "Batch manifest (bristle-batch/1 JSON)")->required();
+  batch->add_option("--out", ba.out_dir, "Output folder (created if missing)")->required();
+  batch->add_option("-j,--jobs", ba.jobs, "Jobs rendered at once (processes)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 256));
+  batch->add_option("--shard", ba.shard, "Render only shard I of N (I/N, 0-based): jobs k with k mod N = I");
+  batch->add_option("--shard-count", ba.shard_count,
+                    "Shard count for a Kubernetes Indexed Job (JOB_COMPLETION_INDEX is the index)")
+      ->check(CLI::Range(1, 100000));
+  batch->add_flag("--overwrite", ba.overwrite, "Render every job, even when its output is up to date");
+  batch->add_flag("--json", ba.json, "One JSON object per job on stdout, then a summary");
+  batch->add_option("--log", ba.log, "Job log (JSON lines; default OUT/logs/batch-<time>-<host>-<pid>-shard-I-of-N.jsonl)");
+  batch->add_flag("--dry-run", ba.dry_run, "List the shard's jobs and whether they would render; render nothing");
+  batch->add_flag("-q,--quiet", ba.quiet, "No progress, no summary");
+
   bristle::cli::CompareArgs cmp;
   CLI::App* compare = app.add_subcommand("compare", "Compare two PNGs: hash, differences, PSNR, SSIM against a tolerance");
   compare->footer(
@@ -270,14 +300,15 @@ int main(int argc, char** argv) {
     if (record->parsed()) return bristle::cli::runRecord(rec);
     if (replay->parsed()) return bristle::cli::runReplay(rep);
     if (compare->parsed()) return bristle::cli::runCompare(cmp);
+    if (batch->parsed()) return bristle::cli::runBatch(ba);
     if (help->parsed() && !help_topic.empty()) {
-      for (CLI::App* sub : {render, validate, brushes, preview, record, replay, compare}) {
+      for (CLI::App* sub : {render, validate, brushes, preview, record, replay, batch, compare}) {
         if (sub->get_name() == help_topic) {
           std::cout << sub->help();
           return 0;
         }
       }
-      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay, compare)");
+      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay, batch, compare)");
       return static_cast<int>(bristle::ExitCode::kUsage);
     }
     std::cout << app.help();

@@ -127,7 +127,7 @@ def tilted_drag():
         down = smoothstep(t / 0.4)
         lift = smoothstep((t - 1.9) / 0.3)
         x = 12 + 50 * smoothstep((t - 0.4) / 1.5)
-        z = 20 - 10 * down + 11 * lift
+        z = 20 - 8 * down + 9 * lift
         rows.append((t, x, 30.0, z) + q)
     write("tilted-drag.csv",
           ["A handle leaning 45 degrees across the motion (hairs towards -y),",

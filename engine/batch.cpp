@@ -1,0 +1,296 @@
+#include "engine/batch.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <regex>
+#include <set>
+
+#include "bristle/version.h"
+#include "engine/error.h"
+#include "engine/fnv1a64.h"
+#include "engine/json_reader.h"
+#include "engine/scene.h"
+#include "engine/text_file.h"
+
+namespace bristle {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kFormat = "bristle-batch/1";
+
+// Options a job may not set: the batch owns where the job writes and what it
+// prints, and a job writes nothing but its PNG (side files such as a trace
+// would escape the atomic write and the up-to-date check).
+const std::set<std::string> kReservedOptions = {"o",     "output",     "quiet", "help",
+                                                "trace", "forces",     "brush", "trajectory",
+                                                "version"};
+
+std::string resolve(const std::string& base_dir, const std::string& p) {
+  const fs::path path(p);
+  if (path.is_absolute() || base_dir.empty()) return path.lexically_normal().string();
+  return (fs::path(base_dir) / path).lexically_normal().string();
+}
+
+// An output must stay inside the output folder: relative, no "..", a file name.
+bool isSafeOutput(const std::string& out) {
+  const fs::path p(out);
+  if (out.empty() || p.is_absolute() || !p.has_filename()) return false;
+  for (const fs::path& part : p.lexically_normal())
+    if (part == "..") return false;
+  return p.lexically_normal().string().rfind("..", 0) != 0;
+}
+
+void checkOptions(const JsonObject& owner, const std::string& key, const nlohmann::json& options) {
+  const std::string pointer = owner.childPointer(key);
+  if (!options.is_object())
+    owner.fail(pointer + " = " + options.dump(), "must be an object of render options");
+  static const std::regex kName("[a-z][a-z0-9-]*");
+  for (const auto& [name, value] : options.items()) {
+    const std::string where = pointer + "/" + name;
+    if (!std::regex_match(name, kName))
+      owner.fail(where, "option names are long options without '--' (e.g. \"px-per-mm\")");
+    if (kReservedOptions.count(name))
+      owner.fail(where, "a batch job cannot set --" + name +
+                            " (the batch chooses the output and writes only PNGs)");
+    const bool scalar = value.is_boolean() || value.is_number() || value.is_string();
+    bool ok = scalar;
+    if (value.is_array()) {
+      ok = !value.empty();
+      for (const nlohmann::json& v : value) ok = ok && (v.is_number() || v.is_string());
+    }
+    if (!ok)
+      owner.fail(where + " = " + value.dump(),
+                 "must be true/false, a number, a string or a non-empty list of them");
+  }
+}
+
+std::string optionValue(const nlohmann::json& v) {
+  return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+}  // namespace
+
+const char* batchJobKindName(BatchJobKind kind) {
+  switch (kind) {
+    case BatchJobKind::kScene: return "scene";
+    case BatchJobKind::kSheet: return "sheet";
+    case BatchJobKind::kStroke: return "stroke";
+  }
+  return "?";
+}
+
+BatchManifest parseBatchManifest(const std::string& text, const std::string& path,
+                                 const std::string& base_dir) {
+  const nlohmann::json doc = parseJsonText(text, path);
+  if (!doc.is_object()) throw dataError(path, "/", "a batch manifest is a JSON object");
+  JsonObject root(doc, "", path);
+  const std::string format = root.string("format");
+  root.require(format == kFormat, "format", std::string("must be \"") + kFormat + "\"");
+
+  nlohmann::json defaults = nlohmann::json::object();
+  if (root.has("defaults")) {
+    const JsonObject d = root.object("defaults");
+    if (d.has("options")) {
+      defaults = d.raw("options");
+      checkOptions(d, "options", defaults);
+    }
+    d.rejectUnknownKeys();
+  }
+
+  BatchManifest manifest;
+  manifest.path = path;
+  const std::vector<JsonObject> jobs = root.objects("jobs");
+  root.require(!jobs.empty(), "jobs", "must list at least one job");
+  root.rejectUnknownKeys();
+
+  std::map<std::string, std::string> ids, outputs;  // value -> pointer of first use
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    const JsonObject& o = jobs[i];
+    BatchJob job;
+    job.index = static_cast<int>(i);
+    job.pointer = o.pointer();
+
+    const bool scene = o.has("scene"), sheet = o.has("sheet");
+    const bool stroke = o.has("brush") || o.has("trajectory");
+    if (int(scene) + int(sheet) + int(stroke) != 1)
+      o.fail(o.pointer(), "a job renders exactly one of: \"scene\", \"sheet\", or "
+                          "\"brush\" with \"trajectory\"");
+    if (scene) {
+      job.kind = BatchJobKind::kScene;
+      job.input = resolve(base_dir, o.string("scene"));
+    } else if (sheet) {
+      job.kind = BatchJobKind::kSheet;
+      job.input = resolve(base_dir, o.string("sheet"));
+    } else {
+      job.kind = BatchJobKind::kStroke;
+      if (!o.has("brush") || !o.has("trajectory"))
+        o.fail(o.pointer(), "a stroke job needs both \"brush\" and \"trajectory\"");
+      job.brush = resolve(base_dir, o.string("brush"));
+      job.trajectory = resolve(base_dir, o.string("trajectory"));
+    }
+
+    job.id = o.string("id", "");
+    job.output = o.string("output", "");
+    if (job.id.empty() && job.output.empty())
+      o.fail(o.pointer(), "a job needs an \"id\" or an \"output\"");
+    if (job.output.empty()) job.output = job.id + ".png";
+    if (job.id.empty()) job.id = fs::path(job.output).stem().string();
+    o.require(isSafeOutput(job.output), "output",
+              "must be a relative path inside the output folder (no '..')");
+    job.output = fs::path(job.output).lexically_normal().string();
+    o.require(fs::path(job.output).extension() == ".png", "output", "must end in .png");
+    if (auto [it, fresh] = ids.emplace(job.id, job.pointer); !fresh)
+      o.fail(job.pointer + "/id = \"" + job.id + "\"", "repeats the id of " + it->second);
+    if (auto [it, fresh] = outputs.emplace(job.output, job.pointer); !fresh)
+      o.fail(job.pointer + "/output = \"" + job.output + "\"",
+             "repeats the output of " + it->second);
+
+    job.options = defaults;
+    if (o.has("options")) {
+      const nlohmann::json& own = o.raw("options");
+      checkOptions(o, "options", own);
+      for (const auto& [name, value] : own.items()) job.options[name] = value;
+    }
+    o.rejectUnknownKeys();
+    manifest.jobs.push_back(std::move(job));
+  }
+  return manifest;
+}
+
+BatchManifest loadBatchManifest(const std::string& path) {
+  return parseBatchManifest(readTextFile(path), path, fs::path(path).parent_path().string());
+}
+
+Shard parseShard(const std::string& text) {
+  static const std::regex kShard("([0-9]{1,6})/([0-9]{1,6})");
+  std::smatch m;
+  if (std::regex_match(text, m, kShard)) {
+    const Shard s{std::stoi(m[1]), std::stoi(m[2])};
+    if (s.count >= 1 && s.index < s.count) return s;
+  }
+  throw Error(ExitCode::kUsage, "--shard " + text +
+                                    ": must be I/N with N >= 1 and 0 <= I < N (e.g. 0/4)");
+}
+
+namespace {
+
+// A non-negative integer variable, or -1 when unset; throws for junk.
+long envInteger(const std::function<const char*(const char*)>& env, const char* name) {
+  const char* v = env(name);
+  if (v == nullptr || *v == '\0') return -1;
+  char* end = nullptr;
+  const long n = std::strtol(v, &end, 10);
+  if (*end != '\0' || n < 0)
+    throw Error(ExitCode::kUsage, std::string(name) + "=" + v + ": not a non-negative integer");
+  return n;
+}
+
+}  // namespace
+
+Shard shardFromEnvironment(const std::function<const char*(const char*)>& env,
+                           int explicit_count) {
+  const long slurm_id = envInteger(env, "SLURM_ARRAY_TASK_ID");
+  if (slurm_id >= 0) {
+    const long count = envInteger(env, "SLURM_ARRAY_TASK_COUNT");
+    const long min = std::max(0L, envInteger(env, "SLURM_ARRAY_TASK_MIN"));
+    const long step = std::max(1L, envInteger(env, "SLURM_ARRAY_TASK_STEP"));
+    const long index = (slurm_id - min) / step;
+    if (count < 1 || slurm_id < min || (slurm_id - min) % step != 0 || index >= count) {
+      throw Error(ExitCode::kUsage,
+                  "SLURM_ARRAY_TASK_ID=" + std::to_string(slurm_id) + " with _MIN=" +
+                      std::to_string(min) + " _STEP=" + std::to_string(step) + " _COUNT=" +
+                      std::to_string(count) + ": not a task of the array");
+    }
+    return Shard{int(index), int(count)};
+  }
+  const long k8s = envInteger(env, "JOB_COMPLETION_INDEX");
+  if (k8s >= 0) {
+    if (explicit_count < 1 || k8s >= explicit_count)
+      throw Error(ExitCode::kUsage,
+                  "JOB_COMPLETION_INDEX=" + std::to_string(k8s) +
+                      ": give the Job's completions as --shard-count N (N > index)");
+    return Shard{int(k8s), explicit_count};
+  }
+  if (explicit_count > 1)
+    throw Error(ExitCode::kUsage,
+                "--shard-count without JOB_COMPLETION_INDEX: give --shard I/N instead");
+  return Shard{};
+}
+
+std::vector<int> jobsOfShard(int n, const Shard& shard) {
+  std::vector<int> mine;
+  for (int k = shard.index; k < n; k += shard.count) mine.push_back(k);
+  return mine;
+}
+
+std::vector<std::string> batchJobArguments(const BatchJob& job) {
+  std::vector<std::string> args;
+  switch (job.kind) {
+    case BatchJobKind::kScene: args = {"render", job.input}; break;
+    case BatchJobKind::kSheet: args = {"sheet", job.input}; break;
+    case BatchJobKind::kStroke:
+      args = {"render", "--brush", job.brush, "--trajectory", job.trajectory};
+      break;
+  }
+  // nlohmann's object keeps keys sorted: the same options give the same line.
+  for (const auto& [name, value] : job.options.items()) {
+    if (value.is_boolean()) {
+      if (value.get<bool>()) args.push_back("--" + name);
+      continue;
+    }
+    args.push_back("--" + name);
+    if (value.is_array()) {
+      for (const nlohmann::json& v : value) args.push_back(optionValue(v));
+    } else {
+      args.push_back(optionValue(value));
+    }
+  }
+  return args;
+}
+
+namespace {
+
+// A file the manifest names must be readable; else 66 naming the job's field.
+void requireReadable(const std::string& manifest, const std::string& pointer,
+                     const std::string& file) {
+  try {
+    readTextFile(file);
+  } catch (const Error& e) {
+    throw Error(e.code(), manifest + ": " + pointer + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& manifest) {
+  switch (job.kind) {
+    case BatchJobKind::kScene:
+      requireReadable(manifest, job.pointer + "/scene", job.input);
+      return loadScene(job.input).inputs;
+    case BatchJobKind::kSheet:
+      // A sheet's references are read by the sheet command; until it lists
+      // them, the sheet file alone keys the job (see docs/batch.md).
+      requireReadable(manifest, job.pointer + "/sheet", job.input);
+      return {job.input};
+    case BatchJobKind::kStroke:
+      requireReadable(manifest, job.pointer + "/brush", job.brush);
+      requireReadable(manifest, job.pointer + "/trajectory", job.trajectory);
+      return {job.brush, job.trajectory};
+  }
+  return {};
+}
+
+std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& inputs) {
+  std::uint64_t h = fnv1a64(std::string(kFormat) + "\n" + kVersion + "\n");
+  for (const std::string& a : batchJobArguments(job)) {
+    // Input paths are replaced by their contents below; only the options count.
+    if (a == job.input || a == job.brush || a == job.trajectory) continue;
+    h = fnv1a64(a + "\n", h);
+  }
+  h = fnv1a64(std::to_string(fnv1a64Files(inputs)), h);
+  return h;
+}
+
+}  // namespace bristle

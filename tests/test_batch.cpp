@@ -1,0 +1,255 @@
+// Batch manifests (engine/batch.h): the reader's rules, sharding that covers
+// every job exactly once, the shard a scheduler's environment names, the
+// command line a job runs, and the key that decides whether an output is up to
+// date.
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "engine/batch.h"
+#include "engine/error.h"
+#include "engine/fnv1a64.h"
+#include "test_helpers.h"
+
+using namespace bristle;
+using Catch::Matchers::Contains;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+BatchManifest parse(const std::string& text) {
+  return parseBatchManifest(text, "jobs.json", "/data/batch");
+}
+
+// The exit code and message of parsing `text`, which must fail.
+std::pair<int, std::string> parseError(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const Error& e) {
+    return {static_cast<int>(e.code()), e.what()};
+  }
+  FAIL("manifest was accepted: " << text);
+  return {};
+}
+
+std::pair<int, std::string> shardError(const std::string& text) {
+  try {
+    parseShard(text);
+  } catch (const Error& e) {
+    return {static_cast<int>(e.code()), e.what()};
+  }
+  FAIL("shard was accepted: " << text);
+  return {};
+}
+
+// A scratch folder under the system temp dir, removed at the end.
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    std::string t = (fs::temp_directory_path() / "bristle-batch-XXXXXX").string();
+    dir = ::mkdtemp(t.data());
+  }
+  ~Scratch() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    fs::create_directories((dir / name).parent_path());
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  }
+};
+
+}  // namespace
+
+TEST_CASE("batch manifest: jobs, defaults and resolved paths", "[batch]") {
+  const BatchManifest m = parse(R"({
+    "format": "bristle-batch/1",
+    "defaults": {"options": {"solver": "slsqp", "px-per-mm": 4}},
+    "jobs": [
+      {"id": "p", "scene": "../paintings/petals.json", "options": {"impasto": true, "px-per-mm": 6}},
+      {"output": "strokes/round-s.png", "brush": "b.json", "trajectory": "/abs/t.csv"},
+      {"id": "sheet", "sheet": "lib.json"}
+    ]})");
+  REQUIRE(m.jobs.size() == 3);
+  CHECK(m.jobs[0].kind == BatchJobKind::kScene);
+  CHECK(m.jobs[0].input == "/data/paintings/petals.json");
+  CHECK(m.jobs[0].output == "p.png");
+  // A job's own options win over the defaults; the rest of the defaults stay.
+  CHECK(m.jobs[0].options["px-per-mm"] == 6);
+  CHECK(m.jobs[0].options["solver"] == "slsqp");
+  CHECK(m.jobs[0].options["impasto"] == true);
+  CHECK(m.jobs[1].kind == BatchJobKind::kStroke);
+  CHECK(m.jobs[1].id == "round-s");
+  CHECK(m.jobs[1].brush == "/data/batch/b.json");
+  CHECK(m.jobs[1].trajectory == "/abs/t.csv");
+  CHECK(m.jobs[2].kind == BatchJobKind::kSheet);
+  CHECK(m.jobs[2].pointer == "/jobs/2");
+}
+
+TEST_CASE("batch manifest: every broken rule is a data error naming its field", "[batch][errors]") {
+  const std::string head = R"({"format": "bristle-batch/1", "jobs": [)";
+  const std::string ok = R"({"id": "a", "scene": "a.json"})";
+  struct Case {
+    std::string jobs, pointer, rule;
+  };
+  const std::vector<Case> cases = {
+      {"", "/jobs", "at least one job"},
+      {R"({"id": "a"})", "/jobs/0", "exactly one of"},
+      {R"({"id": "a", "scene": "s.json", "sheet": "t.json"})", "/jobs/0", "exactly one of"},
+      {R"({"id": "a", "brush": "b.json"})", "/jobs/0", "both \"brush\" and \"trajectory\""},
+      {R"({"scene": "s.json"})", "/jobs/0", "an \"id\" or an \"output\""},
+      {ok + "," + ok, "/jobs/1/id", "repeats the id of /jobs/0"},
+      {ok + R"(, {"id": "b", "output": "a.png", "scene": "s.json"})", "/jobs/1/output",
+       "repeats the output of /jobs/0"},
+      {R"({"id": "a", "output": "../a.png", "scene": "s.json"})", "/jobs/0/output", "inside the output folder"},
+      {R"({"id": "a", "output": "/tmp/a.png", "scene": "s.json"})", "/jobs/0/output", "inside the output folder"},
+      {R"({"id": "a", "output": "a.jpg", "scene": "s.json"})", "/jobs/0/output", ".png"},
+      {R"({"id": "a", "scene": "s.json", "options": {"trace": "t.jsonl"}})", "/jobs/0/options/trace",
+       "cannot set --trace"},
+      {R"({"id": "a", "scene": "s.json", "options": {"--bits": 16}})", "/jobs/0/options/--bits",
+       "without '--'"},
+      {R"({"id": "a", "scene": "s.json", "options": {"paint": {"x": 1}}})", "/jobs/0/options/paint",
+       "must be true/false"},
+      {R"({"id": "a", "scene": "s.json", "colour": "red"})", "/jobs/0/colour", "unknown"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.jobs);
+    const auto [code, message] = parseError(head + c.jobs + "]}");
+    CHECK(code == 65);
+    CHECK_THAT(message, Contains("jobs.json: " + c.pointer));
+    CHECK_THAT(message, Contains(c.rule));
+  }
+  CHECK(parseError(R"({"format": "bristle-scene/1", "jobs": [{"id": "a", "scene": "s"}]})").second.find(
+            "/format") != std::string::npos);
+  CHECK(parseError("[1, 2]").first == 65);
+  CHECK(parseError("{\"format\": ").first == 65);
+}
+
+TEST_CASE("batch shards: I/N parses, and 5/4, 0/0 and junk are usage errors", "[batch][errors]") {
+  CHECK(parseShard("0/1").count == 1);
+  CHECK(parseShard("3/4").index == 3);
+  for (const std::string bad : {"5/4", "4/4", "0/0", "-1/3", "1", "a/b", "1/2/3", " 1/2", ""}) {
+    INFO(bad);
+    const auto [code, message] = shardError(bad);
+    CHECK(code == 64);
+    CHECK_THAT(message, Contains("--shard"));
+  }
+}
+
+TEST_CASE("batch shards cover every job exactly once, in near-equal parts", "[batch]") {
+  for (int n = 0; n <= 23; ++n) {
+    for (int count = 1; count <= 7; ++count) {
+      std::map<int, int> seen;
+      size_t smallest = size_t(-1), largest = 0;
+      for (int i = 0; i < count; ++i) {
+        const std::vector<int> mine = jobsOfShard(n, Shard{i, count});
+        CHECK(std::is_sorted(mine.begin(), mine.end()));
+        for (const int k : mine) ++seen[k];
+        smallest = std::min(smallest, mine.size());
+        largest = std::max(largest, mine.size());
+      }
+      INFO("n=" << n << " count=" << count);
+      CHECK(static_cast<int>(seen.size()) == n);
+      for (const auto& [k, times] : seen) {
+        CHECK(k >= 0);
+        CHECK(k < n);
+        CHECK(times == 1);
+      }
+      CHECK(largest - smallest <= 1);
+    }
+  }
+}
+
+TEST_CASE("batch shards come from Slurm job arrays and Kubernetes Indexed Jobs", "[batch]") {
+  std::map<std::string, std::string> vars;
+  const auto env = [&vars](const char* name) -> const char* {
+    auto it = vars.find(name);
+    return it == vars.end() ? nullptr : it->second.c_str();
+  };
+  // Nothing set: the whole manifest.
+  Shard s = shardFromEnvironment(env, 0);
+  CHECK((s.index == 0 && s.count == 1));
+
+  // sbatch --array=4-7: ids 4..7, min 4, count 4.
+  vars = {{"SLURM_ARRAY_TASK_ID", "6"}, {"SLURM_ARRAY_TASK_MIN", "4"}, {"SLURM_ARRAY_TASK_COUNT", "4"}};
+  s = shardFromEnvironment(env, 0);
+  CHECK((s.index == 2 && s.count == 4));
+  // sbatch --array=0-6:2: ids 0, 2, 4, 6 with step 2.
+  vars = {{"SLURM_ARRAY_TASK_ID", "4"}, {"SLURM_ARRAY_TASK_MIN", "0"},
+          {"SLURM_ARRAY_TASK_COUNT", "4"}, {"SLURM_ARRAY_TASK_STEP", "2"}};
+  s = shardFromEnvironment(env, 0);
+  CHECK((s.index == 2 && s.count == 4));
+  // An array with gaps (--array=0,3) cannot be mapped onto 0..N-1.
+  vars = {{"SLURM_ARRAY_TASK_ID", "3"}, {"SLURM_ARRAY_TASK_MIN", "0"}, {"SLURM_ARRAY_TASK_COUNT", "2"}};
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("not a task of the array"));
+  vars = {{"SLURM_ARRAY_TASK_ID", "x"}};
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("SLURM_ARRAY_TASK_ID=x"));
+
+  // Kubernetes: the pod knows its index; the count comes from the command line.
+  vars = {{"JOB_COMPLETION_INDEX", "2"}};
+  s = shardFromEnvironment(env, 3);
+  CHECK((s.index == 2 && s.count == 3));
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("--shard-count"));
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 2), Contains("--shard-count"));
+  vars.clear();
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 4), Contains("JOB_COMPLETION_INDEX"));
+  try {
+    shardFromEnvironment(env, 4);
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::kUsage);
+  }
+}
+
+TEST_CASE("batch job command lines: sorted options, flags, lists", "[batch]") {
+  const BatchManifest m = parse(R"({"format": "bristle-batch/1", "jobs": [
+      {"id": "a", "brush": "b.json", "trajectory": "t.csv",
+       "options": {"solver": "slsqp", "impasto": true, "offset-mm": [1, 2.5, 0], "bits": 16,
+                   "quiet-paper": false}},
+      {"id": "b", "scene": "s.json"}]})");
+  CHECK(batchJobArguments(m.jobs[0]) ==
+        std::vector<std::string>{"render", "--brush", "/data/batch/b.json", "--trajectory",
+                                 "/data/batch/t.csv", "--bits", "16", "--impasto", "--offset-mm",
+                                 "1", "2.5", "0", "--solver", "slsqp"});
+  CHECK(batchJobArguments(m.jobs[1]) == std::vector<std::string>{"render", "/data/batch/s.json"});
+}
+
+TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]") {
+  Scratch a, b;
+  const std::string brush = "{\"brush\": 1}\n", traj = "t_s\n0\n";
+  const auto job = [](const Scratch& s, const std::string& options) {
+    BatchManifest m = parseBatchManifest(
+        R"({"format": "bristle-batch/1", "jobs": [{"id": "x", "brush": "b.json",
+            "trajectory": "t.csv", "options": )" + options + "}]}",
+        (s.dir / "m.json").string(), s.dir.string());
+    return m.jobs[0];
+  };
+  a.write("b.json", brush);
+  a.write("t.csv", traj);
+  b.write("b.json", brush);
+  b.write("t.csv", traj);
+  const BatchJob ja = job(a, "{}"), jb = job(b, "{}");
+  const std::uint64_t key = batchJobKey(ja, batchJobInputs(ja, "m.json"));
+  // The same bytes in another folder: the same key (a moved checkout keeps
+  // its outputs).
+  CHECK(batchJobKey(jb, batchJobInputs(jb, "m.json")) == key);
+  // An option changes it.
+  const BatchJob jo = job(a, R"({"bits": 16})");
+  CHECK(batchJobKey(jo, batchJobInputs(jo, "m.json")) != key);
+  // One byte of one input changes it.
+  b.write("t.csv", "t_s\n1\n");
+  CHECK(batchJobKey(jb, batchJobInputs(jb, "m.json")) != key);
+  // A missing input is the job's own error (66), naming the manifest field.
+  fs::remove(b.dir / "b.json");
+  try {
+    batchJobInputs(jb, "m.json");
+    FAIL("missing brush accepted");
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::kNoInput);
+    CHECK_THAT(e.what(), Contains("m.json: /jobs/0/brush: "));
+  }
+}

@@ -1,0 +1,299 @@
+// `bristle batch` end to end: the same pixels whatever the parallelism or
+// sharding, up-to-date outputs skipped (and re-rendered when an input changes
+// or with --overwrite), a broken job failing alone and logged, usage errors,
+// and a stopped batch leaving no partial PNG (docs/batch.md).
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <algorithm>
+#include <map>
+#include <set>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "cli_runner.h"
+#include "engine/fnv1a64.h"
+#include "render/png_io.h"
+
+using namespace bristle;
+using namespace bristle::testing;
+using Catch::Matchers::Contains;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kRound = sourcePath("scenes/brushes/round.json");
+const std::string kFlat = sourcePath("scenes/brushes/flat.json");
+
+// A short dab: the vertical round comes down 3 mm past first contact (its hairs
+// are 20 mm long), drifts `dx` mm along x and lifts, in 0.5 s. Cheap enough to
+// render many times.
+std::string dab(double dx) {
+  std::ostringstream s;
+  s << "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
+  for (int i = 0; i <= 25; ++i) {
+    const double t = i * 0.02, u = t / 0.5;
+    const double z = 22 - 5 * std::sin(M_PI * u);
+    s << t << "," << 20 + dx * u << ",20," << z << ",1,0,0,0\n";
+  }
+  return s.str();
+}
+
+// A manifest of `n` stroke jobs over dab trajectories written into dir.
+json manifest(const TempDir& dir, int n) {
+  json jobs = json::array();
+  for (int k = 0; k < n; ++k) {
+    const std::string traj = "dab" + std::to_string(k) + ".csv";
+    dir.write(traj, dab(2.0 * k));
+    jobs.push_back({{"id", "dab" + std::to_string(k)},
+                    {"brush", k % 2 ? kFlat : kRound},
+                    {"trajectory", traj}});
+  }
+  return {{"format", "bristle-batch/1"},
+          {"defaults", {{"options", {{"solver", "slsqp"}, {"px-per-mm", 4}}}}},
+          {"jobs", jobs}};
+}
+
+std::string writeManifest(const TempDir& dir, const json& m) {
+  return dir.write("jobs.json", m.dump(2));
+}
+
+std::uint64_t pixelHash(const std::string& png) {
+  const render::Image8 img = render::readPngRgba8(png);
+  return fnv1a64(std::string_view(reinterpret_cast<const char*>(img.pixels.data()),
+                                  img.pixels.size()));
+}
+
+// The JSON lines of a --json run, by job id (the summary under "summary").
+std::map<std::string, json> jsonLines(const std::string& out) {
+  std::map<std::string, json> lines;
+  std::istringstream in(out);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    const json j = json::parse(line);
+    lines[j.contains("summary") ? "summary" : j["job"].get<std::string>()] = j;
+  }
+  return lines;
+}
+
+std::vector<std::string> pngsIn(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.path().extension() == ".png") names.push_back(fs::relative(e.path(), dir).string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace
+
+TEST_CASE("batch: --jobs 1, --jobs 2 and 4 shards give the same pixels", "[cli][batch][determinism]") {
+  TempDir dir;
+  const std::string m = writeManifest(dir, manifest(dir, 5));
+  const std::string one = dir.file("one"), two = dir.file("two"), sharded = dir.file("sharded");
+
+  RunResult r = runBristle("batch '" + m + "' --out '" + one + "' --jobs 1 --quiet");
+  REQUIRE(r.code == 0);
+  r = runBristle("batch '" + m + "' --out '" + two + "' --jobs 2 --json");
+  REQUIRE(r.code == 0);
+  const auto lines = jsonLines(r.out);
+  CHECK(lines.at("summary")["rendered"] == 5);
+  CHECK(lines.at("dab3")["status"] == "rendered");
+  for (int i = 0; i < 4; ++i) {
+    r = runBristle("batch '" + m + "' --out '" + sharded + "' --shard " + std::to_string(i) +
+                   "/4 --json");
+    REQUIRE(r.code == 0);
+    // Round-robin: shard 0 owns jobs 0 and 4, the others one job each.
+    CHECK(jsonLines(r.out).at("summary")["jobs"] == (i == 0 ? 2 : 1));
+  }
+  const std::vector<std::string> expected = {"dab0.png", "dab1.png", "dab2.png", "dab3.png",
+                                             "dab4.png"};
+  REQUIRE(pngsIn(one) == expected);
+  REQUIRE(pngsIn(two) == expected);
+  REQUIRE(pngsIn(sharded) == expected);
+  std::set<std::uint64_t> distinct;
+  for (const std::string& png : expected) {
+    INFO(png);
+    const std::uint64_t h = pixelHash(one + "/" + png);
+    CHECK(pixelHash(two + "/" + png) == h);
+    CHECK(pixelHash(sharded + "/" + png) == h);
+    // The same bytes too: the stamped key depends on the job alone.
+    CHECK(readAll(two + "/" + png) == readAll(one + "/" + png));
+    distinct.insert(h);
+  }
+  // Five different dabs, five different images (a batch that wrote one image
+  // five times would pass the checks above).
+  CHECK(distinct.size() == 5);
+  // Every run keeps its own job log; no private folder is left behind.
+  int logs = 0;
+  for (const auto& e : fs::directory_iterator(sharded + "/logs")) logs += e.path().extension() == ".jsonl";
+  CHECK(logs == 4);
+  for (const auto& e : fs::directory_iterator(sharded))
+    CHECK(e.path().filename().string().rfind(".bristle-batch-", 0) == std::string::npos);
+}
+
+TEST_CASE("batch: up-to-date outputs are skipped; a changed input or --overwrite renders again",
+          "[cli][batch]") {
+  TempDir dir;
+  const std::string m = writeManifest(dir, manifest(dir, 3));
+  const std::string out = dir.file("out");
+  REQUIRE(runBristle("batch '" + m + "' --out '" + out + "' --jobs 2 --quiet").code == 0);
+  const auto stamp = [&](const std::string& id) {
+    return fs::last_write_time(out + "/" + id + ".png");
+  };
+  const auto t0 = stamp("dab0"), t1 = stamp("dab1"), t2 = stamp("dab2");
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // mtime granularity
+
+  RunResult r = runBristle("batch '" + m + "' --out '" + out + "' --json");
+  REQUIRE(r.code == 0);
+  auto lines = jsonLines(r.out);
+  CHECK(lines.at("summary")["skipped"] == 3);
+  CHECK(lines.at("summary")["rendered"] == 0);
+  CHECK(stamp("dab0") == t0);
+
+  // One trajectory changes: only its job renders.
+  dir.write("dab1.csv", dab(7.5));
+  r = runBristle("batch '" + m + "' --out '" + out + "' --json");
+  REQUIRE(r.code == 0);
+  lines = jsonLines(r.out);
+  CHECK(lines.at("dab1")["status"] == "rendered");
+  CHECK(lines.at("dab0")["status"] == "skipped");
+  CHECK(lines.at("dab2")["status"] == "skipped");
+  CHECK(stamp("dab1") != t1);
+  CHECK(stamp("dab2") == t2);
+
+  // A truncated output is not up to date.
+  const std::string bytes = readAll(out + "/dab2.png");
+  std::ofstream(out + "/dab2.png", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  r = runBristle("batch '" + m + "' --out '" + out + "' --json");
+  CHECK(jsonLines(r.out).at("dab2")["status"] == "rendered");
+  CHECK(readAll(out + "/dab2.png") == bytes);
+
+  r = runBristle("batch '" + m + "' --out '" + out + "' --json --overwrite");
+  REQUIRE(r.code == 0);
+  CHECK(jsonLines(r.out).at("summary")["rendered"] == 3);
+}
+
+TEST_CASE("batch: a broken job fails alone, is logged, and sets the exit code", "[cli][batch][errors]") {
+  TempDir dir;
+  json m = manifest(dir, 3);
+  m["jobs"][1]["brush"] = dir.file("no-such-brush.json");
+  m["jobs"][2]["options"] = {{"bits", 12}};  // rejected by render's option check
+  const std::string path = writeManifest(dir, m);
+  const std::string out = dir.file("out");
+  const RunResult r = runBristle("batch '" + path + "' --out '" + out + "' --jobs 2");
+  CHECK(r.code == 66);  // the first failed job's code, in manifest order
+  CHECK(pngsIn(out) == std::vector<std::string>{"dab0.png"});
+  CHECK_THAT(r.err, Contains("job 'dab1' failed (66): " + path + ": /jobs/1/brush: "));
+  CHECK_THAT(r.err, Contains("job 'dab2' failed (64): --bits"));
+  CHECK_THAT(r.err, Contains("1 rendered, 0 up to date, 2 failed"));
+
+  // The log: one line per job plus the summary.
+  std::string log;
+  for (const auto& e : fs::directory_iterator(out + "/logs")) log = readAll(e.path().string());
+  const auto lines = jsonLines(log);
+  REQUIRE(lines.size() == 4);
+  CHECK(lines.at("dab0")["status"] == "rendered");
+  CHECK(lines.at("dab0")["input_hash"].get<std::string>().size() == 16);
+  CHECK(lines.at("dab1")["status"] == "failed");
+  CHECK(lines.at("dab1")["exit_code"] == 66);
+  CHECK(lines.at("dab2")["exit_code"] == 64);
+  CHECK(lines.at("dab1").contains("seconds"));
+  CHECK(lines.at("summary")["failed"] == 2);
+}
+
+TEST_CASE("batch: usage and manifest errors stop before any job", "[cli][batch][errors]") {
+  TempDir dir;
+  const std::string m = writeManifest(dir, manifest(dir, 2));
+  const std::string out = dir.file("out");
+  for (const std::string shard : {"5/4", "0/0"}) {
+    const RunResult r = runBristle("batch '" + m + "' --out '" + out + "' --shard " + shard);
+    CHECK(r.code == 64);
+    CHECK_THAT(r.err, Contains("--shard " + shard));
+  }
+  RunResult r = runBristle("batch '" + dir.file("missing.json") + "' --out '" + out + "'");
+  CHECK(r.code == 66);
+  CHECK_THAT(r.err, Contains("missing.json"));
+  r = runBristle("batch '" + dir.write("bad.json", R"({"format": "bristle-batch/1", "jobs": []})") +
+                 "' --out '" + out + "'");
+  CHECK(r.code == 65);
+  CHECK_THAT(r.err, Contains("bad.json: /jobs"));
+  // An output folder that cannot be created (a file is in the way).
+  r = runBristle("batch '" + m + "' --out '" + dir.write("file", "x") + "/sub'");
+  CHECK(r.code == 73);
+  CHECK(!fs::exists(out));
+}
+
+TEST_CASE("batch: Slurm's array variables pick the shard", "[cli][batch]") {
+  TempDir dir;
+  const std::string m = writeManifest(dir, manifest(dir, 5));
+  // sbatch --array=10-13 runs 4 tasks; task 12 is shard 2 of 4: job 2 only.
+  const RunResult r = runBristle(
+      "batch '" + m + "' --out '" + dir.file("out") + "' --dry-run --json");
+  CHECK(jsonLines(r.out).size() == 6);
+  const std::string env =
+      "SLURM_ARRAY_TASK_ID=12 SLURM_ARRAY_TASK_MIN=10 SLURM_ARRAY_TASK_COUNT=4 ";
+  const std::string cmd = "env " + env + "'" + BRISTLE_BIN + "' batch '" + m + "' --out '" +
+                          dir.file("out") + "' --dry-run --json > '" + dir.file("so") + "'";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const auto lines = jsonLines(readAll(dir.file("so")));
+  CHECK(lines.size() == 2);
+  CHECK(lines.count("dab2") == 1);
+  CHECK(lines.at("summary")["shard"] == "2/4");
+  // A dry run renders nothing.
+  CHECK(!fs::exists(dir.file("out/dab2.png")));
+}
+
+TEST_CASE("batch: SIGTERM abandons the running job and leaves no partial PNG", "[cli][batch]") {
+  TempDir dir;
+  // One job long enough to be caught running (a pressed S-curve with Ipopt:
+  // seconds), then a dab that must not start.
+  json m = manifest(dir, 2);
+  m["jobs"][0]["trajectory"] = sourcePath("scenes/trajectories/s-curve.csv");
+  m["jobs"][0]["options"] = {{"solver", "ipopt"}};
+  const std::string path = writeManifest(dir, m);
+  const std::string out = dir.file("out");
+  // (Built with append: GCC 12 warns, wrongly, on a long chain of '+'.)
+  std::string script = "'";
+  script.append(BRISTLE_BIN).append("' batch '").append(path).append("' --out '").append(out);
+  script.append("' --jobs 1 & echo $! > '").append(dir.file("pid"));
+  script.append("'; wait $!; echo $? > '").append(dir.file("rc")).append("'");
+  const std::string cmd =
+      "env -u GALLIUM_DRIVER sh '" + dir.write("run.sh", script + "\n") + "' >/dev/null 2>&1 &";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+
+  // Wait until the job's process has started (its stderr file appears in the
+  // batch's private folder), then stop the batch. 30 s is far beyond any
+  // start-up here; the loop ends as soon as it is seen.
+  bool started = false;
+  for (int i = 0; i < 3000 && !started; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::error_code ec;
+    if (fs::is_directory(out, ec))
+      for (const auto& e : fs::directory_iterator(out, ec))
+        if (e.path().filename().string().rfind(".bristle-batch-", 0) == 0 &&
+            fs::exists(e.path() / "0.stderr"))
+          started = true;
+  }
+  REQUIRE(started);
+  const std::string pid = readAll(dir.file("pid"));
+  REQUIRE(std::system(("kill -TERM " + pid).c_str()) == 0);
+  for (int i = 0; i < 3000 && !fs::exists(dir.file("rc")); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  REQUIRE(fs::exists(dir.file("rc")));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // rc written and closed
+  CHECK(std::stoi(readAll(dir.file("rc"))) == 143);  // 128 + SIGTERM
+  CHECK(pngsIn(out).empty());
+  for (const auto& e : fs::directory_iterator(out)) CHECK(e.path().filename() == "logs");
+  std::string log;
+  for (const auto& e : fs::directory_iterator(out + "/logs")) log = readAll(e.path().string());
+  const auto lines = jsonLines(log);
+  CHECK(lines.at("dab0")["status"] == "abandoned");
+  CHECK(lines.at("dab1")["status"] == "abandoned");
+  CHECK(lines.at("summary")["abandoned"] == 2);
+}
