@@ -88,7 +88,7 @@ void printLine(const std::string& label, const std::string& value, const Toleran
     std::printf("  %-22s %s\n", label.c_str(), value.c_str());
     return;
   }
-  std::printf("  %-22s %-36s", label.c_str(), value.c_str());
+  std::printf("  %-22s %-40s", label.c_str(), value.c_str());
   if (check->metric == "hash") {
     std::printf(" %-17s %s", "must be equal", check->pass ? "ok" : "FAIL");
   } else {

@@ -189,3 +189,25 @@ TEST_CASE("compare: bad input", "[cli][compare][errors]") {
   r = runBristle("compare " + q(a) + " " + q(a) + " --diff " + q(dir.file("no/such/dir.png")));
   CHECK(r.code == 73);
 }
+
+TEST_CASE("compare: a stroke rendered at 16 bits differs from its 8-bit render by rounding only",
+          "[cli][compare]") {
+  TempDir dir;
+  const std::string stroke = "render --brush " + q(sourcePath("scenes/brushes/bright.json")) +
+                             " --trajectory " + q(sourcePath("scenes/trajectories/press-lift.csv")) +
+                             " --solver slsqp --offset-mm 0 0 -5.4 -q";
+  REQUIRE(runBristle(stroke + " -o " + q(dir.file("8.png"))).code == 0);
+  REQUIRE(runBristle(stroke + " --bits 16 -o " + q(dir.file("16.png"))).code == 0);
+  const RunResult r =
+      runBristle("compare " + q(dir.file("8.png")) + " " + q(dir.file("16.png")) +
+                 " --json --tolerance strict");
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j["b"]["bit_depth"] == 16);
+  // The 8-bit file is the 16-bit one rounded to the nearest 8-bit level, so no
+  // sample is more than half a step away (plus the 1/257-step grid of 16 bits).
+  constexpr double kHalfStep = 0.5 + 1.0 / 257;
+  for (const char* c : {"r", "g", "b", "a"}) CHECK(j["max_abs"][c].get<double>() <= kHalfStep);
+  CHECK(j["pixels_over"] == 0);  // none over 1 step
+  CHECK(j["verdict"] == "pass");
+  CHECK(r.code == 0);
+}
