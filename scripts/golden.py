@@ -18,6 +18,7 @@ import html
 import json
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -130,7 +131,7 @@ def check_one(bristle, g, work):
     result = {"name": g["name"], "tolerance": g["tolerance"], "new": new_png,
               "reference": g["png"], "diff": None, "metrics": None}
     cmd = render_command(bristle, g, new_png)
-    result["command"] = " ".join(cmd)
+    result["command"] = shlex.join(cmd)
     started = time.monotonic()
     r = subprocess.run(cmd, capture_output=True, text=True, env=bristle_env())
     result["render_s"] = time.monotonic() - started
@@ -260,9 +261,9 @@ img {{ width: 100%; image-rendering: pixelated; border: 1px solid #ccc; }}
 <h1>bristle golden images: {len(failed)} of {len(results)} failed</h1>
 <p>Manifest {html.escape(manifest)}; {elapsed_s:.0f} s. Metrics from <code>bristle compare
 --json</code>: max abs difference and RMSE in 8-bit steps (1/255), % of pixels over the
-preset's threshold, PSNR in dB, SSIM of the luma. The difference image shows equal pixels
-as dimmed grey and differing ones in red, brighter for larger differences
-(docs/golden-tests.md).</p>
+preset's threshold, PSNR in dB, SSIM of the luma. The difference image shows differing
+pixels in red (brighter for larger differences), equal pixels within 3 px of them in
+yellow, and the rest as dimmed grey (docs/golden-tests.md).</p>
 <table><tr><th>golden</th><th>status</th><th>tolerance</th><th>max abs</th><th>% over</th>
 <th>RMSE</th><th>PSNR</th><th>SSIM</th><th>why</th></tr>
 {''.join(rows)}
