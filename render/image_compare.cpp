@@ -46,13 +46,12 @@ void requireComparable(const Image16& a, const Image16& b) {
   }
 }
 
-std::vector<double> luma(const Image16& image) {
-  std::vector<double> y(static_cast<std::size_t>(image.width) * image.height);
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    const std::uint16_t* p = &image.pixels[4 * i];
-    y[i] = (kLumaR * p[0] + kLumaG * p[1] + kLumaB * p[2]) / kFullScale;
+// The luma of one row of an RGBA image, in [0, 1].
+void lumaRow(const Image16& image, int y, std::vector<double>* out) {
+  const std::uint16_t* p = &image.pixels[std::size_t(y) * image.width * 4];
+  for (int x = 0; x < image.width; ++x, p += 4) {
+    (*out)[x] = (kLumaR * p[0] + kLumaG * p[1] + kLumaB * p[2]) / kFullScale;
   }
-  return y;
 }
 
 // Normalised 1-D Gaussian weights of n taps (the 2-D window is their outer
@@ -68,32 +67,6 @@ std::vector<double> gaussianTaps(int n) {
   }
   for (double& v : w) v /= sum;
   return w;
-}
-
-// Weighted means of `f` over every n x n window inside a w x h image
-// ("valid" filtering): an (w-n+1) x (h-n+1) map.
-std::vector<double> windowMeans(const std::vector<double>& f, int w, int h,
-                                const std::vector<double>& taps) {
-  const int n = static_cast<int>(taps.size());
-  const int ow = w - n + 1, oh = h - n + 1;
-  std::vector<double> rows(static_cast<std::size_t>(ow) * h);
-  for (int y = 0; y < h; ++y) {
-    const double* src = &f[static_cast<std::size_t>(y) * w];
-    for (int x = 0; x < ow; ++x) {
-      double s = 0;
-      for (int k = 0; k < n; ++k) s += taps[k] * src[x + k];
-      rows[static_cast<std::size_t>(y) * ow + x] = s;
-    }
-  }
-  std::vector<double> out(static_cast<std::size_t>(ow) * oh);
-  for (int y = 0; y < oh; ++y) {
-    for (int x = 0; x < ow; ++x) {
-      double s = 0;
-      for (int k = 0; k < n; ++k) s += taps[k] * rows[static_cast<std::size_t>(y + k) * ow + x];
-      out[static_cast<std::size_t>(y) * ow + x] = s;
-    }
-  }
-  return out;
 }
 
 double toSteps(double sample_difference) {
@@ -161,30 +134,58 @@ double ssim(const Image16& a, const Image16& b, int* window) {
   const int w = a.width, h = a.height;
   const int n = std::min({kSsimWindow, w, h});
   if (window != nullptr) *window = n;
-  const std::vector<double> x = luma(a), y = luma(b);
-  std::vector<double> xx(x.size()), yy(x.size()), xy(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    xx[i] = x[i] * x[i];
-    yy[i] = y[i] * y[i];
-    xy[i] = x[i] * y[i];
-  }
   const std::vector<double> taps = gaussianTaps(n);
-  const std::vector<double> mx = windowMeans(x, w, h, taps), my = windowMeans(y, w, h, taps);
-  const std::vector<double> mxx = windowMeans(xx, w, h, taps);
-  const std::vector<double> myy = windowMeans(yy, w, h, taps);
-  const std::vector<double> mxy = windowMeans(xy, w, h, taps);
+  const int ow = w - n + 1;
   const double c1 = (kSsimK1 * kSsimDynamicRange) * (kSsimK1 * kSsimDynamicRange);
   const double c2 = (kSsimK2 * kSsimDynamicRange) * (kSsimK2 * kSsimDynamicRange);
+
+  // The window is separable: each image row is filtered horizontally into a
+  // ring of the last n rows (for x, y, x^2, y^2, xy), and each output row
+  // filters the ring vertically. Memory: 5 n (w - n + 1) doubles, not maps of
+  // the whole image.
+  constexpr int kQuantities = 5;
+  std::vector<double> ring(static_cast<std::size_t>(kQuantities) * n * ow);
+  const auto at = [&](int q, int slot, int x) -> double& {
+    return ring[(static_cast<std::size_t>(q) * n + slot) * ow + x];
+  };
+  std::vector<double> lx(w), ly(w);
   double sum = 0;
-  for (std::size_t i = 0; i < mx.size(); ++i) {
-    // eq. 13, with the local statistics of eqs. 14-16 (weighted by the window).
-    const double var_x = mxx[i] - mx[i] * mx[i];
-    const double var_y = myy[i] - my[i] * my[i];
-    const double cov = mxy[i] - mx[i] * my[i];
-    sum += ((2 * mx[i] * my[i] + c1) * (2 * cov + c2)) /
-           ((mx[i] * mx[i] + my[i] * my[i] + c1) * (var_x + var_y + c2));
+  for (int y = 0; y < h; ++y) {
+    lumaRow(a, y, &lx);
+    lumaRow(b, y, &ly);
+    const int slot = y % n;
+    for (int x = 0; x < ow; ++x) {
+      double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+      for (int k = 0; k < n; ++k) {
+        const double u = lx[x + k], v = ly[x + k];
+        sx += taps[k] * u;
+        sy += taps[k] * v;
+        sxx += taps[k] * (u * u);
+        syy += taps[k] * (v * v);
+        sxy += taps[k] * (u * v);
+      }
+      at(0, slot, x) = sx;
+      at(1, slot, x) = sy;
+      at(2, slot, x) = sxx;
+      at(3, slot, x) = syy;
+      at(4, slot, x) = sxy;
+    }
+    if (y < n - 1) continue;
+    const int top = y - n + 1;  // the output row's first image row
+    for (int x = 0; x < ow; ++x) {
+      double m[kQuantities] = {};
+      for (int k = 0; k < n; ++k) {
+        const int s = (top + k) % n;
+        for (int q = 0; q < kQuantities; ++q) m[q] += taps[k] * at(q, s, x);
+      }
+      // eq. 13, with the local statistics of eqs. 14-16 (weighted by the window).
+      const double mx = m[0], my = m[1];
+      const double var_x = m[2] - mx * mx, var_y = m[3] - my * my, cov = m[4] - mx * my;
+      sum += ((2 * mx * my + c1) * (2 * cov + c2)) /
+             ((mx * mx + my * my + c1) * (var_x + var_y + c2));
+    }
   }
-  return sum / static_cast<double>(mx.size());
+  return sum / (static_cast<double>(ow) * (h - n + 1));
 }
 
 ImageComparison compareImages(const Image16& a, const Image16& b, double pixel_threshold) {
