@@ -5,8 +5,8 @@ On a copy of one golden in a temporary folder: the untouched copy passes; a
 copy with a 4 x 4 block of pixels off by 40/255 in red fails, names the
 golden and the broken limit, and writes the new, reference and difference
 images and the HTML report; `update` stores the new render and the suite
-passes again; a missing golden fails; a broken manifest exits 65 naming the
-field. Usage: golden_runner_test.py BRISTLE_EXECUTABLE
+passes again; a golden of another size fails naming both sizes; a missing
+golden fails; a broken manifest exits 65 naming the field. Usage: golden_runner_test.py BRISTLE_EXECUTABLE
 """
 
 import json
@@ -156,6 +156,13 @@ def main():
         code, out = run("update", *common)
         expect(code == 0 and "stored" not in out.replace("goldens stored", ""),
                "update leaves passing goldens alone", out)
+
+        # A golden of another size (one column cropped) fails and says so.
+        w, h, rows = read_png_rgb8(golden_png)
+        write_png_rgb8(golden_png, w - 1, h, [r[:3 * (w - 1)] for r in rows])
+        code, out = run("run", *common)
+        expect(code == 1 and "differ in size" in out and f"{w - 1}x{h}" in out,
+               "a golden of another size fails naming both sizes", out)
 
         os.remove(golden_png)
         code, out = run("run", *common)
