@@ -70,6 +70,15 @@ struct ReplayArgs : PaintOptions {
   bool quiet = false;
 };
 int runReplay(const ReplayArgs& args);
+// `bristle sheet`: a grid of strokes, brushes x trajectories (engine/sheet.h).
+struct SheetArgs {
+  std::string sheet, output;
+  double px_per_mm = 0;  // 0: the sheet's
+  std::string solver;    // empty: the sheet's
+  bool impasto = false;
+  bool quiet = false;
+};
+int runSheet(const SheetArgs& args);
 // `bristle batch`: the jobs of a manifest (engine/batch.h), each in its own
 // process, up to `jobs` at once (cli/batch_command.cpp).
 struct BatchArgs {

@@ -27,6 +27,7 @@ constexpr const char* kFooter =
     "  bristle record --brush scenes/brushes/round.json -o session.csv --png live.png\n"
     "  bristle replay session.csv --brush scenes/brushes/round.json -o replay.png\n"
     "  bristle compare golden/round-s-curve.png new.png --tolerance strict --diff d.png\n"
+    "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
     "  bristle batch scenes/batch/standard.json --out renders/ --jobs 2\n"
     "\n"
     "Exit codes: 0 ok, 1 images differ (compare), 64 usage, 65 bad input\n"
@@ -210,6 +211,25 @@ int main(int argc, char** argv) {
   addPaintOptions(replay, rep);
   replay->add_flag("-q,--quiet", rep.quiet, "No output path on stdout");
 
+  bristle::cli::SheetArgs sh;
+  CLI::App* sheet = app.add_subcommand(
+      "sheet", "Render a stroke sheet: a labelled grid of brushes x trajectories");
+  sheet->footer(
+      "Examples:\n"
+      "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
+      "  bristle sheet scenes/sheets/small.json -o small.png --px-per-mm 4 --solver slsqp\n"
+      "Every cell is one brush along one trajectory on its own canvas, all at one scale,\n"
+      "centred on its inked area; rows are brushes (their names), columns trajectories\n"
+      "(their file stems). The sheet format is docs/sheet-format.md.");
+  sheet->add_option("sheet", sh.sheet, "Sheet file (bristle-sheet/1 JSON)")->required();
+  sheet->add_option("-o,--output", sh.output, "Output PNG")->required();
+  sheet->add_option("--px-per-mm", sh.px_per_mm, "Resolution, instead of the sheet's px_per_mm")
+      ->check(CLI::Range(0.5, 100.0));
+  sheet->add_option("--solver", sh.solver, "Spine solver, instead of the sheet's")
+      ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  sheet->add_flag("--impasto", sh.impasto, "Light the paint's thickness from the upper left");
+  sheet->add_flag("-q,--quiet", sh.quiet, "No progress, no summary, no output path on stdout");
+
   bristle::cli::BatchArgs ba;
   CLI::App* batch = app.add_subcommand("batch", "Render the jobs of a manifest, a few at a time");
   batch->footer(
@@ -299,16 +319,17 @@ int main(int argc, char** argv) {
     if (preview->parsed()) return bristle::cli::runPreview(pv);
     if (record->parsed()) return bristle::cli::runRecord(rec);
     if (replay->parsed()) return bristle::cli::runReplay(rep);
+    if (sheet->parsed()) return bristle::cli::runSheet(sh);
     if (compare->parsed()) return bristle::cli::runCompare(cmp);
     if (batch->parsed()) return bristle::cli::runBatch(ba);
     if (help->parsed() && !help_topic.empty()) {
-      for (CLI::App* sub : {render, validate, brushes, preview, record, replay, batch, compare}) {
+      for (CLI::App* sub : {render, validate, brushes, preview, record, replay, sheet, batch, compare}) {
         if (sub->get_name() == help_topic) {
           std::cout << sub->help();
           return 0;
         }
       }
-      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay, batch, compare)");
+      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay, sheet, batch, compare)");
       return static_cast<int>(bristle::ExitCode::kUsage);
     }
     std::cout << app.help();

@@ -1,6 +1,7 @@
 // `bristle validate FILE...`: checks brush, trajectory and scene files and
 // reports each file's verdict, so a batch of inputs can be checked before a
-// long run. A .json file is a scene when its "format" says so, else a brush.
+// long run. A .json file is a scene or a sheet when its "format" says so, else
+// a brush.
 
 #include <iostream>
 
@@ -9,6 +10,7 @@
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
 #include "engine/scene.h"
+#include "engine/sheet.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
 
@@ -28,6 +30,17 @@ void validateScene(const std::string& f) {
             << c.height_mm << " mm at " << c.px_per_mm << " px/mm)\n";
 }
 
+// A sheet is checked with every brush and trajectory it lists, and every pair
+// held against each other (the ferrule must stay off the canvas).
+void validateSheet(const std::string& f) {
+  const Sheet sheet = loadSheet(f);
+  for (const Brush& b : sheet.brushes) const BrushGeometry geometry(b);
+  const size_t nb = sheet.brushes.size(), nt = sheet.trajectories.size();
+  std::cout << f << ": ok (sheet '" << sheet.name << "', " << nb
+            << (nb == 1 ? " brush x " : " brushes x ") << nt
+            << (nt == 1 ? " trajectory)\n" : " trajectories)\n");
+}
+
 }  // namespace
 
 int runValidate(const std::vector<std::string>& files) {
@@ -35,8 +48,11 @@ int runValidate(const std::vector<std::string>& files) {
   for (const std::string& f : files) {
     try {
       const bool csv = f.size() >= 4 && f.compare(f.size() - 4, 4, ".csv") == 0;
-      if (!csv && looksLikeScene(readTextFile(f))) {
+      const std::string text = csv ? std::string() : readTextFile(f);
+      if (!csv && looksLikeScene(text)) {
         validateScene(f);
+      } else if (!csv && looksLikeSheet(text)) {
+        validateSheet(f);
       } else if (csv) {
         const Trajectory t = loadTrajectory(f);
         std::cout << f << ": ok (trajectory, " << t.samples.size() << " samples, "

@@ -11,6 +11,8 @@
 #include "engine/fnv1a64.h"
 #include "engine/json_reader.h"
 #include "engine/scene.h"
+#include "engine/sheet.h"
+#include "engine/sheet.h"
 #include "engine/text_file.h"
 
 namespace bristle {
@@ -270,10 +272,10 @@ std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& 
       requireReadable(manifest, job.pointer + "/scene", job.input);
       return loadScene(job.input).inputs;
     case BatchJobKind::kSheet:
-      // A sheet's references are read by the sheet command; until it lists
-      // them, the sheet file alone keys the job (see docs/batch.md).
+      // The sheet, then its brushes and trajectories in the order listed: the
+      // files sheetInputsHash (engine/sheet.h) hashes into the sheet's PNG.
       requireReadable(manifest, job.pointer + "/sheet", job.input);
-      return {job.input};
+      return loadSheet(job.input).inputs;
     case BatchJobKind::kStroke:
       requireReadable(manifest, job.pointer + "/brush", job.brush);
       requireReadable(manifest, job.pointer + "/trajectory", job.trajectory);

@@ -64,7 +64,109 @@ void requireReadable(const std::string& scene, const std::string& pointer,
               scene + ": " + pointer + ": cannot read '" + resolved + "': " + why);
 }
 
-void parsePaint(const JsonObject& p, PaintLoad* out) {
+void parsePlacement(const JsonObject& o, Placement* out) {
+  if (o.has("offset_mm")) {
+    const std::vector<double> off = o.numbers("offset_mm");
+    o.require(off.size() == 2, "offset_mm", "must be [x, y] in mm");
+    out->offset_x_mm = off[0];
+    out->offset_y_mm = off[1];
+  }
+  out->rotate_deg = o.number("rotate_deg", 0.0);
+  o.require(std::fabs(out->rotate_deg) <= 3600, "rotate_deg", "must be within +-3600 degrees");
+  o.rejectUnknownKeys();
+}
+
+void parseCanvas(const JsonObject& c, SceneCanvas* out) {
+  SceneCanvas& cv = *out;
+  const std::vector<double> size = c.numbers("size_mm");
+  c.require(size.size() == 2, "size_mm", "must be [width, height] in mm");
+  for (size_t i = 0; i < 2; ++i) checkedElement(c, "size_mm", i, size[i], size[i] > 0, "must be > 0");
+  cv.width_mm = size[0];
+  cv.height_mm = size[1];
+  cv.px_per_mm = c.number("px_per_mm", 8.0);
+  c.require(cv.px_per_mm > 0 && cv.px_per_mm <= kMaxScenePxPerMm, "px_per_mm",
+            "must be in (0, 100]");
+  // Refuse before anything is allocated (engine/canvas.h limits); in doubles,
+  // so that absurd sizes cannot overflow the check itself.
+  const double w_px = std::ceil(cv.width_mm * cv.px_per_mm - 1e-9);
+  const double h_px = std::ceil(cv.height_mm * cv.px_per_mm - 1e-9);
+  if (w_px > kMaxCanvasSidePx || h_px > kMaxCanvasSidePx ||
+      w_px * h_px > static_cast<double>(kMaxCanvasPixels))
+    c.fail(c.childPointer("size_mm"),
+           fmt(cv.width_mm) + " x " + fmt(cv.height_mm) + " mm at " + fmt(cv.px_per_mm) +
+               " px/mm is " + fmt(w_px) + " x " + fmt(h_px) + " px: larger than the limit of " +
+               std::to_string(kMaxCanvasSidePx) + " px a side and " +
+               std::to_string(kMaxCanvasPixels) + " px in all");
+
+  cv.paper.colour = c.string("background", cv.paper.colour);
+  if (!parseHexColour(cv.paper.colour, &cv.background))
+    c.fail(c.childPointer("background"),
+           "colour '" + cv.paper.colour + "' does not parse (must be #rrggbb, hex digits)");
+  if (c.has("paper")) parsePaperTooth(c.object("paper"), &cv.paper);
+  c.rejectUnknownKeys();
+}
+
+
+// The scene file alone: every rule that needs no other file.
+Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
+                     const std::string& base_dir) {
+  const JsonObject top(root, "", path);
+  Scene scene;
+  scene.path = path;
+  const std::string format = top.string("format");
+  top.require(format == kFormat, "format", "unknown format version (expected \"bristle-scene/1\")");
+  scene.name = top.string("name");
+  top.require(!scene.name.empty(), "name", "must not be empty");
+  scene.description = top.string("description", "");
+  parseCanvas(top.object("canvas"), &scene.canvas);
+  if (top.has("sim")) parseSimOptions(top.object("sim"), &scene.sim);
+  const std::string mix = top.string("mix", "km");
+  top.require(mix == "km" || mix == "rgb", "mix",
+              "must be \"km\" (Kubelka-Munk) or \"rgb\" (linear RGB)");
+  scene.mix = mix == "km" ? MixModel::kKubelkaMunk : MixModel::kLinearRgb;
+  scene.solver = top.string("solver", scene.solver);
+  top.require(scene.solver == "ipopt" || scene.solver == "slsqp", "solver",
+              "must be \"ipopt\" or \"slsqp\"");
+
+  const std::vector<JsonObject> strokes = top.objects("strokes");
+  top.require(!strokes.empty() && strokes.size() <= static_cast<size_t>(kMaxSceneStrokes),
+              "strokes", "must have 1.." + std::to_string(kMaxSceneStrokes) + " strokes");
+  for (const JsonObject& s : strokes) {
+    SceneStroke st;
+    st.pointer = s.pointer();
+    const std::string brush = s.string("brush");
+    s.require(!brush.empty(), "brush", "must name a brush file");
+    const std::string traj = s.string("trajectory");
+    s.require(!traj.empty(), "trajectory", "must name a trajectory file");
+    st.brush_path = resolve(base_dir, brush);
+    st.trajectory_path = resolve(base_dir, traj);
+    parsePaintLoad(s.object("paint"), &st.paint);
+    if (s.has("placement")) parsePlacement(s.object("placement"), &st.placement);
+    st.dry_before = boolean(s, "dry_before", false);
+    s.rejectUnknownKeys();
+    scene.strokes.push_back(std::move(st));
+  }
+  top.rejectUnknownKeys();
+  return scene;
+}
+
+}  // namespace
+
+void parsePaperTooth(const JsonObject& p, PaperSpec* out) {
+  PaperSpec& paper = *out;
+  paper.tooth_depth_mm = p.number("tooth_depth_mm", paper.tooth_depth_mm);
+  p.require(paper.tooth_depth_mm >= 0 && paper.tooth_depth_mm <= kMaxToothDepthMm,
+            "tooth_depth_mm", "must be in [0, 1] mm");
+  paper.tooth_scale_mm = p.number("tooth_scale_mm", paper.tooth_scale_mm);
+  p.require(paper.tooth_scale_mm > 0 && paper.tooth_scale_mm <= 100, "tooth_scale_mm",
+            "must be in (0, 100] mm");
+  const int seed = p.integer("seed", static_cast<int>(paper.seed));
+  p.require(seed >= 0, "seed", "must be >= 0");
+  paper.seed = static_cast<std::uint64_t>(seed);
+  p.rejectUnknownKeys();
+}
+
+void parsePaintLoad(const JsonObject& p, PaintLoad* out) {
   PaintLoad& load = *out;
   const std::string mode = p.string("mode", "solid");
   size_t min_paints = 1, max_paints = 1;
@@ -120,115 +222,15 @@ void parsePaint(const JsonObject& p, PaintLoad* out) {
   p.rejectUnknownKeys();
 }
 
-void parsePlacement(const JsonObject& o, Placement* out) {
-  if (o.has("offset_mm")) {
-    const std::vector<double> off = o.numbers("offset_mm");
-    o.require(off.size() == 2, "offset_mm", "must be [x, y] in mm");
-    out->offset_x_mm = off[0];
-    out->offset_y_mm = off[1];
-  }
-  out->rotate_deg = o.number("rotate_deg", 0.0);
-  o.require(std::fabs(out->rotate_deg) <= 3600, "rotate_deg", "must be within +-3600 degrees");
-  o.rejectUnknownKeys();
-}
-
-void parseCanvas(const JsonObject& c, SceneCanvas* out) {
-  SceneCanvas& cv = *out;
-  const std::vector<double> size = c.numbers("size_mm");
-  c.require(size.size() == 2, "size_mm", "must be [width, height] in mm");
-  for (size_t i = 0; i < 2; ++i) checkedElement(c, "size_mm", i, size[i], size[i] > 0, "must be > 0");
-  cv.width_mm = size[0];
-  cv.height_mm = size[1];
-  cv.px_per_mm = c.number("px_per_mm", 8.0);
-  c.require(cv.px_per_mm > 0 && cv.px_per_mm <= kMaxScenePxPerMm, "px_per_mm",
-            "must be in (0, 100]");
-  // Refuse before anything is allocated (engine/canvas.h limits); in doubles,
-  // so that absurd sizes cannot overflow the check itself.
-  const double w_px = std::ceil(cv.width_mm * cv.px_per_mm - 1e-9);
-  const double h_px = std::ceil(cv.height_mm * cv.px_per_mm - 1e-9);
-  if (w_px > kMaxCanvasSidePx || h_px > kMaxCanvasSidePx ||
-      w_px * h_px > static_cast<double>(kMaxCanvasPixels))
-    c.fail(c.childPointer("size_mm"),
-           fmt(cv.width_mm) + " x " + fmt(cv.height_mm) + " mm at " + fmt(cv.px_per_mm) +
-               " px/mm is " + fmt(w_px) + " x " + fmt(h_px) + " px: larger than the limit of " +
-               std::to_string(kMaxCanvasSidePx) + " px a side and " +
-               std::to_string(kMaxCanvasPixels) + " px in all");
-
-  cv.paper.colour = c.string("background", cv.paper.colour);
-  if (!parseHexColour(cv.paper.colour, &cv.background))
-    c.fail(c.childPointer("background"),
-           "colour '" + cv.paper.colour + "' does not parse (must be #rrggbb, hex digits)");
-  if (c.has("paper")) {
-    const JsonObject p = c.object("paper");
-    PaperSpec& paper = cv.paper;
-    paper.tooth_depth_mm = p.number("tooth_depth_mm", paper.tooth_depth_mm);
-    p.require(paper.tooth_depth_mm >= 0 && paper.tooth_depth_mm <= kMaxToothDepthMm,
-              "tooth_depth_mm", "must be in [0, 1] mm");
-    paper.tooth_scale_mm = p.number("tooth_scale_mm", paper.tooth_scale_mm);
-    p.require(paper.tooth_scale_mm > 0 && paper.tooth_scale_mm <= 100, "tooth_scale_mm",
-              "must be in (0, 100] mm");
-    const int seed = p.integer("seed", static_cast<int>(paper.seed));
-    p.require(seed >= 0, "seed", "must be >= 0");
-    paper.seed = static_cast<std::uint64_t>(seed);
-    p.rejectUnknownKeys();
-  }
-  c.rejectUnknownKeys();
-}
-
-void parseSim(const JsonObject& s, Scene* scene) {
-  scene->sim.min_rate_hz = s.number("rate_hz", scene->sim.min_rate_hz);
-  s.require(scene->sim.min_rate_hz >= kMinRateHz && scene->sim.min_rate_hz <= kMaxRateHz,
-            "rate_hz", "must be in [1, 10000] steps per second");
-  scene->sim.max_step_mm = s.number("max_step_mm", scene->sim.max_step_mm);
-  s.require(scene->sim.max_step_mm >= kMinStepMm && scene->sim.max_step_mm <= kMaxStepMm,
-            "max_step_mm", "must be in [0.01, 5] mm");
+void parseSimOptions(const JsonObject& s, SimOptions* sim) {
+  sim->min_rate_hz = s.number("rate_hz", sim->min_rate_hz);
+  s.require(sim->min_rate_hz >= kMinRateHz && sim->min_rate_hz <= kMaxRateHz, "rate_hz",
+            "must be in [1, 10000] steps per second");
+  sim->max_step_mm = s.number("max_step_mm", sim->max_step_mm);
+  s.require(sim->max_step_mm >= kMinStepMm && sim->max_step_mm <= kMaxStepMm, "max_step_mm",
+            "must be in [0.01, 5] mm");
   s.rejectUnknownKeys();
 }
-
-// The scene file alone: every rule that needs no other file.
-Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
-                     const std::string& base_dir) {
-  const JsonObject top(root, "", path);
-  Scene scene;
-  scene.path = path;
-  const std::string format = top.string("format");
-  top.require(format == kFormat, "format", "unknown format version (expected \"bristle-scene/1\")");
-  scene.name = top.string("name");
-  top.require(!scene.name.empty(), "name", "must not be empty");
-  scene.description = top.string("description", "");
-  parseCanvas(top.object("canvas"), &scene.canvas);
-  if (top.has("sim")) parseSim(top.object("sim"), &scene);
-  const std::string mix = top.string("mix", "km");
-  top.require(mix == "km" || mix == "rgb", "mix",
-              "must be \"km\" (Kubelka-Munk) or \"rgb\" (linear RGB)");
-  scene.mix = mix == "km" ? MixModel::kKubelkaMunk : MixModel::kLinearRgb;
-  scene.solver = top.string("solver", scene.solver);
-  top.require(scene.solver == "ipopt" || scene.solver == "slsqp", "solver",
-              "must be \"ipopt\" or \"slsqp\"");
-
-  const std::vector<JsonObject> strokes = top.objects("strokes");
-  top.require(!strokes.empty() && strokes.size() <= static_cast<size_t>(kMaxSceneStrokes),
-              "strokes", "must have 1.." + std::to_string(kMaxSceneStrokes) + " strokes");
-  for (const JsonObject& s : strokes) {
-    SceneStroke st;
-    st.pointer = s.pointer();
-    const std::string brush = s.string("brush");
-    s.require(!brush.empty(), "brush", "must name a brush file");
-    const std::string traj = s.string("trajectory");
-    s.require(!traj.empty(), "trajectory", "must name a trajectory file");
-    st.brush_path = resolve(base_dir, brush);
-    st.trajectory_path = resolve(base_dir, traj);
-    parsePaint(s.object("paint"), &st.paint);
-    if (s.has("placement")) parsePlacement(s.object("placement"), &st.placement);
-    st.dry_before = boolean(s, "dry_before", false);
-    s.rejectUnknownKeys();
-    scene.strokes.push_back(std::move(st));
-  }
-  top.rejectUnknownKeys();
-  return scene;
-}
-
-}  // namespace
 
 Pose Placement::apply(const Pose& pose) const {
   if (identity()) return pose;
@@ -246,6 +248,15 @@ CanvasGrid SceneCanvas::grid() const {
   g.width_px = static_cast<int>(std::ceil(width_mm * px_per_mm - 1e-9));
   g.height_px = static_cast<int>(std::ceil(height_mm * px_per_mm - 1e-9));
   return g;
+}
+
+std::string resolveInputPath(const std::string& base_dir, const std::string& path) {
+  return resolve(base_dir, path);
+}
+
+void requireReadableInput(const std::string& file, const std::string& pointer,
+                          const std::string& resolved) {
+  requireReadable(file, pointer, resolved);
 }
 
 // The pigment table (engine/pigments.h) is the one list of paint names.

@@ -87,6 +87,23 @@ std::vector<std::string> sceneWarnings(const Scene& scene);
 // false for anything else, malformed JSON included.
 bool looksLikeScene(const std::string& text);
 
+// The readers of the parts a scene shares with other formats (engine/sheet.h):
+// each reads one JSON object strictly (unknown keys are errors) and throws
+// kDataError naming the pointer and the rule.
+class JsonObject;
+// A stroke's "paint": mode, paints, amount, tip_length, dilution.
+void parsePaintLoad(const JsonObject& paint, PaintLoad* out);
+// A canvas's "paper": tooth_depth_mm, tooth_scale_mm, seed (colour is separate).
+void parsePaperTooth(const JsonObject& paper, PaperSpec* out);
+// "sim": rate_hz (-> min_rate_hz), max_step_mm.
+void parseSimOptions(const JsonObject& sim, SimOptions* out);
+// A path as an input file names it, resolved against that file's folder.
+std::string resolveInputPath(const std::string& base_dir, const std::string& path);
+// A referenced file must be readable, else Error(kNoInput):
+// "<file>: <pointer>: cannot read '<resolved>': <why>".
+void requireReadableInput(const std::string& file, const std::string& pointer,
+                          const std::string& resolved);
+
 // Is `name` a pigment of the pigment table? (The one list the scene reader
 // checks paint names against.)
 bool isKnownPigment(const std::string& name);

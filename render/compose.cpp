@@ -81,9 +81,13 @@ Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options) {
 }
 
 PngText provenanceText(const std::vector<std::string>& inputs) {
+  return provenanceText(fnv1a64Files(inputs));
+}
+
+PngText provenanceText(std::uint64_t inputs_fnv1a64) {
   return {{"Software", std::string("bristle ") + kVersion},
           {"bristle:version", kVersion},
-          {"bristle:inputs-fnv1a64", hex64(fnv1a64Files(inputs))}};
+          {"bristle:inputs-fnv1a64", hex64(inputs_fnv1a64)}};
 }
 
 }  // namespace bristle::render

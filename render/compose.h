@@ -4,6 +4,7 @@
 // sRGB; optionally "impasto": the paint's thickness lit from one light, normals
 // from the gradient of the paint height (as IMPaSTo renders relief, NPAR 2004).
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -39,5 +40,8 @@ Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options);
 // version), "bristle:version" and "bristle:inputs-fnv1a64" (16 hex digits of
 // FNV-1a 64 over the bytes of `inputs`, in order; engine/fnv1a64.h).
 PngText provenanceText(const std::vector<std::string>& inputs);
+// The same with the hash already computed (e.g. engine/sheet.h's sheetInputsHash),
+// so that writer and checker use one function.
+PngText provenanceText(std::uint64_t inputs_fnv1a64);
 
 }  // namespace bristle::render

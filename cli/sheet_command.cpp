@@ -1,0 +1,98 @@
+// `bristle sheet SHEET.json -o sheet.png`: a grid of strokes, brushes x
+// trajectories, every cell labelled (engine/sheet.h, render/sheet_renderer.h,
+// docs/sheet-format.md).
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "engine/atomic_output.h"
+#include "engine/error.h"
+#include "engine/fnv1a64.h"
+#include "engine/sheet.h"
+#include "render/compose.h"
+#include "render/png_io.h"
+#include "render/sheet_renderer.h"
+
+namespace bristle::cli {
+namespace {
+
+// Progress on stderr, only when it is a terminal, at most every 0.2 s.
+class SheetProgress {
+ public:
+  explicit SheetProgress(bool enabled) : enabled_(enabled && ::isatty(2)) {}
+  void update(int cell, int cells, long step, long steps) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    const bool last = step + 1 >= steps;
+    if (!last && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    std::fprintf(stderr, "\rbristle: cell %d/%d, step %ld/%ld (%3.0f%%)", cell + 1, cells,
+                 step + 1, steps, 100.0 * double(step + 1) / double(steps));
+    if (last) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool enabled_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+}  // namespace
+
+int runSheet(const SheetArgs& args) {
+  Sheet sheet = loadSheet(args.sheet);
+  // Command-line overrides of the sheet's own settings (a quick, coarse proof).
+  if (args.px_per_mm > 0) sheet.px_per_mm = args.px_per_mm;
+  if (!args.solver.empty()) sheet.solver = args.solver;
+  checkCanCreate(args.output);
+
+  SheetProgress progress(!args.quiet);
+  render::SheetRenderOptions options;
+  options.compose.impasto = args.impasto;
+  const render::SheetImage result = render::renderSheet(
+      sheet, options,
+      [&](int cell, int cells, long step, long steps) { progress.update(cell, cells, step, steps); });
+
+  // The hash covers the sheet and every brush and trajectory it lists, by the
+  // one function `bristle batch` uses to decide whether this PNG is up to date.
+  render::PngText text = render::provenanceText(sheetInputsHash(sheet));
+  text.push_back({"bristle:sheet", sheet.name});
+  text.push_back({"bristle:sheet-grid",
+                  std::to_string(result.layout.rows) + " x " + std::to_string(result.layout.cols) +
+                      (sheet.brushes_in_columns ? " (trajectories x brushes)"
+                                                : " (brushes x trajectories)") +
+                      ", cells " + std::to_string(result.cell_width_mm) + " x " +
+                      std::to_string(result.cell_height_mm) + " mm at " +
+                      std::to_string(sheet.px_per_mm) + " px/mm"});
+  render::writePng(args.output, result.image, text);
+
+  for (const render::SheetCell& c : result.cells) {
+    const std::string where = sheet.path + ": brush '" + sheet.brushLabel(c.brush) +
+                              "' on trajectory '" + sheet.trajectoryLabel(c.trajectory) + "'";
+    if (c.ink.width == 0)
+      printError("warning: " + where + ": the brush left no visible paint");
+    else if (c.clipped)
+      printError("warning: " + where + ": the stroke (" +
+                 std::to_string(c.ink.width / sheet.px_per_mm) + " x " +
+                 std::to_string(c.ink.height / sheet.px_per_mm) +
+                 " mm) is larger than the cell; its middle is shown (/cell_mm)");
+  }
+  warnFailedSolves(result.stats.failed_steps, result.stats.steps,
+                   result.stats.failed_spine_solves);
+  if (!args.quiet) {
+    const SimStats& st = result.stats;
+    std::fprintf(stderr,
+                 "bristle: %zu cells (%d x %d), %d steps (%d solved, %d rescued by the fallback "
+                 "solver), %ld solver iterations; image %d x %d px\n",
+                 result.cells.size(), result.layout.rows, result.layout.cols, st.steps,
+                 st.solved_steps, st.fallback_solves, st.iterations, result.layout.width_px,
+                 result.layout.height_px);
+    std::cout << args.output << "\n";
+  }
+  return 0;
+}
+
+}  // namespace bristle::cli

@@ -1,0 +1,246 @@
+#include "render/sheet_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "engine/error.h"
+#include "engine/spine_solver.h"
+#include "render/text.h"
+
+namespace bristle::render {
+namespace {
+
+constexpr Rgb8 kLabelColour{0x2a, 0x2a, 0x2a};
+constexpr Rgb8 kGridColour{0x8c, 0x87, 0x7d};  // a mid warm grey, clear on the paper
+constexpr int kGridLinePx = 1;
+
+// The box of pixels whose colour differs visibly from the paper's.
+PixelRect inkBox(const Image8& img, Rgb8 paper) {
+  int x0 = img.width, y0 = img.height, x1 = -1, y1 = -1;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const std::uint8_t* p = &img.pixels[(size_t(y) * img.width + x) * size_t(img.channels)];
+      const int d = std::abs(p[0] - paper.r) + std::abs(p[1] - paper.g) + std::abs(p[2] - paper.b);
+      if (d <= kSheetInkLevels) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x);
+      y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  if (x1 < 0) return {};
+  return {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+}
+
+void fill(Image8* img, const PixelRect& r, Rgb8 c) {
+  for (int y = std::max(0, r.y); y < std::min(img->height, r.y + r.height); ++y)
+    for (int x = std::max(0, r.x); x < std::min(img->width, r.x + r.width); ++x) {
+      std::uint8_t* p = &img->pixels[(size_t(y) * img->width + x) * size_t(img->channels)];
+      p[0] = c.r, p[1] = c.g, p[2] = c.b;
+    }
+}
+
+// Drops whole UTF-8 characters from the end and appends an ellipsis until the
+// text fits in max_width px (a trajectory stem wider than its column).
+Image8 fittedText(Font& font, std::string text, int size_px, int max_width) {
+  Image8 mask = font.rasterize(text, size_px);
+  while (mask.width > max_width && !text.empty()) {
+    while (!text.empty() && (static_cast<unsigned char>(text.back()) & 0xC0) == 0x80)
+      text.pop_back();  // continuation bytes of the last character
+    if (!text.empty()) text.pop_back();  // and its lead byte
+    mask = font.rasterize(text + "\u2026", size_px);
+  }
+  return mask;
+}
+
+struct RenderedStroke {
+  Image8 image;
+  StrokeResult result;
+};
+
+}  // namespace
+
+Rgb8 sheetPaperColour(const Sheet& sheet, const ComposeOptions& compose) {
+  CanvasGrid g;
+  g.width_px = g.height_px = 1;
+  g.px_per_mm = sheet.px_per_mm;
+  const PaintCanvas blank(g, sheet.paper, sheet.mix);
+  const Image8 px = composeRgb8(blank, compose);
+  return {px.pixels[0], px.pixels[1], px.pixels[2]};
+}
+
+SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
+                       const SheetStepCallback& on_step) {
+  const size_t nb = sheet.brushes.size(), nt = sheet.trajectories.size();
+  SheetImage out;
+  SheetLayout& L = out.layout;
+  L.rows = static_cast<int>(sheet.brushes_in_columns ? nt : nb);
+  L.cols = static_cast<int>(sheet.brushes_in_columns ? nb : nt);
+  const int n = L.rows * L.cols;
+
+  StrokeOptions stroke_options;
+  stroke_options.px_per_mm = sheet.px_per_mm;
+  stroke_options.clip_mm = options.clip_mm;
+  stroke_options.sim = sheet.sim;
+
+  // The cells in layout order, with the planned steps of all, for progress.
+  long planned_total = 0;
+  std::vector<long> planned;
+  for (int r = 0; r < L.rows; ++r)
+    for (int c = 0; c < L.cols; ++c) {
+      SheetCell cell;
+      cell.row = r, cell.col = c;
+      cell.brush = size_t(sheet.brushes_in_columns ? c : r);
+      cell.trajectory = size_t(sheet.brushes_in_columns ? r : c);
+      planned.push_back(static_cast<long>(
+          planStepTimes(sheet.cellTrajectory(cell.brush, cell.trajectory),
+                        sheet.brushes[cell.brush], sheet.sim)
+              .size()));
+      planned_total += planned.back();
+      out.cells.push_back(cell);
+    }
+
+  // Every stroke on its own canvas, as `bristle render --brush --trajectory`
+  // paints it: the canvas the stroke needs, a fresh brush load, fresh paper.
+  const Rgb8 paper = sheetPaperColour(sheet, options.compose);
+  StrokeRenderer renderer;  // one GL context for the whole sheet
+  std::vector<Image8> strokes;
+  long done = 0;
+  for (int i = 0; i < n; ++i) {
+    SheetCell& cell = out.cells[size_t(i)];
+    const Brush& brush = sheet.brushes[cell.brush];
+    const Trajectory trajectory = sheet.cellTrajectory(cell.brush, cell.trajectory);
+    const CanvasGrid grid = canvasForStroke(brush, trajectory, stroke_options);
+    PaintCanvas canvas(grid, sheet.paper, sheet.mix);
+    BrushPaint paint(brush);
+    paint.load(sheet.paint, sheet.mix, sheet.path + ": /paint");
+    std::unique_ptr<SpineSolver> primary = makeIpoptSolver(), fallback = makeSlsqpSolver();
+    if (sheet.solver == "slsqp") std::swap(primary, fallback);
+    StepCallback step_cb;
+    if (on_step)
+      step_cb = [&](const BrushState&, int step, int) { on_step(i, n, done + step, planned_total); };
+    cell.stroke = renderer.render(brush, trajectory, std::move(primary), stroke_options, &canvas,
+                                  &paint, step_cb, std::move(fallback));
+    done += planned[size_t(i)];
+    strokes.push_back(composeRgb8(canvas, options.compose));
+    cell.ink = inkBox(strokes.back(), paper);
+    SimStats& s = out.stats;
+    const SimStats& r = cell.stroke.stats;
+    s.steps += r.steps;
+    s.solved_steps += r.solved_steps;
+    s.resolves += r.resolves;
+    s.fallback_solves += r.fallback_solves;
+    s.failed_spine_solves += r.failed_spine_solves;
+    s.failed_steps += r.failed_steps;
+    s.iterations += r.iterations;
+  }
+
+  // One cell size for all: the sheet's, or the largest ink plus a pad.
+  const double ppm = sheet.px_per_mm;
+  if (sheet.autoCell()) {
+    int w = 0, h = 0;
+    for (const SheetCell& c : out.cells) w = std::max(w, c.ink.width), h = std::max(h, c.ink.height);
+    const int pad = static_cast<int>(std::ceil(kSheetCellPadMm * ppm));
+    L.cell_width_px = std::max(w, 1) + 2 * pad;
+    L.cell_height_px = std::max(h, 1) + 2 * pad;
+  } else {
+    L.cell_width_px = std::max(1, static_cast<int>(std::lround(sheet.cell_width_mm * ppm)));
+    L.cell_height_px = std::max(1, static_cast<int>(std::lround(sheet.cell_height_mm * ppm)));
+  }
+  out.cell_width_mm = L.cell_width_px / ppm;
+  out.cell_height_mm = L.cell_height_px / ppm;
+
+  // The layout: title, column labels above the grid, row labels left of it.
+  Font font;
+  const int label_px = sheet.label_px;
+  const int title_px = label_px * 3 / 2;
+  const int margin = std::max(8, label_px);
+  const int gap = std::max(4, label_px / 2);
+  const int line_h = font.rasterize("Ag", label_px).height;
+  std::vector<Image8> row_masks, col_masks;
+  int row_label_w = 0;
+  for (int r = 0; r < L.rows; ++r) {
+    const size_t k = size_t(r);
+    row_masks.push_back(font.rasterize(
+        sheet.brushes_in_columns ? sheet.trajectoryLabel(k) : sheet.brushLabel(k), label_px));
+    row_label_w = std::max(row_label_w, row_masks.back().width);
+  }
+  for (int c = 0; c < L.cols; ++c) {
+    const size_t k = size_t(c);
+    col_masks.push_back(fittedText(
+        font, sheet.brushes_in_columns ? sheet.brushLabel(k) : sheet.trajectoryLabel(k), label_px,
+        L.cell_width_px));
+  }
+  Image8 title_mask;
+  int y = margin;
+  if (!sheet.title.empty()) {
+    title_mask = font.rasterize(sheet.title, title_px);
+    L.title = {margin, y, title_mask.width, title_mask.height};
+    y += title_mask.height + gap;
+  }
+  const int grid_x = margin + row_label_w + gap;
+  const int header_y = y;
+  const int grid_y = header_y + line_h + gap / 2;
+  const int pitch_x = L.cell_width_px + kGridLinePx, pitch_y = L.cell_height_px + kGridLinePx;
+  L.grid = {grid_x, grid_y, L.cols * pitch_x + kGridLinePx, L.rows * pitch_y + kGridLinePx};
+  const double width = std::max<double>(double(grid_x) + L.grid.width + margin,
+                                        2.0 * margin + title_mask.width);
+  const double height = double(grid_y) + L.grid.height + margin;
+  if (width > kMaxCanvasSidePx || height > kMaxCanvasSidePx ||
+      width * height > double(kMaxCanvasPixels))
+    throw dataError(sheet.path, sheet.autoCell() ? "/px_per_mm" : "/cell_mm",
+                    "the sheet would be " + std::to_string(long(width)) + " x " +
+                        std::to_string(long(height)) +
+                        " px, above the limit of 16384 px a side and 64 Mpx; lower px_per_mm "
+                        "or the cell size");
+  L.width_px = static_cast<int>(width);
+  L.height_px = static_cast<int>(height);
+
+  Image8& img = out.image;
+  img.width = L.width_px, img.height = L.height_px, img.channels = 3;
+  img.pixels.assign(size_t(img.width) * img.height * 3, 0);
+  fill(&img, {0, 0, img.width, img.height}, paper);
+  fill(&img, L.grid, kGridColour);
+
+  for (SheetCell& cell : out.cells) {
+    const PixelRect dst{grid_x + kGridLinePx + cell.col * pitch_x,
+                        grid_y + kGridLinePx + cell.row * pitch_y, L.cell_width_px,
+                        L.cell_height_px};
+    L.cells.push_back(dst);
+    // The window of the stroke's canvas centred on its ink (on its canvas's
+    // centre when there is none); outside the canvas is bare paper.
+    const Image8& src = strokes[L.cells.size() - 1];
+    const int cx = cell.ink.width > 0 ? cell.ink.x + cell.ink.width / 2 : src.width / 2;
+    const int cy = cell.ink.width > 0 ? cell.ink.y + cell.ink.height / 2 : src.height / 2;
+    cell.window = {cx - dst.width / 2, cy - dst.height / 2, dst.width, dst.height};
+    cell.clipped = cell.ink.width > dst.width || cell.ink.height > dst.height;
+    for (int dy = 0; dy < dst.height; ++dy)
+      for (int dx = 0; dx < dst.width; ++dx) {
+        const int sx = cell.window.x + dx, sy = cell.window.y + dy;
+        std::uint8_t* p = &img.pixels[(size_t(dst.y + dy) * img.width + dst.x + dx) * 3];
+        if (sx < 0 || sy < 0 || sx >= src.width || sy >= src.height) {
+          p[0] = paper.r, p[1] = paper.g, p[2] = paper.b;
+        } else {
+          const std::uint8_t* q = &src.pixels[(size_t(sy) * src.width + sx) * size_t(src.channels)];
+          p[0] = q[0], p[1] = q[1], p[2] = q[2];
+        }
+      }
+  }
+
+  if (!sheet.title.empty()) blendMask(title_mask, L.title.x, L.title.y, kLabelColour, &img);
+  for (int r = 0; r < L.rows; ++r) {
+    const Image8& m = row_masks[size_t(r)];
+    const PixelRect box{margin, grid_y + kGridLinePx + r * pitch_y + (L.cell_height_px - m.height) / 2,
+                        m.width, m.height};
+    blendMask(m, box.x, box.y, kLabelColour, &img);
+    L.row_labels.push_back(box);
+  }
+  for (int c = 0; c < L.cols; ++c) {
+    const Image8& m = col_masks[size_t(c)];
+    const PixelRect box{grid_x + kGridLinePx + c * pitch_x + (L.cell_width_px - m.width) / 2,
+                        header_y, m.width, m.height};
+    blendMask(m, box.x, box.y, kLabelColour, &img);
+    L.column_labels.push_back(box);
+  }
+  return out;
+}
+
+}  // namespace bristle::render
