@@ -28,7 +28,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSourceDir = fs::path(__FILE__).parent_path().parent_path();
+// BRISTLE_SOURCE_DIR, not __FILE__: ccache with CCACHE_BASEDIR makes __FILE__
+// relative to the build folder, and paths written into scene files then break.
+const fs::path kSourceDir = BRISTLE_SOURCE_DIR;
 const std::string kFlat = (kSourceDir / "scenes/brushes/flat.json").string();
 const std::string kPull = (kSourceDir / "scenes/trajectories/straight-pull.csv").string();
 
