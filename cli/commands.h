@@ -2,6 +2,7 @@
 // One function per subcommand, each returning its exit code (STYLE.md item 12).
 // cli/main.cpp owns the command line (CLI11) and nothing else.
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,19 @@ struct BatchArgs {
   bool overwrite = false, json = false, dry_run = false, quiet = false;
 };
 int runBatch(const BatchArgs& args);
+
+// `bristle compare A B`: image metrics against a tolerance; 0 within, 1 not.
+// The limits are NaN unless given; they override the preset's.
+struct CompareArgs {
+  std::string a, b, diff;
+  std::string tolerance;  // exact, strict, loose; empty: exact, or custom with limits
+  double max_abs = kUnset, pixel_threshold = kUnset, max_percent_over = kUnset;
+  double min_ssim = kUnset, min_psnr_db = kUnset;
+  double diff_gain = 16;  // difference x gain of full scale saturates the red ramp
+  bool json = false;
+  static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+};
+int runCompare(const CompareArgs& args);
 
 // The PNG text "bristle:canvas": where the image lies on the canvas (mm).
 std::string canvasText(const CanvasGrid& grid);

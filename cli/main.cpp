@@ -26,6 +26,7 @@ constexpr const char* kFooter =
     "  bristle validate scenes/brushes/round.json scenes/trajectories/s-curve.csv\n"
     "  bristle record --brush scenes/brushes/round.json -o session.csv --png live.png\n"
     "  bristle replay session.csv --brush scenes/brushes/round.json -o replay.png\n"
+    "  bristle compare golden/round-s-curve.png new.png --tolerance strict --diff d.png\n"
     "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
     "  bristle batch scenes/batch/standard.json --out renders/ --jobs 2\n"
     "\n"
@@ -258,6 +259,38 @@ int main(int argc, char** argv) {
   batch->add_flag("--dry-run", ba.dry_run, "List the shard's jobs and whether they would render; render nothing");
   batch->add_flag("-q,--quiet", ba.quiet, "No progress, no summary");
 
+  bristle::cli::CompareArgs cmp;
+  CLI::App* compare = app.add_subcommand("compare", "Compare two PNGs: hash, differences, PSNR, SSIM against a tolerance");
+  compare->footer(
+      "Examples:\n"
+      "  bristle compare golden/round-s-curve.png new.png --tolerance strict --diff d.png\n"
+      "  bristle compare a.png b.png --json --max-abs 4 --min-ssim 0.995\n"
+      "Differences are in 8-bit steps (1/255 of full scale) whatever the bit depth.\n"
+      "Presets: exact (equal pixels; the default), strict (max abs <= 2, <= 0.1% of pixels\n"
+      "over 1), loose (SSIM >= 0.99, <= 1% of pixels over 8). Exit 0 within tolerance, 1 not\n"
+      "(also when the sizes differ). See docs/golden-tests.md.");
+  compare->add_option("a", cmp.a, "First PNG (the reference)")->required();
+  compare->add_option("b", cmp.b, "Second PNG")->required();
+  compare->add_option("--diff", cmp.diff, "Write the amplified difference image (PNG)");
+  compare->add_option("--diff-gain", cmp.diff_gain, "Amplification of --diff")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 65535.0));
+  compare->add_flag("--json", cmp.json, "One JSON object on stdout: metrics, tolerance, verdict");
+  compare->add_option("--tolerance", cmp.tolerance, "Preset: exact, strict or loose")
+      ->check(CLI::IsMember({"exact", "strict", "loose"}));
+  compare->add_option("--max-abs", cmp.max_abs, "Largest channel difference allowed (8-bit steps)")
+      ->check(CLI::Range(0.0, 255.0));
+  compare->add_option("--pixel-threshold", cmp.pixel_threshold,
+                      "A pixel differs when a channel differs by more than this (8-bit steps)")
+      ->check(CLI::Range(0.0, 255.0));
+  compare->add_option("--max-percent-over", cmp.max_percent_over,
+                      "Largest % of pixels over --pixel-threshold allowed")
+      ->check(CLI::Range(0.0, 100.0));
+  compare->add_option("--min-ssim", cmp.min_ssim, "Smallest SSIM allowed")
+      ->check(CLI::Range(-1.0, 1.0));
+  compare->add_option("--min-psnr", cmp.min_psnr_db, "Smallest PSNR allowed (dB)")
+      ->check(CLI::Range(0.0, 1000.0));
+
   std::string help_topic;
   CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
   help->add_option("command", help_topic, "Command to explain");
@@ -287,15 +320,16 @@ int main(int argc, char** argv) {
     if (record->parsed()) return bristle::cli::runRecord(rec);
     if (replay->parsed()) return bristle::cli::runReplay(rep);
     if (sheet->parsed()) return bristle::cli::runSheet(sh);
+    if (compare->parsed()) return bristle::cli::runCompare(cmp);
     if (batch->parsed()) return bristle::cli::runBatch(ba);
     if (help->parsed() && !help_topic.empty()) {
-      for (CLI::App* sub : {render, validate, brushes, preview, record, replay, sheet, batch}) {
+      for (CLI::App* sub : {render, validate, brushes, preview, record, replay, sheet, batch, compare}) {
         if (sub->get_name() == help_topic) {
           std::cout << sub->help();
           return 0;
         }
       }
-      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay, sheet, batch)");
+      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay, sheet, batch, compare)");
       return static_cast<int>(bristle::ExitCode::kUsage);
     }
     std::cout << app.help();

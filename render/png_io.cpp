@@ -218,11 +218,15 @@ struct Decoder {
   png_structp png = nullptr;
   png_infop info = nullptr;
   PngFailure failure;
+  int file_bit_depth = 0, file_channels = 0;  // before any transform
   ~Decoder() { png_destroy_read_struct(&png, &info, nullptr); }
 };
 
-// Reads the header and arms the transforms (to 8-bit RGBA when asked).
-bool readHeader(std::FILE* file, bool to_rgba8, Decoder* d, int* passes) {
+// What the decoder turns the file's pixels into.
+enum class Decode { kNative, kRgba8, kRgba16 };
+
+// Reads the header and arms the transforms (to 8- or 16-bit RGBA when asked).
+bool readHeader(std::FILE* file, Decode to, Decoder* d, int* passes) {
   d->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &d->failure, onPngError,
                                   onPngWarning);
   if (d->png == nullptr) return false;
@@ -232,11 +236,20 @@ bool readHeader(std::FILE* file, bool to_rgba8, Decoder* d, int* passes) {
   png_init_io(d->png, file);
   png_set_sig_bytes(d->png, static_cast<int>(kSignatureBytes));
   png_read_info(d->png, d->info);
-  if (to_rgba8) {
+  d->file_bit_depth = png_get_bit_depth(d->png, d->info);
+  d->file_channels = png_get_channels(d->png, d->info);
+  if (to == Decode::kRgba8) {
     png_set_expand(d->png);  // palette -> RGB, grey < 8 bit -> 8 bit, tRNS -> alpha
     png_set_scale_16(d->png);  // rounds 65535 -> 255, unlike strip_16's truncation
     png_set_gray_to_rgb(d->png);
     png_set_add_alpha(d->png, 0xff, PNG_FILLER_AFTER);  // only where alpha is absent
+  } else if (to == Decode::kRgba16) {
+    png_set_expand(d->png);
+    png_set_expand_16(d->png);  // v -> v * 257: 0..255 onto 0..65535 exactly
+    png_set_gray_to_rgb(d->png);
+    png_set_add_alpha(d->png, 0xffff, PNG_FILLER_AFTER);
+    // PNG stores 16-bit samples big-endian; callers get host order.
+    if (std::endian::native == std::endian::little) png_set_swap(d->png);
   }
   *passes = png_set_interlace_handling(d->png);
   png_read_update_info(d->png, d->info);
@@ -264,12 +277,20 @@ Error corruptPng(const std::string& path, const Decoder& d) {
                path + ": corrupt or truncated PNG: " + d.failure.message);
 }
 
-// Opens, decodes and hands the decoder (with text and header) to the caller.
-void decodePng(const std::string& path, bool to_rgba8, Decoder* d, Image8* image) {
+// The decoded RGBA pixels of decodePng, and the file's own layout.
+struct Decoded {
+  int width = 0, height = 0;
+  std::vector<png_byte> bytes;  // rows top to bottom, host-order samples
+  PngFormat format;
+};
+
+// Opens, decodes and hands the decoder (with text and header) to the caller;
+// with `image` null only the text chunks are wanted.
+void decodePng(const std::string& path, Decode to, Decoder* d, Decoded* image) {
   std::FILE* file = openPng(path);
   FileCloser closer{file};
   int passes = 1;
-  if (!readHeader(file, to_rgba8, d, &passes)) throw corruptPng(path, *d);
+  if (!readHeader(file, to, d, &passes)) throw corruptPng(path, *d);
   const std::uint64_t width = png_get_image_width(d->png, d->info);
   const std::uint64_t height = png_get_image_height(d->png, d->info);
   const std::size_t row_bytes = png_get_rowbytes(d->png, d->info);
@@ -282,15 +303,17 @@ void decodePng(const std::string& path, bool to_rgba8, Decoder* d, Image8* image
     if (!readBody(d, nullptr, scratch.data(), passes)) throw corruptPng(path, *d);
     return;
   }
-  if (row_bytes != width * 4) {
+  const std::uint64_t sample_bytes = to == Decode::kRgba16 ? 2 : 1;
+  if (row_bytes != width * 4 * sample_bytes) {
     throw Error(ExitCode::kDataError, path + ": unsupported PNG pixel layout");
   }
   image->width = static_cast<int>(width);
   image->height = static_cast<int>(height);
-  image->channels = 4;
-  image->pixels.resize(row_bytes * height);
+  image->format.bit_depth = d->file_bit_depth;
+  image->format.channels = d->file_channels;
+  image->bytes.resize(row_bytes * height);
   std::vector<png_bytep> rows(height);
-  for (std::size_t r = 0; r < height; ++r) rows[r] = image->pixels.data() + row_bytes * r;
+  for (std::size_t r = 0; r < height; ++r) rows[r] = image->bytes.data() + row_bytes * r;
   if (!readBody(d, rows.data(), nullptr, passes)) throw corruptPng(path, *d);
 }
 
@@ -308,14 +331,25 @@ void writePng(const std::string& path, const Image16& image, const PngText& text
 
 Image8 readPngRgba8(const std::string& path) {
   Decoder decoder;
-  Image8 image;
-  decodePng(path, true, &decoder, &image);
+  Decoded decoded;
+  decodePng(path, Decode::kRgba8, &decoder, &decoded);
+  return Image8{decoded.width, decoded.height, 4, std::move(decoded.bytes)};
+}
+
+Image16 readPngRgba16(const std::string& path, PngFormat* format) {
+  Decoder decoder;
+  Decoded decoded;
+  decodePng(path, Decode::kRgba16, &decoder, &decoded);
+  Image16 image{decoded.width, decoded.height, 4, {}};
+  image.pixels.resize(decoded.bytes.size() / 2);
+  std::memcpy(image.pixels.data(), decoded.bytes.data(), decoded.bytes.size());
+  if (format != nullptr) *format = decoded.format;
   return image;
 }
 
 PngText readPngText(const std::string& path) {
   Decoder decoder;
-  decodePng(path, false, &decoder, nullptr);
+  decodePng(path, Decode::kNative, &decoder, nullptr);
   png_textp chunks = nullptr;
   const int count = png_get_text(decoder.png, decoder.info, &chunks, nullptr);
   PngText text;

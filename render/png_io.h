@@ -34,6 +34,18 @@ void writePng(const std::string& path, const Image16& image, const PngText& text
 // not a PNG or corrupt.
 Image8 readPngRgba8(const std::string& path);
 
+// The pixel layout of a PNG file as stored (a palette image has 1 channel).
+struct PngFormat {
+  int bit_depth = 8;  // 1, 2, 4, 8 or 16
+  int channels = 4;   // 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA
+};
+
+// Reads any PNG into 16-bit RGBA, samples in host order: 8-bit samples v become
+// v * 257 (0..255 onto 0..65535 exactly), grey and palette are expanded, a file
+// without alpha is opaque (65535). `format`, when given, receives the file's own
+// layout. Throws as readPngRgba8.
+Image16 readPngRgba16(const std::string& path, PngFormat* format = nullptr);
+
 // The text chunks of a PNG (for tests and `bristle compare`).
 PngText readPngText(const std::string& path);
 

@@ -29,6 +29,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// BRISTLE_SOURCE_DIR, not __FILE__: ccache with CCACHE_BASEDIR makes __FILE__
+// relative to the build folder, and paths written into scene files then break.
 const fs::path kSourceDir = BRISTLE_SOURCE_DIR;
 
 }  // namespace

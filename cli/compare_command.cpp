@@ -1,0 +1,216 @@
+// `bristle compare A B`: are two PNGs the same picture, and if not, by how much
+// do they differ against a tolerance (render/image_compare.h). Exit 0 within
+// tolerance, 1 not (also for images of different sizes); --json prints one
+// object with every metric, the tolerance and the verdict.
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "cli/commands.h"
+#include "engine/error.h"
+#include "engine/fnv1a64.h"
+#include "render/image_compare.h"
+#include "render/png_io.h"
+
+namespace bristle::cli {
+namespace {
+
+using render::CompareTolerance;
+using render::ImageComparison;
+using render::ToleranceCheck;
+
+std::string formatName(const render::PngFormat& f) {
+  static constexpr const char* kLayout[] = {"grey", "grey+alpha", "RGB", "RGBA"};
+  return std::to_string(f.bit_depth) + "-bit " + kLayout[f.channels - 1];
+}
+
+// The preset, with the limits given on the command line put in.
+CompareTolerance toleranceOf(const CompareArgs& args) {
+  const bool custom = !std::isnan(args.max_abs) || !std::isnan(args.pixel_threshold) ||
+                      !std::isnan(args.max_percent_over) || !std::isnan(args.min_ssim) ||
+                      !std::isnan(args.min_psnr_db);
+  CompareTolerance t;
+  if (!args.tolerance.empty()) {
+    t = render::tolerancePreset(args.tolerance);
+    if (custom && t.require_identical) {
+      throw Error(ExitCode::kUsage,
+                  "compare: --tolerance exact takes no limits (it requires equal pixels)");
+    }
+    if (custom) t.name += "+custom";
+  } else if (custom) {
+    t.name = "custom";
+  } else {
+    t = render::tolerancePreset("exact");
+  }
+  if (!std::isnan(args.max_abs)) t.max_abs = args.max_abs;
+  if (!std::isnan(args.pixel_threshold)) t.pixel_threshold = args.pixel_threshold;
+  if (!std::isnan(args.max_percent_over)) t.max_percent_over = args.max_percent_over;
+  if (!std::isnan(args.min_ssim)) t.min_ssim = args.min_ssim;
+  if (!std::isnan(args.min_psnr_db)) t.min_psnr_db = args.min_psnr_db;
+  return t;
+}
+
+std::string number(double v, int precision = 3, bool trim = true) {
+  if (std::isinf(v)) return "inf";
+  std::ostringstream s;
+  s.precision(precision);
+  s << std::fixed << v;
+  std::string text = s.str();
+  // 2.000 -> 2, 0.250 -> 0.25: the unit is an 8-bit step, mostly whole.
+  if (trim && text.find('.') != std::string::npos) {
+    text.erase(text.find_last_not_of('0') + 1);
+    if (text.back() == '.') text.pop_back();
+  }
+  return text;
+}
+
+std::string limitText(const ToleranceCheck& c) {
+  const std::string unit = c.metric == "max_abs"        ? "/255"
+                           : c.metric == "percent_over" ? "%"
+                           : c.metric == "psnr_db"      ? " dB"
+                                                        : "";
+  return std::string(c.at_most ? "<= " : ">= ") + number(c.limit, 4) + unit;
+}
+
+const ToleranceCheck* findCheck(const std::vector<ToleranceCheck>& checks, const char* metric) {
+  for (const ToleranceCheck& c : checks)
+    if (c.metric == metric) return &c;
+  return nullptr;
+}
+
+// One aligned line: label, value, and the limit with its verdict when checked.
+void printLine(const std::string& label, const std::string& value, const ToleranceCheck* check) {
+  if (check == nullptr) {
+    std::printf("  %-22s %s\n", label.c_str(), value.c_str());
+    return;
+  }
+  std::printf("  %-22s %-40s", label.c_str(), value.c_str());
+  if (check->metric == "hash") {
+    std::printf(" %-17s %s", "must be equal", check->pass ? "ok" : "FAIL");
+  } else {
+    std::printf(" limit %-11s %s", limitText(*check).c_str(), check->pass ? "ok" : "FAIL");
+  }
+  std::printf("\n");
+}
+
+void printHuman(const CompareArgs& args, const ImageComparison& c, const CompareTolerance& t,
+                const std::vector<ToleranceCheck>& checks, bool pass,
+                const render::PngFormat& fa, const render::PngFormat& fb) {
+  if (c.identical) {
+    std::printf("%s and %s: identical pixels (%dx%d, fnv1a64 %s); tolerance %s: pass\n",
+                args.a.c_str(), args.b.c_str(), c.width, c.height, hex64(c.hash_a).c_str(),
+                t.name.c_str());
+    return;
+  }
+  std::printf("%s and %s: %dx%d, pixels differ; tolerance %s: %s\n", args.a.c_str(),
+              args.b.c_str(), c.width, c.height, t.name.c_str(), pass ? "pass" : "FAIL");
+  printLine("files", formatName(fa) + " vs " + formatName(fb), nullptr);
+  printLine("pixel hash", hex64(c.hash_a) + " vs " + hex64(c.hash_b), findCheck(checks, "hash"));
+  const double largest = std::max({c.max_abs[0], c.max_abs[1], c.max_abs[2], c.max_abs[3]});
+  printLine("max abs difference", number(largest) + "/255 (R " + number(c.max_abs[0]) + ", G " +
+                                      number(c.max_abs[1]) + ", B " + number(c.max_abs[2]) +
+                                      ", A " + number(c.max_abs[3]) + ")",
+            findCheck(checks, "max_abs"));
+  printLine("pixels over " + number(c.pixel_threshold) + "/255",
+            std::to_string(c.pixels_over) + " of " +
+                std::to_string(std::int64_t(c.width) * c.height) + " (" +
+                number(c.percent_over, 4) + "%)",
+            findCheck(checks, "percent_over"));
+  printLine("pixels differing", std::to_string(c.pixels_differing), nullptr);
+  printLine("RMSE", number(c.rmse, 4) + "/255", nullptr);
+  printLine("PSNR", number(c.psnr_db, 2) + " dB", findCheck(checks, "psnr_db"));
+  printLine("SSIM (luma)", number(c.ssim, 6, false), findCheck(checks, "ssim"));
+}
+
+nlohmann::json toleranceJson(const CompareTolerance& t) {
+  nlohmann::json j{{"name", t.name}, {"require_identical", t.require_identical},
+                   {"pixel_threshold", t.pixel_threshold}};
+  j["max_abs"] = t.max_abs ? nlohmann::json(*t.max_abs) : nlohmann::json();
+  j["max_percent_over"] = t.max_percent_over ? nlohmann::json(*t.max_percent_over) : nlohmann::json();
+  j["min_ssim"] = t.min_ssim ? nlohmann::json(*t.min_ssim) : nlohmann::json();
+  j["min_psnr_db"] = t.min_psnr_db ? nlohmann::json(*t.min_psnr_db) : nlohmann::json();
+  return j;
+}
+
+nlohmann::json imageJson(const std::string& path, const render::Image16& image,
+                         const render::PngFormat& f) {
+  return {{"path", path},
+          {"width", image.width},
+          {"height", image.height},
+          {"bit_depth", f.bit_depth},
+          {"channels", f.channels}};
+}
+
+}  // namespace
+
+int runCompare(const CompareArgs& args) {
+  const CompareTolerance tolerance = toleranceOf(args);
+  render::PngFormat fa, fb;
+  const render::Image16 a = render::readPngRgba16(args.a, &fa);
+  const render::Image16 b = render::readPngRgba16(args.b, &fb);
+  const auto fail = static_cast<int>(ExitCode::kCheckFailed);
+
+  nlohmann::json j{{"a", imageJson(args.a, a, fa)},
+                   {"b", imageJson(args.b, b, fb)},
+                   {"tolerance", toleranceJson(tolerance)}};
+  if (a.width != b.width || a.height != b.height) {
+    const std::string why = "images differ in size: " + args.a + " is " +
+                            std::to_string(a.width) + "x" + std::to_string(a.height) + ", " +
+                            args.b + " is " + std::to_string(b.width) + "x" +
+                            std::to_string(b.height);
+    if (args.json) {
+      j["verdict"] = "fail";
+      j["reason"] = why;
+      std::cout << j.dump(2) << "\n";
+    }
+    printError(why);
+    return fail;
+  }
+
+  const ImageComparison c = render::compareImages(a, b, tolerance.pixel_threshold);
+  const std::vector<ToleranceCheck> checks = render::checkTolerance(c, tolerance);
+  const bool pass = render::allPass(checks);
+  if (!args.diff.empty()) {
+    render::writePng(args.diff, render::differenceImage(a, b, args.diff_gain),
+                     {{"Software", "bristle compare"},
+                      {"bristle:compare", args.a + " vs " + args.b}});
+  }
+
+  if (args.json) {
+    j["hash_a"] = hex64(c.hash_a);
+    j["hash_b"] = hex64(c.hash_b);
+    j["identical"] = c.identical;
+    j["max_abs"] = {{"r", c.max_abs[0]}, {"g", c.max_abs[1]}, {"b", c.max_abs[2]},
+                    {"a", c.max_abs[3]}};
+    j["pixel_threshold"] = c.pixel_threshold;
+    j["pixels"] = std::int64_t(c.width) * c.height;
+    j["pixels_differing"] = c.pixels_differing;
+    j["pixels_over"] = c.pixels_over;
+    j["percent_over"] = c.percent_over;
+    j["rmse"] = c.rmse;
+    // JSON has no infinity: identical images have no PSNR (null).
+    j["psnr_db"] = std::isinf(c.psnr_db) ? nlohmann::json() : nlohmann::json(c.psnr_db);
+    j["ssim"] = c.ssim;
+    j["ssim_window"] = c.ssim_window;
+    nlohmann::json list = nlohmann::json::array();
+    for (const ToleranceCheck& k : checks) {
+      list.push_back({{"metric", k.metric}, {"value", k.value}, {"limit", k.limit},
+                      {"must_be", k.at_most ? "<=" : ">="}, {"pass", k.pass}});
+    }
+    j["checks"] = list;
+    j["diff"] = args.diff.empty() ? nlohmann::json() : nlohmann::json(args.diff);
+    j["verdict"] = pass ? "pass" : "fail";
+    std::cout << j.dump(2) << "\n";
+  } else {
+    printHuman(args, c, tolerance, checks, pass, fa, fb);
+    if (!args.diff.empty()) std::printf("  %-22s %s\n", "difference image", args.diff.c_str());
+  }
+  std::fflush(stdout);
+  return pass ? 0 : fail;
+}
+
+}  // namespace bristle::cli

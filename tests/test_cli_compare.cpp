@@ -1,0 +1,213 @@
+// `bristle compare` end to end: verdicts and exit codes, the human and JSON
+// outputs, the difference image, and bad input (sizes, truncated, missing).
+
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.h"
+#include "render/png_io.h"
+
+using namespace bristle;
+using namespace bristle::testing;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// A w x h 8-bit RGB image with a gradient, so SSIM has structure to see.
+render::Image8 gradient(int w, int h) {
+  render::Image8 im{w, h, 3, {}};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (const int v : {(x * 255) / (w - 1), (y * 255) / (h - 1), 128})
+        im.pixels.push_back(static_cast<std::uint8_t>(v));
+  return im;
+}
+
+std::string q(const std::string& path) { return "'" + path + "'"; }
+
+// Values that pass through JSON as decimal text: 1e-9 is far below any
+// difference the checks look for and far above printing error (~1e-15).
+constexpr double kJsonTol = 1e-9;
+
+}  // namespace
+
+TEST_CASE("compare: identical images exit 0 and say so", "[cli][compare]") {
+  TempDir dir;
+  const std::string a = dir.file("a.png"), b = dir.file("b.png");
+  render::writePng(a, gradient(40, 30));
+  render::writePng(b, gradient(40, 30), {{"Comment", "other text, same pixels"}});
+  const RunResult r = runBristle("compare " + q(a) + " " + q(b));
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("identical pixels (40x30"));
+  CHECK(r.err.empty());
+}
+
+TEST_CASE("compare: one pixel off by 10 -- exact fails, a custom limit passes", "[cli][compare]") {
+  TempDir dir;
+  const std::string a = dir.file("a.png"), b = dir.file("b.png"), d = dir.file("d.png");
+  render::Image8 im = gradient(40, 30);
+  render::writePng(a, im);
+  im.pixels[3 * (10 * 40 + 20) + 2] += 10;  // B of pixel (20, 10)
+  render::writePng(b, im);
+
+  RunResult r = runBristle("compare " + q(a) + " " + q(b));
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Contains("tolerance exact: FAIL"));
+  CHECK_THAT(r.out, Contains("must be equal"));
+
+  r = runBristle("compare " + q(a) + " " + q(b) + " --tolerance strict");
+  CHECK(r.code == 1);  // max abs 10 > 2
+  CHECK_THAT(r.out, Contains("10/255 (R 0, G 0, B 10, A 0)"));
+  CHECK_THAT(r.out, Contains("limit <= 2/255"));
+
+  // Limits alone make a custom tolerance: max 10 <= 10 and 1 of 1200 px
+  // (0.083%) over 9 steps <= 0.1% pass; a limit of 9.5 steps does not.
+  r = runBristle("compare " + q(a) + " " + q(b) +
+                 " --max-abs 10 --pixel-threshold 9 --max-percent-over 0.1");
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("tolerance custom: pass"));
+  CHECK_THAT(r.out, Contains("pixels over 9/255"));
+  r = runBristle("compare " + q(a) + " " + q(b) + " --max-abs 9.5");
+  CHECK(r.code == 1);
+  // A preset with a limit changed: loose, but no more than 5 steps anywhere.
+  r = runBristle("compare " + q(a) + " " + q(b) + " --tolerance loose --max-abs 5");
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Contains("tolerance loose+custom: FAIL"));
+}
+
+TEST_CASE("compare: --json has every metric, the tolerance and the verdict", "[cli][compare]") {
+  TempDir dir;
+  const std::string a = dir.file("a.png"), b = dir.file("b.png"), d = dir.file("d.png");
+  render::Image8 im = gradient(40, 30);
+  render::writePng(a, im);
+  im.pixels[3 * (10 * 40 + 20) + 2] += 10;
+  render::writePng(b, im);
+  const RunResult r =
+      runBristle("compare " + q(a) + " " + q(b) + " --json --tolerance strict --diff " + q(d));
+  CHECK(r.code == 1);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j["verdict"] == "fail");
+  CHECK(j["identical"] == false);
+  CHECK(j["tolerance"]["name"] == "strict");
+  CHECK(j["tolerance"]["max_abs"] == 2.0);
+  CHECK(j["max_abs"]["b"].get<double>() == Approx(10).margin(kJsonTol));
+  CHECK(j["max_abs"]["r"].get<double>() == 0);
+  CHECK(j["pixels"] == 1200);
+  CHECK(j["pixels_over"] == 1);
+  CHECK(j["percent_over"].get<double>() == Approx(100.0 / 1200).epsilon(kJsonTol));
+  // RMSE by hand: one squared difference of 100 among 3 * 1200 samples.
+  CHECK(j["rmse"].get<double>() == Approx(std::sqrt(100.0 / 3600)).epsilon(kJsonTol));
+  CHECK(j["psnr_db"].get<double>() == Approx(20 * std::log10(255 / std::sqrt(100.0 / 3600))).epsilon(kJsonTol));
+  CHECK(j["ssim"].get<double>() < 1);
+  CHECK(j["a"]["bit_depth"] == 8);
+  CHECK(j["a"]["channels"] == 3);
+  REQUIRE(j["checks"].size() == 2);
+  CHECK(j["checks"][0]["metric"] == "max_abs");
+  CHECK(j["checks"][0]["pass"] == false);
+  CHECK(j["checks"][1]["metric"] == "percent_over");
+  CHECK(j["checks"][1]["pass"] == true);  // 0.083% <= 0.1%
+  CHECK(j["diff"] == d);
+
+  // The difference image: the image's size, red at the changed pixel only.
+  const render::Image8 diff = render::readPngRgba8(d);
+  REQUIRE(diff.width == 40);
+  REQUIRE(diff.height == 30);
+  const std::uint8_t* p = &diff.pixels[4 * (10 * 40 + 20)];
+  CHECK(int(p[0]) > 64);
+  CHECK(int(p[1]) == 0);
+  CHECK(int(p[2]) == 0);
+  const std::uint8_t* e = &diff.pixels[4 * (10 * 40 + 30)];  // 10 px away: grey
+  CHECK(int(e[0]) == int(e[1]));
+  CHECK(int(e[1]) == int(e[2]));
+
+  // Identical images: PSNR is infinite, which JSON writes as null.
+  const nlohmann::json same =
+      nlohmann::json::parse(runBristle("compare " + q(a) + " " + q(a) + " --json").out);
+  CHECK(same["verdict"] == "pass");
+  CHECK(same["psnr_db"].is_null());
+  CHECK(same["ssim"] == 1.0);
+}
+
+TEST_CASE("compare: 8-bit RGB against 16-bit RGBA of the same picture", "[cli][compare]") {
+  TempDir dir;
+  const render::Image8 im8 = gradient(20, 10);
+  render::Image16 im16{20, 10, 4, {}};
+  for (std::size_t i = 0; i < im8.pixels.size(); i += 3) {
+    for (int c = 0; c < 3; ++c) im16.pixels.push_back(static_cast<std::uint16_t>(im8.pixels[i + c] * 257));
+    im16.pixels.push_back(65535);
+  }
+  render::writePng(dir.file("a.png"), im8);
+  render::writePng(dir.file("b.png"), im16);
+  const RunResult r = runBristle("compare " + q(dir.file("a.png")) + " " + q(dir.file("b.png")));
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("identical pixels"));
+}
+
+TEST_CASE("compare: bad input", "[cli][compare][errors]") {
+  TempDir dir;
+  const std::string a = dir.file("a.png"), b = dir.file("b.png");
+  render::writePng(a, gradient(40, 30));
+  render::writePng(b, gradient(41, 30));
+
+  RunResult r = runBristle("compare " + q(a) + " " + q(b));
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("differ in size"));
+  CHECK_THAT(r.err, Contains("40x30"));
+  CHECK_THAT(r.err, Contains("41x30"));
+  r = runBristle("compare " + q(a) + " " + q(b) + " --json");
+  CHECK(r.code == 1);
+  CHECK(nlohmann::json::parse(r.out)["verdict"] == "fail");
+
+  // Truncated: the first half of a valid file.
+  const std::string whole = readAll(a);
+  const std::string cut = dir.write("cut.png", whole.substr(0, whole.size() / 2));
+  r = runBristle("compare " + q(a) + " " + q(cut));
+  CHECK(r.code == 65);
+  CHECK_THAT(r.err, Contains("cut.png"));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+
+  const std::string text = dir.write("text.png", "not a png\n");
+  r = runBristle("compare " + q(text) + " " + q(a));
+  CHECK(r.code == 65);
+  CHECK_THAT(r.err, Contains("text.png: not a PNG"));
+
+  r = runBristle("compare " + q(a) + " " + q(dir.file("missing.png")));
+  CHECK(r.code == 66);
+  CHECK_THAT(r.err, Contains("missing.png"));
+
+  r = runBristle("compare " + q(a) + " " + q(a) + " --tolerance fuzzy");
+  CHECK(r.code == 64);
+  r = runBristle("compare " + q(a) + " " + q(a) + " --tolerance exact --max-abs 3");
+  CHECK(r.code == 64);
+  CHECK_THAT(r.err, Contains("exact takes no limits"));
+
+  // The difference image cannot be created: 73, and no verdict is claimed.
+  r = runBristle("compare " + q(a) + " " + q(a) + " --diff " + q(dir.file("no/such/dir.png")));
+  CHECK(r.code == 73);
+}
+
+TEST_CASE("compare: a stroke rendered at 16 bits differs from its 8-bit render by rounding only",
+          "[cli][compare]") {
+  TempDir dir;
+  const std::string stroke = "render --brush " + q(sourcePath("scenes/brushes/bright.json")) +
+                             " --trajectory " + q(sourcePath("scenes/trajectories/press-lift.csv")) +
+                             " --solver slsqp --offset-mm 0 0 -5.4 -q";
+  REQUIRE(runBristle(stroke + " -o " + q(dir.file("8.png"))).code == 0);
+  REQUIRE(runBristle(stroke + " --bits 16 -o " + q(dir.file("16.png"))).code == 0);
+  const RunResult r =
+      runBristle("compare " + q(dir.file("8.png")) + " " + q(dir.file("16.png")) +
+                 " --json --tolerance strict");
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j["b"]["bit_depth"] == 16);
+  // The 8-bit file is the 16-bit one rounded to the nearest 8-bit level, so no
+  // sample is more than half a step away (plus the 1/257-step grid of 16 bits).
+  constexpr double kHalfStep = 0.5 + 1.0 / 257;
+  for (const char* c : {"r", "g", "b", "a"}) CHECK(j["max_abs"][c].get<double>() <= kHalfStep);
+  CHECK(j["pixels_over"] == 0);  // none over 1 step
+  CHECK(j["verdict"] == "pass");
+  CHECK(r.code == 0);
+}
