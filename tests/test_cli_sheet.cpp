@@ -87,7 +87,10 @@ TEST_CASE("a sheet renders: the renderer's picture, its name and inputs hash", "
                       sourcePath("scenes/brushes/flat.json"),
                       sourcePath("scenes/trajectories/straight-pull.csv"),
                       sourcePath("scenes/trajectories/press-lift.csv")}));
-  CHECK_THAT(pngText(png, "bristle:sheet-grid"), StartsWith("2 x 2 (brushes x trajectories)"));
+  char grid[128];
+  std::snprintf(grid, sizeof grid, "2 x 2 (brushes x trajectories), cells %.4g x %.4g mm at 4 px/mm",
+                expected.cell_width_mm, expected.cell_height_mm);
+  CHECK(pngText(png, "bristle:sheet-grid") == grid);
 }
 
 TEST_CASE("the PNG's inputs hash changes when a listed trajectory changes", "[cli][sheet]") {
