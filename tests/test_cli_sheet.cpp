@@ -274,3 +274,19 @@ TEST_CASE("a clipped cell and a brush that never paints are warnings naming the 
   // The round's press-lift fits: no warning names it.
   CHECK(r.err.find("brush 'round' on trajectory 'press-lift'") == std::string::npos);
 }
+
+TEST_CASE("a fixed cell size past the picture limits is 65 naming /cell_mm, and no PNG",
+          "[cli][sheet]") {
+  TempDir dir;
+  json j = librarySmallSheet();
+  j["cell_mm"] = {1000, 100};  // two columns of 4000 px at 4 px/mm: 8003 px, fine ...
+  j["px_per_mm"] = 10;         // ... at 10 px/mm two columns are 20003 px wide
+  const std::string sheet = writeJson(dir, "big.json", j);
+  const std::string png = dir.file("big.png");
+  const RunResult r = runBristle("sheet -q '" + sheet + "' -o '" + png + "'");
+  CHECK(r.code == 65);
+  CHECK_THAT(r.err, StartsWith("bristle: " + sheet + ": /cell_mm: the sheet would be 20003 x "));
+  CHECK_THAT(r.err, Contains("above the limit of 16384 px a side"));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(png));
+}
