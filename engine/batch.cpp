@@ -12,6 +12,7 @@
 #include "engine/json_reader.h"
 #include "engine/scene.h"
 #include "engine/sheet.h"
+#include "engine/sheet.h"
 #include "engine/text_file.h"
 
 namespace bristle {

@@ -297,3 +297,36 @@ TEST_CASE("batch: SIGTERM abandons the running job and leaves no partial PNG", "
   CHECK(lines.at("dab1")["status"] == "abandoned");
   CHECK(lines.at("summary")["abandoned"] == 2);
 }
+
+TEST_CASE("batch: a sheet job is keyed by every file the sheet reads", "[cli][batch]") {
+  TempDir dir;
+  // A 1 x 2 sheet whose trajectories live in the temp folder.
+  dir.write("a.csv", dab(0));
+  dir.write("b.csv", dab(4));
+  const json sheet = {{"format", "bristle-sheet/1"},
+                      {"name", "tiny"},
+                      {"brushes", {kRound}},
+                      {"trajectories", {"a.csv", "b.csv"}},
+                      {"px_per_mm", 4},
+                      {"solver", "slsqp"}};
+  dir.write("tiny.json", sheet.dump());
+  const json m = {{"format", "bristle-batch/1"},
+                  {"jobs", {{{"id", "tiny"}, {"sheet", "tiny.json"}}}}};
+  const std::string path = writeManifest(dir, m);
+  const std::string out = dir.file("out");
+  RunResult r = runBristle("batch '" + path + "' --out '" + out + "' --json");
+  REQUIRE(r.code == 0);
+  CHECK(jsonLines(r.out).at("tiny")["kind"] == "sheet");
+  CHECK(jsonLines(r.out).at("tiny")["status"] == "rendered");
+  // The batch's output is the sheet command's picture, plus the key.
+  REQUIRE(runBristle("sheet '" + dir.file("tiny.json") + "' -o '" + dir.file("direct.png") + "' -q")
+              .code == 0);
+  CHECK(pixelHash(out + "/tiny.png") == pixelHash(dir.file("direct.png")));
+
+  r = runBristle("batch '" + path + "' --out '" + out + "' --json");
+  CHECK(jsonLines(r.out).at("tiny")["status"] == "skipped");
+  // A trajectory the sheet lists (not the sheet itself) changes.
+  dir.write("b.csv", dab(6));
+  r = runBristle("batch '" + path + "' --out '" + out + "' --json");
+  CHECK(jsonLines(r.out).at("tiny")["status"] == "rendered");
+}
