@@ -641,9 +641,12 @@ TEST_CASE("forces never exceed the stand-in device's nominal maximum", "[haptics
   // Below what the press asks for (~0.1-0.2 N), so the clamp has work to do.
   const double max_n = 0.05;
   ScopedEnv max("STANDIN_HD_MAX_FORCE", std::to_string(max_n));
+  // 10 sim frames per second: a force model stays fresh for 0.3 s (three
+  // frames), so a machine too loaded to simulate at 30 Hz still presses. At
+  // 30 Hz a loaded CI machine once let every model go stale (largest force 0).
   const RunResult rec = runBristle("record --device openhaptics --brush " +
                                    sourcePath("scenes/brushes/round.json") + " -o " +
-                                   dir.file("s.csv") + " --duration 0.8 -q");
+                                   dir.file("s.csv") + " --duration 0.8 --sim-rate-hz 10 -q");
   INFO(rec.err);
   REQUIRE(rec.code == 0);
   const StandinForces sf = readStandinForces(dir.file("standin-forces.csv"));

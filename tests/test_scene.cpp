@@ -28,7 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSourceDir = fs::path(__FILE__).parent_path().parent_path();
+const fs::path kSourceDir = BRISTLE_SOURCE_DIR;
 const std::string kFlat = (kSourceDir / "scenes/brushes/flat.json").string();
 const std::string kPull = (kSourceDir / "scenes/trajectories/straight-pull.csv").string();
 
