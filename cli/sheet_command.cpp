@@ -40,6 +40,13 @@ class SheetProgress {
   std::chrono::steady_clock::time_point last_{};
 };
 
+// Millimetres and resolutions for people: 4 significant digits, no trailing zeros.
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
 }  // namespace
 
 int runSheet(const SheetArgs& args) {
@@ -64,9 +71,8 @@ int runSheet(const SheetArgs& args) {
                   std::to_string(result.layout.rows) + " x " + std::to_string(result.layout.cols) +
                       (sheet.brushes_in_columns ? " (trajectories x brushes)"
                                                 : " (brushes x trajectories)") +
-                      ", cells " + std::to_string(result.cell_width_mm) + " x " +
-                      std::to_string(result.cell_height_mm) + " mm at " +
-                      std::to_string(sheet.px_per_mm) + " px/mm"});
+                      ", cells " + fmt(result.cell_width_mm) + " x " +
+                      fmt(result.cell_height_mm) + " mm at " + fmt(sheet.px_per_mm) + " px/mm"});
   render::writePng(args.output, result.image, text);
 
   for (const render::SheetCell& c : result.cells) {
@@ -76,8 +82,8 @@ int runSheet(const SheetArgs& args) {
       printError("warning: " + where + ": the brush left no visible paint");
     else if (c.clipped)
       printError("warning: " + where + ": the stroke (" +
-                 std::to_string(c.ink.width / sheet.px_per_mm) + " x " +
-                 std::to_string(c.ink.height / sheet.px_per_mm) +
+                 fmt(c.ink.width / sheet.px_per_mm) + " x " +
+                 fmt(c.ink.height / sheet.px_per_mm) +
                  " mm) is larger than the cell; its middle is shown (/cell_mm)");
   }
   warnFailedSolves(result.stats.failed_steps, result.stats.steps,

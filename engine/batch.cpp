@@ -12,7 +12,6 @@
 #include "engine/json_reader.h"
 #include "engine/scene.h"
 #include "engine/sheet.h"
-#include "engine/sheet.h"
 #include "engine/text_file.h"
 
 namespace bristle {

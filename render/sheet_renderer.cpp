@@ -51,10 +51,16 @@ Image8 fittedText(Font& font, std::string text, int size_px, int max_width) {
   return mask;
 }
 
-struct RenderedStroke {
-  Image8 image;
-  StrokeResult result;
-};
+// The sheet's picture must stay within the canvas limits of engine/canvas.h.
+void checkSheetSize(const Sheet& sheet, double width, double height) {
+  if (width > kMaxCanvasSidePx || height > kMaxCanvasSidePx ||
+      width * height > double(kMaxCanvasPixels))
+    throw dataError(sheet.path, sheet.autoCell() ? "/px_per_mm" : "/cell_mm",
+                    "the sheet would be " + std::to_string(long(width)) + " x " +
+                        std::to_string(long(height)) +
+                        " px or more, above the limit of 16384 px a side and 64 Mpx; lower "
+                        "px_per_mm or the cell size");
+}
 
 }  // namespace
 
@@ -98,6 +104,15 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
       out.cells.push_back(cell);
     }
 
+  // A fixed cell size says how large the grid is before anything is simulated:
+  // refuse a picture past the limits now rather than after every stroke.
+  const double ppm = sheet.px_per_mm;
+  if (!sheet.autoCell()) {
+    const double grid_w = L.cols * (std::lround(sheet.cell_width_mm * ppm) + 1.0) + 1;
+    const double grid_h = L.rows * (std::lround(sheet.cell_height_mm * ppm) + 1.0) + 1;
+    checkSheetSize(sheet, grid_w, grid_h);
+  }
+
   // Every stroke on its own canvas, as `bristle render --brush --trajectory`
   // paints it: the canvas the stroke needs, a fresh brush load, fresh paper.
   const Rgb8 paper = sheetPaperColour(sheet, options.compose);
@@ -134,7 +149,6 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
   }
 
   // One cell size for all: the sheet's, or the largest ink plus a pad.
-  const double ppm = sheet.px_per_mm;
   if (sheet.autoCell()) {
     int w = 0, h = 0;
     for (const SheetCell& c : out.cells) w = std::max(w, c.ink.width), h = std::max(h, c.ink.height);
@@ -184,13 +198,7 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
   const double width = std::max<double>(double(grid_x) + L.grid.width + margin,
                                         2.0 * margin + title_mask.width);
   const double height = double(grid_y) + L.grid.height + margin;
-  if (width > kMaxCanvasSidePx || height > kMaxCanvasSidePx ||
-      width * height > double(kMaxCanvasPixels))
-    throw dataError(sheet.path, sheet.autoCell() ? "/px_per_mm" : "/cell_mm",
-                    "the sheet would be " + std::to_string(long(width)) + " x " +
-                        std::to_string(long(height)) +
-                        " px, above the limit of 16384 px a side and 64 Mpx; lower px_per_mm "
-                        "or the cell size");
+  checkSheetSize(sheet, width, height);
   L.width_px = static_cast<int>(width);
   L.height_px = static_cast<int>(height);
 

@@ -87,7 +87,10 @@ TEST_CASE("a sheet renders: the renderer's picture, its name and inputs hash", "
                       sourcePath("scenes/brushes/flat.json"),
                       sourcePath("scenes/trajectories/straight-pull.csv"),
                       sourcePath("scenes/trajectories/press-lift.csv")}));
-  CHECK_THAT(pngText(png, "bristle:sheet-grid"), StartsWith("2 x 2 (brushes x trajectories)"));
+  char grid[128];
+  std::snprintf(grid, sizeof grid, "2 x 2 (brushes x trajectories), cells %.4g x %.4g mm at 4 px/mm",
+                expected.cell_width_mm, expected.cell_height_mm);
+  CHECK(pngText(png, "bristle:sheet-grid") == grid);
 }
 
 TEST_CASE("the PNG's inputs hash changes when a listed trajectory changes", "[cli][sheet]") {
@@ -270,4 +273,20 @@ TEST_CASE("a clipped cell and a brush that never paints are warnings naming the 
                              "no visible paint"));
   // The round's press-lift fits: no warning names it.
   CHECK(r.err.find("brush 'round' on trajectory 'press-lift'") == std::string::npos);
+}
+
+TEST_CASE("a fixed cell size past the picture limits is 65 naming /cell_mm, and no PNG",
+          "[cli][sheet]") {
+  TempDir dir;
+  json j = librarySmallSheet();
+  j["cell_mm"] = {1000, 100};  // two columns of 4000 px at 4 px/mm: 8003 px, fine ...
+  j["px_per_mm"] = 10;         // ... at 10 px/mm two columns are 20003 px wide
+  const std::string sheet = writeJson(dir, "big.json", j);
+  const std::string png = dir.file("big.png");
+  const RunResult r = runBristle("sheet -q '" + sheet + "' -o '" + png + "'");
+  CHECK(r.code == 65);
+  CHECK_THAT(r.err, StartsWith("bristle: " + sheet + ": /cell_mm: the sheet would be 20003 x "));
+  CHECK_THAT(r.err, Contains("above the limit of 16384 px a side"));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(png));
 }
