@@ -325,7 +325,7 @@ int main(int argc, char** argv) {
     if (help->parsed() && !help_topic.empty()) {
       for (CLI::App* sub : {render, validate, brushes, preview, record, replay, sheet, batch, compare}) {
         if (sub->get_name() == help_topic) {
-          std::cout << sub->help();
+          std::cout << sub->help("bristle");
           return 0;
         }
       }
