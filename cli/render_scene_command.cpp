@@ -10,6 +10,7 @@
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/progress.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/scene.h"
@@ -24,26 +25,6 @@ namespace {
 // The options that make sense with a scene: the scene says everything else.
 constexpr const char* kSceneOptions[] = {"--output", "--trace", "--impasto", "--bits", "--quiet",
                                          "--help"};
-
-// Progress on stderr, only when it is a terminal, at most every 0.2 s.
-class SceneProgress {
- public:
-  explicit SceneProgress(bool enabled) : enabled_(enabled && ::isatty(2)) {}
-  void update(int stroke, int strokes, long step, long steps) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    const bool last = step + 1 >= steps;
-    if (!last && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
-    std::fprintf(stderr, "\rbristle: stroke %d/%d, step %ld/%ld (%3.0f%%)", stroke + 1, strokes,
-                 step + 1, steps, 100.0 * double(step + 1) / double(steps));
-    if (last) std::fprintf(stderr, "\n");
-  }
-
- private:
-  bool enabled_;
-  std::chrono::steady_clock::time_point last_{};
-};
 
 // Was a stroke (its pointer, "/strokes/3") already named in a warning?
 bool warnedAbout(const std::vector<std::string>& warnings, const std::string& pointer) {
@@ -79,7 +60,7 @@ int runRenderScene(const RenderArgs& args) {
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
 
   PaintCanvas canvas = render::makeSceneCanvas(scene);
-  SceneProgress progress(!args.quiet);
+  PartProgress progress(!args.quiet, "stroke");
   const int strokes = static_cast<int>(scene.strokes.size());
   auto on_step = [&](int stroke, const BrushState& st, long step, long steps) {
     // Each trace line says which stroke it belongs to.

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/progress.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
@@ -19,26 +20,6 @@
 
 namespace bristle::cli {
 namespace {
-
-// Progress on stderr, only when it is a terminal, at most every 0.2 s.
-class SheetProgress {
- public:
-  explicit SheetProgress(bool enabled) : enabled_(enabled && ::isatty(2)) {}
-  void update(int cell, int cells, long step, long steps) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    const bool last = step + 1 >= steps;
-    if (!last && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
-    std::fprintf(stderr, "\rbristle: cell %d/%d, step %ld/%ld (%3.0f%%)", cell + 1, cells,
-                 step + 1, steps, 100.0 * double(step + 1) / double(steps));
-    if (last) std::fprintf(stderr, "\n");
-  }
-
- private:
-  bool enabled_;
-  std::chrono::steady_clock::time_point last_{};
-};
 
 // Millimetres and resolutions for people: 4 significant digits, no trailing zeros.
 std::string fmt(double v) {
@@ -56,7 +37,7 @@ int runSheet(const SheetArgs& args) {
   if (!args.solver.empty()) sheet.solver = args.solver;
   checkCanCreate(args.output);
 
-  SheetProgress progress(!args.quiet);
+  PartProgress progress(!args.quiet, "cell");
   render::SheetRenderOptions options;
   options.compose.impasto = args.impasto;
   const render::SheetImage result = render::renderSheet(
