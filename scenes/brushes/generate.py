@@ -175,7 +175,7 @@ def fan():
     # 6 mm) the joint before a touching tip stood 2.9 mm above the paper on the
     # standard s-curve (+2 mm) and each hair met the 0.1 mm contact band over
     # ~0.2 mm only. With 3 mm tip segments that joint stands 1.3 mm high.
-    lengths, K = [6.0, 5.0, 4.5, 3.5, 3.0], [8.0, 7.0, 6.0, 5.0, 4.0]
+    lengths, K = [6.0, 5.0, 4.5, 3.5, 3.0], [8.0, 7.0, 6.0, 5.5, 5.0]
     D = [0.004] * len(lengths)
     sp = []
     n = 7
