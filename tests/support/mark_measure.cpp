@@ -1,0 +1,217 @@
+#include "tests/support/mark_measure.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+
+namespace bristle::testsupport {
+
+namespace {
+
+double luminance(const std::uint8_t* px) {
+  return 0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2];
+}
+
+struct Point {
+  long long x = 0, y = 0;
+  bool operator<(const Point& o) const { return x != o.x ? x < o.x : y < o.y; }
+  bool operator==(const Point& o) const { return x == o.x && y == o.y; }
+};
+
+long long cross(const Point& o, const Point& a, const Point& b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+// Andrew's monotone chain: the hull counter-clockwise, collinear points dropped.
+std::vector<Point> convexHull(std::vector<Point> pts) {
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  if (pts.size() < 3) return pts;
+  std::vector<Point> hull(2 * pts.size());
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
+    hull[k++] = pts[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+// Twice the area of a polygon (shoelace), exact.
+long long twiceArea(const std::vector<Point>& poly) {
+  long long a = 0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const Point& p = poly[i];
+    const Point& q = poly[(i + 1) % poly.size()];
+    a += p.x * q.y - q.x * p.y;
+  }
+  return a < 0 ? -a : a;
+}
+
+}  // namespace
+
+Coverage coverageFromRgba8(int w, int h, const std::uint8_t* rgba, double px_per_mm) {
+  Coverage img(w, h, px_per_mm);
+  const size_t n = static_cast<size_t>(w) * h;
+  bool transparent = false;
+  for (size_t i = 0; i < n && !transparent; ++i) transparent = rgba[4 * i + 3] != 255;
+  if (transparent) {
+    for (size_t i = 0; i < n; ++i) img.v[i] = float(rgba[4 * i + 3] / 255.0);
+    return img;
+  }
+  const double paper = n > 0 ? luminance(rgba) : 255.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double ink = paper > 0 ? (paper - luminance(rgba + 4 * i)) / paper : 0.0;
+    img.v[i] = float(std::clamp(ink, 0.0, 1.0));
+  }
+  return img;
+}
+
+WidthProfile widthProfile(const Coverage& img, double threshold, Axis axis) {
+  WidthProfile p;
+  p.axis = axis;
+  p.px_per_mm = img.px_per_mm;
+  const int along = axis == Axis::kX ? img.w : img.h;
+  const int across = axis == Axis::kX ? img.h : img.w;
+  p.width_mm.assign(static_cast<size_t>(along), 0.0);
+  for (int i = 0; i < along; ++i) {
+    int lo = -1, hi = -1;
+    for (int j = 0; j < across; ++j) {
+      const float v = axis == Axis::kX ? img.at(i, j) : img.at(j, i);
+      if (v > threshold) {
+        if (lo < 0) lo = j;
+        hi = j;
+      }
+    }
+    if (lo < 0) continue;
+    p.width_mm[size_t(i)] = (hi - lo + 1) / img.px_per_mm;
+    if (p.first < 0) p.first = i;
+    p.last = i;
+  }
+  return p;
+}
+
+SpanRange middleRange(const WidthProfile& p, double from_frac, double to_frac) {
+  if (p.empty()) return {};
+  const int n = p.last - p.first + 1;
+  SpanRange r;
+  r.lo = p.first + static_cast<int>(std::lround(from_frac * n));
+  r.hi = p.first + static_cast<int>(std::lround(to_frac * n));
+  r.lo = std::clamp(r.lo, p.first, p.last);
+  r.hi = std::clamp(r.hi, r.lo + 1, p.last + 1);
+  return r;
+}
+
+double meanWidthMm(const WidthProfile& p, double from_frac, double to_frac) {
+  if (p.empty()) return 0;
+  const SpanRange r = middleRange(p, from_frac, to_frac);
+  double sum = 0;
+  for (int i = r.lo; i < r.hi; ++i) sum += p.width_mm[size_t(i)];
+  return sum / (r.hi - r.lo);
+}
+
+double widthCv(const WidthProfile& p, double from_frac, double to_frac) {
+  if (p.empty()) return 0;
+  const SpanRange r = middleRange(p, from_frac, to_frac);
+  const double mean = meanWidthMm(p, from_frac, to_frac);
+  if (mean <= 0) return 0;
+  double ss = 0;
+  for (int i = r.lo; i < r.hi; ++i) {
+    const double d = p.width_mm[size_t(i)] - mean;
+    ss += d * d;
+  }
+  return std::sqrt(ss / (r.hi - r.lo)) / mean;
+}
+
+BlotStats blotStats(const Coverage& img, double threshold, int min_component_px) {
+  BlotStats out;
+  const int w = img.w, h = img.h;
+  std::vector<int> label(static_cast<size_t>(w) * h, -1);
+  std::vector<std::pair<int, int>> stack, largest;
+  std::vector<std::pair<int, int>> pixels;
+  for (int r0 = 0; r0 < h; ++r0) {
+    for (int c0 = 0; c0 < w; ++c0) {
+      const size_t i0 = size_t(r0) * w + c0;
+      if (label[i0] >= 0 || !(img.v[i0] > threshold)) continue;
+      const int id = out.components + out.specks;
+      pixels.clear();
+      stack.assign(1, {c0, r0});
+      label[i0] = id;
+      while (!stack.empty()) {
+        const auto [c, r] = stack.back();
+        stack.pop_back();
+        pixels.push_back({c, r});
+        for (int dr = -1; dr <= 1; ++dr)
+          for (int dc = -1; dc <= 1; ++dc) {
+            const int cc = c + dc, rr = r + dr;
+            if (cc < 0 || rr < 0 || cc >= w || rr >= h) continue;
+            const size_t j = size_t(rr) * w + cc;
+            if (label[j] >= 0 || !(img.v[j] > threshold)) continue;
+            label[j] = id;
+            stack.push_back({cc, rr});
+          }
+      }
+      if (static_cast<int>(pixels.size()) < min_component_px) {
+        ++out.specks;
+        continue;
+      }
+      ++out.components;
+      if (static_cast<long>(pixels.size()) > out.largest_area_px) {
+        out.largest_area_px = static_cast<long>(pixels.size());
+        largest = pixels;
+      }
+    }
+  }
+  if (largest.empty()) return out;
+
+  // The hull of the pixel squares is the hull of the outer corners of each row's
+  // leftmost and rightmost pixels.
+  std::vector<int> row_lo(size_t(h), w), row_hi(size_t(h), -1);
+  for (const auto& [c, r] : largest) {
+    row_lo[size_t(r)] = std::min(row_lo[size_t(r)], c);
+    row_hi[size_t(r)] = std::max(row_hi[size_t(r)], c);
+  }
+  std::vector<Point> corners;
+  for (int r = 0; r < h; ++r) {
+    if (row_hi[size_t(r)] < 0) continue;
+    for (long long y : {r, r + 1}) {
+      corners.push_back({row_lo[size_t(r)], y});
+      corners.push_back({row_hi[size_t(r)] + 1LL, y});
+    }
+  }
+  out.largest_hull_area_px = 0.5 * double(twiceArea(convexHull(corners)));
+  if (out.largest_hull_area_px > 0)
+    out.fill = double(out.largest_area_px) / out.largest_hull_area_px;
+  const double px2 = img.px_per_mm * img.px_per_mm;
+  out.largest_area_mm2 = double(out.largest_area_px) / px2;
+  out.largest_hull_area_mm2 = out.largest_hull_area_px / px2;
+  return out;
+}
+
+bool inkXRangeMm(const Coverage& img, double threshold, double* min_x_mm, double* max_x_mm) {
+  int lo = -1, hi = -1;
+  for (int c = 0; c < img.w; ++c) {
+    bool inked = false;
+    for (int r = 0; r < img.h && !inked; ++r) inked = img.at(c, r) > threshold;
+    if (!inked) continue;
+    if (lo < 0) lo = c;
+    hi = c;
+  }
+  if (lo < 0) return false;
+  if (min_x_mm) *min_x_mm = img.x0_mm + lo / img.px_per_mm;
+  if (max_x_mm) *max_x_mm = img.x0_mm + (hi + 1) / img.px_per_mm;
+  return true;
+}
+
+double inkBeyondMm(const Coverage& img, double x_mm, int side, double threshold) {
+  double lo = 0, hi = 0;
+  if (!inkXRangeMm(img, threshold, &lo, &hi)) return 0;
+  return side < 0 ? std::max(0.0, x_mm - lo) : std::max(0.0, hi - x_mm);
+}
+
+}  // namespace bristle::testsupport

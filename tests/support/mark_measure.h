@@ -1,0 +1,93 @@
+#pragma once
+// Image measures of a painted mark (the "Brush body" checks, bench/measure_marks):
+// width along the stroke and its variation, blots (connected components, the
+// largest one's convex-hull fill), and how far ink reaches past a given x.
+//
+// Everything works on a single-channel coverage image: v in [0, 1] per pixel,
+// 1 = fully inked, row 0 at the top (as in the PNGs bristle writes). A pixel is
+// "inked" when v > threshold. Pixel (c, r) covers canvas x in
+// [x0 + c / ppm, x0 + (c + 1) / ppm] and y in [y0 + (h - r - 1) / ppm, y0 + (h - r) / ppm]
+// (engine/canvas.h: x0, y0 is the bottom-left corner). coverageFromRgba8 and the
+// PNG loader (mark_png.h) make one from a bristle image.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace bristle::testsupport {
+
+struct Coverage {
+  int w = 0, h = 0;
+  double px_per_mm = 8;
+  double x0_mm = 0, y0_mm = 0;  // canvas position of the bottom-left corner
+  std::vector<float> v;         // w * h, row-major, row 0 at the top
+
+  Coverage() = default;
+  Coverage(int width, int height, double ppm = 8)
+      : w(width), h(height), px_per_mm(ppm), v(static_cast<std::size_t>(width) * height, 0.0f) {}
+  float& at(int c, int r) { return v[static_cast<std::size_t>(r) * w + c]; }
+  float at(int c, int r) const { return v[static_cast<std::size_t>(r) * w + c]; }
+};
+
+// Ink of an 8-bit RGBA image (row 0 at the top). When any pixel is not opaque
+// the ink is the alpha (paint on a transparent background). Otherwise it is the
+// drop in luminance (Rec. 709 weights on the 8-bit values) below the paper,
+// whose colour is the top-left pixel's: ink = clamp((L_paper - L) / L_paper, 0, 1),
+// i.e. 1 - L / 255 on white paper. Light paint on light paper barely registers.
+Coverage coverageFromRgba8(int w, int h, const std::uint8_t* rgba, double px_per_mm = 8);
+
+enum class Axis { kX, kY };
+
+// Width of the mark across the stroke, per position along it. With Axis::kX the
+// stroke runs along x: for each column, the extent (mm) from the first to the
+// last inked pixel of the column (both included; 0 when the column has none).
+// With Axis::kY the same per row, across x.
+struct WidthProfile {
+  Axis axis = Axis::kX;
+  double px_per_mm = 8;
+  std::vector<double> width_mm;  // per column (kX) or row (kY)
+  int first = -1, last = -1;     // the inked span (indices into width_mm); -1: no ink
+  bool empty() const { return first < 0; }
+};
+WidthProfile widthProfile(const Coverage& img, double threshold = 0.1, Axis axis = Axis::kX);
+
+// Indices [lo, hi) of the part of the inked span from from_frac to to_frac of its
+// length (n = last - first + 1: lo = first + round(from n), hi = first + round(to n)).
+// Uninked positions inside the span count, with width 0 (a gap is a variation).
+struct SpanRange {
+  int lo = 0, hi = 0;
+};
+SpanRange middleRange(const WidthProfile& p, double from_frac = 0.2, double to_frac = 0.8);
+
+// Mean width (mm) over the middle of the span; 0 without ink.
+double meanWidthMm(const WidthProfile& p, double from_frac = 0.2, double to_frac = 0.8);
+// Coefficient of variation (population std / mean) of the width over the middle
+// of the span; 0 without ink.
+double widthCv(const WidthProfile& p, double from_frac = 0.2, double to_frac = 0.8);
+
+// Blots: 8-connected components of inked pixels, ignoring specks smaller than
+// min_component_px. The convex hull of the largest is that of its pixels as unit
+// squares (Andrew's monotone chain over the pixel corners, exact in integers),
+// so a filled axis-aligned rectangle has fill 1 and fill <= 1 always.
+struct BlotStats {
+  int components = 0;          // of at least min_component_px pixels
+  int specks = 0;              // smaller components, ignored
+  long largest_area_px = 0;
+  double largest_hull_area_px = 0;
+  double fill = 0;             // largest_area_px / largest_hull_area_px (0 without ink)
+  double largest_area_mm2 = 0;
+  double largest_hull_area_mm2 = 0;
+};
+BlotStats blotStats(const Coverage& img, double threshold = 0.1, int min_component_px = 4);
+
+// How far ink reaches beyond x_mm (canvas mm) on one side: side = -1 behind
+// (x < x_mm), +1 ahead (x > x_mm). It is the distance from x_mm to the far edge
+// of the farthest inked column on that side, 0 when there is none. For a pull
+// along +x, inkBeyondMm(img, x, -1) is the extent of ink behind x (tip drag: pass
+// the handle's x where the contact ends and compare with the mark's own reach).
+double inkBeyondMm(const Coverage& img, double x_mm, int side = -1, double threshold = 0.1);
+
+// Canvas x (mm) of the rear-most and front-most inked column edges; false without ink.
+bool inkXRangeMm(const Coverage& img, double threshold, double* min_x_mm, double* max_x_mm);
+
+}  // namespace bristle::testsupport

@@ -1,0 +1,240 @@
+// The measurement tooling of tests/support: mark measures against synthetic
+// images with closed-form answers, and the press matrix's trajectories.
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "engine/brush.h"
+#include "engine/simulation.h"
+#include "tests/support/mark_measure.h"
+#include "tests/support/press_matrix.h"
+
+using namespace bristle;
+using namespace bristle::testsupport;
+
+namespace {
+
+// Ink where inside(x, y) holds at the pixel centre (x = c + 0.5, y = r + 0.5).
+template <class F>
+Coverage paint(int w, int h, F inside, double ppm = 8) {
+  Coverage img(w, h, ppm);
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c)
+      if (inside(c + 0.5, r + 0.5)) img.at(c, r) = 1.0f;
+  return img;
+}
+
+// Inside the triangle a, b, c (either winding).
+bool inTriangle(double x, double y, const double (&t)[3][2]) {
+  auto side = [&](int i, int j) {
+    return (t[j][0] - t[i][0]) * (y - t[i][1]) - (t[j][1] - t[i][1]) * (x - t[i][0]);
+  };
+  const double s0 = side(0, 1), s1 = side(1, 2), s2 = side(2, 0);
+  return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
+}
+
+}  // namespace
+
+TEST_CASE("mark_measure: a filled disc is one blot of fill ~1", "[mark]") {
+  constexpr double R = 40, cx = 100, cy = 100;
+  const Coverage img = paint(200, 200, [&](double x, double y) {
+    return (x - cx) * (x - cx) + (y - cy) * (y - cy) <= R * R;
+  });
+  const BlotStats b = blotStats(img);
+  CHECK(b.components == 1);
+  CHECK(b.specks == 0);
+  // Tolerance: every pixel within R - sqrt(2)/2 of the centre has its centre
+  // within R, so the inked squares cover the disc of radius R - 0.71; every hull
+  // corner is a corner of a pixel whose centre is within R, so the hull lies in
+  // the disc of radius R + 0.71. Hence ((R - 0.71) / (R + 0.71))^2 = 0.931 <=
+  // fill <= 1 (the hull contains the squares), whatever the pixelisation.
+  const double h = std::sqrt(0.5);
+  CHECK(b.fill <= 1.0);
+  CHECK(b.fill >= std::pow((R - h) / (R + h), 2));
+  CHECK(b.largest_area_px >= std::numbers::pi * (R - h) * (R - h));
+  CHECK(b.largest_area_px <= std::numbers::pi * (R + h) * (R + h));
+  CHECK(b.largest_area_mm2 == Approx(b.largest_area_px / 64.0));
+}
+
+TEST_CASE("mark_measure: a six-pointed star fills two thirds of its hull", "[mark]") {
+  // Two equilateral triangles of circumradius R: the star's area is sqrt(3) R^2,
+  // its hull the regular hexagon of area 3 sqrt(3) / 2 R^2, so fill = 2/3.
+  constexpr double R = 60, cx = 100, cy = 100;
+  double up[3][2], down[3][2];
+  for (int k = 0; k < 3; ++k) {
+    const double a = std::numbers::pi / 2 + k * 2 * std::numbers::pi / 3;
+    up[k][0] = cx + R * std::cos(a);
+    up[k][1] = cy + R * std::sin(a);
+    down[k][0] = cx - R * std::cos(a);
+    down[k][1] = cy - R * std::sin(a);
+  }
+  const Coverage img = paint(200, 200, [&](double x, double y) {
+    return inTriangle(x, y, up) || inTriangle(x, y, down);
+  });
+  const BlotStats b = blotStats(img);
+  CHECK(b.components == 1);
+  // Tolerance: pixelisation moves each boundary by <= 0.71 px. The star's
+  // perimeter is 12 R / sqrt(3) = 416 px on 6235 px^2 (<= 4.7%), the hexagon's
+  // 6 R = 360 px on 9353 px^2 (<= 2.7%): 2/3 * 0.953 / 1.027 = 0.619 <= fill <=
+  // 2/3 * 1.047 / 0.973 = 0.717.
+  CHECK(b.fill > 0.619);
+  CHECK(b.fill < 0.717);
+  CHECK(b.fill < 0.85);
+}
+
+TEST_CASE("mark_measure: a ring with gaps is several blots or a poorly filled one", "[mark]") {
+  constexpr double r_in = 30, r_out = 40, cx = 100, cy = 100;
+  auto ring = [&](double x, double y) {
+    const double d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+    return d2 >= r_in * r_in && d2 <= r_out * r_out;
+  };
+  SECTION("four gaps: four blots") {
+    const Coverage img = paint(200, 200, [&](double x, double y) {
+      return ring(x, y) && std::abs(x - cx) > 3 && std::abs(y - cy) > 3;
+    });
+    const BlotStats b = blotStats(img);
+    CHECK(b.components == 4);
+    CHECK(b.fill < 0.85);
+  }
+  SECTION("one gap: one blot of low fill") {
+    // Hull ~ the disc of r_out: fill ~ (r_out^2 - r_in^2) / r_out^2 = 0.44.
+    const Coverage img = paint(200, 200, [&](double x, double y) {
+      return ring(x, y) && !(x > cx && std::abs(y - cy) < 3);
+    });
+    const BlotStats b = blotStats(img);
+    CHECK(b.components == 1);
+    CHECK(b.fill == Approx(0.44).margin(0.05));
+  }
+  SECTION("specks under 4 px are ignored") {
+    Coverage img = paint(200, 200, ring);
+    img.at(2, 2) = 1;                          // 1 px
+    img.at(190, 5) = img.at(191, 6) = 1;       // 2 px, diagonal (8-connected)
+    img.at(5, 190) = img.at(6, 190) = img.at(7, 190) = 1;  // 3 px
+    img.at(180, 180) = img.at(181, 180) = img.at(180, 181) = img.at(181, 181) = 1;  // 4 px
+    const BlotStats b = blotStats(img);
+    CHECK(b.components == 2);
+    CHECK(b.specks == 3);
+  }
+}
+
+TEST_CASE("mark_measure: a rectangle's width is exact to one pixel", "[mark]") {
+  // Columns 20..179, rows 10..46: 37 px = 4.625 mm tall at 8 px/mm.
+  const Coverage img = paint(200, 60, [](double x, double y) {
+    return x > 20 && x < 180 && y > 10 && y < 47;
+  });
+  const WidthProfile p = widthProfile(img);
+  REQUIRE_FALSE(p.empty());
+  CHECK(p.first == 20);
+  CHECK(p.last == 179);
+  CHECK(std::abs(meanWidthMm(p) - 4.625) <= 1 / 8.0);
+  CHECK(widthCv(p) == Approx(0).margin(1e-12));
+  const WidthProfile py = widthProfile(img, 0.1, Axis::kY);
+  CHECK(std::abs(meanWidthMm(py) - 20.0) <= 1 / 8.0);
+  // An axis-aligned rectangle of pixel squares is its own hull.
+  const BlotStats b = blotStats(img);
+  CHECK(b.fill == Approx(1.0).margin(1e-12));
+  CHECK(b.largest_area_px == 160 * 37);
+}
+
+TEST_CASE("mark_measure: a linearly narrowing wedge has the closed-form CV", "[mark]") {
+  // Width 120 px at x = 50 down to 20 px at x = 450, centred on y = 100. The
+  // middle 60% of the span (x = 130..370) has widths uniform on [40, 100] px:
+  // mean 70, std 60 / sqrt(12), CV = (100 - 40) / (sqrt(3) (100 + 40)).
+  auto width = [](double x) { return 120 - 100 * (x - 50) / 400; };
+  const Coverage img = paint(500, 200, [&](double x, double y) {
+    return x > 50 && x < 450 && std::abs(y - 100) <= width(x) / 2;
+  });
+  const WidthProfile p = widthProfile(img);
+  CHECK(p.first == 50);
+  CHECK(p.last == 449);
+  const SpanRange r = middleRange(p);
+  CHECK(r.lo == 130);
+  CHECK(r.hi == 370);
+  const double cv = (100.0 - 40.0) / (std::sqrt(3.0) * (100.0 + 40.0));
+  // Tolerance: each column's pixel count is within 1 px of width(x), so the
+  // mean (70 px) moves by <= 1 px and the std (17.3 px) by <= 1 px: the CV by
+  // <= (17.3 + 1) / (70 - 1) - 0.2474 = 0.018.
+  CHECK(widthCv(p) == Approx(cv).margin(0.02));
+  CHECK(meanWidthMm(p) == Approx(70.0 / 8).margin(1 / 8.0));
+}
+
+TEST_CASE("mark_measure: ink beyond a canvas x", "[mark]") {
+  Coverage img = paint(200, 60, [](double x, double y) {
+    return x > 20 && x < 180 && y > 10 && y < 47;
+  });
+  img.x0_mm = -10;  // column c spans x = -10 + c / 8 .. -10 + (c + 1) / 8
+  double lo = 0, hi = 0;
+  REQUIRE(inkXRangeMm(img, 0.1, &lo, &hi));
+  CHECK(lo == Approx(-10 + 20 / 8.0));
+  CHECK(hi == Approx(-10 + 180 / 8.0));
+  CHECK(inkBeyondMm(img, 10.0, -1) == Approx(10 - (-7.5)));
+  CHECK(inkBeyondMm(img, 10.0, +1) == Approx(12.5 - 10));
+  CHECK(inkBeyondMm(img, 20.0, +1) == 0);
+  CHECK(inkBeyondMm(Coverage(10, 10), 0.0, -1) == 0);
+}
+
+TEST_CASE("mark_measure: coverage from RGBA, against the paper or from alpha", "[mark]") {
+  // Paper #f6f1e6 at the top-left, black paint, and paint at half the paper's luminance.
+  std::vector<std::uint8_t> px = {0xf6, 0xf1, 0xe6, 255, 0, 0, 0, 255, 0x7b, 0x79, 0x73, 255};
+  const Coverage c = coverageFromRgba8(3, 1, px.data());
+  CHECK(c.v[0] == 0);
+  CHECK(c.v[1] == 1);
+  CHECK(c.v[2] == Approx(0.5).margin(0.01));
+  std::vector<std::uint8_t> alpha = {9, 9, 9, 0, 9, 9, 9, 255, 9, 9, 9, 51};
+  const Coverage a = coverageFromRgba8(3, 1, alpha.data());
+  CHECK(a.v[0] == 0);
+  CHECK(a.v[1] == 1);
+  CHECK(a.v[2] == Approx(0.2));
+}
+
+TEST_CASE("press_matrix: case trajectories hover, press to depth and keep the ferrule up",
+          "[press_matrix]") {
+  for (const char* name : {"round", "flat", "fan", "badger"}) {
+    const Brush brush =
+        loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/" + name + ".json");
+    const double hair = hairLengthMm(brush);
+    for (double tilt : {0.0, 30.0, 60.0}) {
+      for (double f : {0.0, 0.4, 0.8}) {
+        CAPTURE(name, tilt, f);
+        Case c;
+        c.press_fraction = f;
+        c.tilt_deg = tilt;
+        c.speed_mm_s = 100;
+        const CaseTrajectory ct = makeCaseTrajectoryDetailed(brush, c);
+        const Trajectory& t = ct.trajectory;
+        REQUIRE(t.samples.size() == 5);
+        CHECK_NOTHROW(validateTrajectoryForBrush(t, brush));
+        // Hovering 2 mm above first contact, touching at depth 0.
+        CHECK(restLowestZMm(brush, t.samples[0].pose) == Approx(kHoverMm).margin(1e-9));
+        CHECK(restLowestZMm(brush, t.samples[1].pose) == Approx(-ct.depth_mm).margin(1e-9));
+        CHECK(t.samples[2].pose.position_mm.x() - t.samples[1].pose.position_mm.x() == Approx(30));
+        CHECK(t.samples[2].t_s - t.samples[1].t_s == Approx(0.3));
+        CHECK(restLowestZMm(brush, t.samples[4].pose) == Approx(kLiftClearMm).margin(1e-9));
+        CHECK(ct.asked_depth_mm == Approx(f * hair));
+        double lowest_root = 1e9;
+        for (const SpineSpec& s : brush.spines)
+          lowest_root = std::min(lowest_root, t.samples[1].pose.apply(s.root_mm).z());
+        if (ct.clamped) {
+          CHECK(ct.depth_mm < ct.asked_depth_mm);
+          CHECK(lowest_root == Approx(kMinRootZMm));
+        } else {
+          CHECK(ct.depth_mm == Approx(ct.asked_depth_mm));
+          CHECK(lowest_root >= kMinRootZMm - 1e-9);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("press_matrix: positive tilt leans the handle towards +x, the hairs towards -x",
+          "[press_matrix]") {
+  const Eigen::Quaterniond q = tiltRotation(30);
+  CHECK((q * Eigen::Vector3d::UnitZ()).x() > 0.49);
+  CHECK((q * -Eigen::Vector3d::UnitZ()).x() < -0.49);
+}
