@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cli/paint_options.h"
+#include "engine/simulation.h"
 
 namespace bristle {
 struct CanvasGrid;
@@ -109,6 +110,6 @@ std::string canvasText(const CanvasGrid& grid);
 void printError(const std::string& message);
 
 // The end-of-run warning about steps whose solve failed (nothing if none did).
-void warnFailedSolves(int failed_steps, int steps, int failed_spine_solves);
+void warnFailedSolves(const SimStats& stats);
 
 }  // namespace bristle::cli

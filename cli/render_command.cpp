@@ -56,11 +56,13 @@ std::string canvasText(const CanvasGrid& g) {
 
 void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
 
-void warnFailedSolves(int failed_steps, int steps, int failed_spine_solves) {
-  if (failed_steps <= 0) return;
-  printError("warning: " + std::to_string(failed_steps) + " of " + std::to_string(steps) +
-             " steps had a failed solve (" + std::to_string(failed_spine_solves) +
-             " spine solves); those spines continued from their last good state");
+void warnFailedSolves(const SimStats& stats) {
+  if (stats.failed_steps <= 0) return;
+  printError("warning: " + std::to_string(stats.failed_steps) + " of " +
+             std::to_string(stats.steps) + " steps had a failed solve (" +
+             std::to_string(stats.failed_spine_solves) +
+             " spine solves); those spines were carried along frozen in their last good pose, "
+             "for at most " + std::to_string(stats.longest_failed_run) + " steps in a row");
 }
 
 int runRender(const RenderArgs& args) {
@@ -126,8 +128,7 @@ int runRender(const RenderArgs& args) {
   if (!result.touched)
     printError("warning: the brush never touched the canvas (" + args.trajectory +
                "): the image is blank");
-  warnFailedSolves(result.stats.failed_steps, result.stats.steps,
-                   result.stats.failed_spine_solves);
+  warnFailedSolves(result.stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,

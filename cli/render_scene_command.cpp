@@ -87,8 +87,7 @@ int runRenderScene(const RenderArgs& args) {
       printError("warning: " + scene.path + ": " + scene.strokes[size_t(i)].pointer +
                  ": the brush never touched the canvas (trajectory " +
                  scene.strokes[size_t(i)].trajectory_path + ")");
-  warnFailedSolves(result.stats.failed_steps, result.stats.steps,
-                   result.stats.failed_spine_solves);
+  warnFailedSolves(result.stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,

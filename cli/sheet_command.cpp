@@ -67,8 +67,7 @@ int runSheet(const SheetArgs& args) {
                  fmt(c.ink.height / sheet.px_per_mm) +
                  " mm) is larger than the cell; its middle is shown (/cell_mm)");
   }
-  warnFailedSolves(result.stats.failed_steps, result.stats.steps,
-                   result.stats.failed_spine_solves);
+  warnFailedSolves(result.stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,

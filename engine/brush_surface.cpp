@@ -222,11 +222,11 @@ BrushSurface::~BrushSurface() = default;
 BrushSurface::BrushSurface(BrushSurface&&) noexcept = default;
 BrushSurface& BrushSurface::operator=(BrushSurface&&) noexcept = default;
 
-void BrushSurface::spineFrames(const Eigen::Matrix3d& handle_r, const double* q,
+void BrushSurface::spineFrames(const Eigen::Matrix3d& handle_r, const Eigen::Matrix3d* rot,
                                const Eigen::Vector3d* x, int n, Frame* out) {
   Eigen::Matrix3d r = handle_r;
   for (int k = 0; k < n; ++k) {
-    r = r * jointRotation(q[2 * k], q[2 * k + 1]).r;  // cumulative, eq. 11
+    r = r * rot[k];  // cumulative, eq. 11
     out[k] = Frame{r, x[k]};
   }
   out[n] = Frame{r, x[n]};  // the tip is oriented as the last segment
@@ -243,12 +243,9 @@ void BrushSurface::setupSkin(const Brush& brush) {
     frames += spine.jointCount() + 1;
   }
   frames_.resize(frames);
-  std::vector<double> q;
   for (size_t s = 0; s < brush.spines.size(); ++s) {
     const SpineSpec& spine = brush.spines[s];
-    q.clear();
-    for (const Eigen::Vector2d& a : spine.rest_angles_rad) q.insert(q.end(), {a[0], a[1]});
-    spineFrames(Eigen::Matrix3d::Identity(), q.data(), restPoints(spine).data(),
+    spineFrames(Eigen::Matrix3d::Identity(), restRotations(spine).data(), restPoints(spine).data(),
                 joint_count_[s], &frames_[frame_offset_[s]]);
   }
   // Each influence keeps the vertex's rest position in its frame; weights are
@@ -337,7 +334,7 @@ void BrushSurface::update(const BrushState& state, std::vector<BrushVertex>* tri
   // carried by the current frames of the spine points it follows.
   const Eigen::Matrix3d handle_r = state.handle.rotation.toRotationMatrix();
   for (size_t s = 0; s < joint_count_.size(); ++s)
-    spineFrames(handle_r, state.spines[s].solution.q.data(), state.spines[s].joints_mm.data(),
+    spineFrames(handle_r, state.spines[s].rot.data(), state.spines[s].joints_mm.data(),
                 joint_count_[s], &frames_[frame_offset_[s]]);
   for (size_t i = 0; i < cage_.size(); ++i) {
     Eigen::Vector3d p = Eigen::Vector3d::Zero();

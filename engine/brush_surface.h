@@ -92,8 +92,9 @@ class BrushSurface {
   void setupSkin(const Brush& brush);
   void setupUv(const Brush& brush);
   // Frames of one spine's n + 1 points: orientation of the segment that starts
-  // at the point (the last segment at the tip), R_handle R_0 ... R_k (eq. 10).
-  static void spineFrames(const Eigen::Matrix3d& handle_r, const double* q,
+  // at the point (the last segment at the tip), R_handle R_0 ... R_k (eq. 10),
+  // from the joints' rotations relative to their parents.
+  static void spineFrames(const Eigen::Matrix3d& handle_r, const Eigen::Matrix3d* rot,
                           const Eigen::Vector3d* x, int n, Frame* out);
 
   int level_ = 0;

@@ -7,6 +7,7 @@
 #include "engine/error.h"
 #include "engine/friction.h"
 #include "engine/smooth.h"
+#include "engine/spine_kinematics.h"
 
 namespace bristle {
 
@@ -53,11 +54,8 @@ void Simulation::reset(const Pose& handle, double t_s) {
     const SpineSpec& spec = brush_.spines[s];
     const int n = spec.jointCount();
     SpineState& st = state_.spines[s];
-    st.solution.q.resize(2 * n);
-    for (int k = 0; k < n; ++k) {
-      st.solution.q[2 * k] = spec.rest_angles_rad[k][0];
-      st.solution.q[2 * k + 1] = spec.rest_angles_rad[k][1];
-    }
+    st.rot = restRotations(spec);
+    st.solution.q.assign(2 * n, 0.0);
     st.solution.normal_force_n.assign(n, 0.0);
     st.summary.status = SolveStatus::kFree;
     SpineProblem& p = problems_[s];
@@ -67,9 +65,11 @@ void Simulation::reset(const Pose& handle, double t_s) {
     p.anchor_xy_mm.assign(n, Eigen::Vector2d::Zero());
     p.pull_dir.assign(n, Eigen::Vector2d::Zero());
     p.prev_q = st.solution.q;
+    p.base = st.rot;
     finishSpine(static_cast<int>(s), false, std::vector<bool>(n, false));
   }
   stats_ = SimStats{};
+  failed_run_ = 0;
 }
 
 void Simulation::buildProblem(int s, const Pose& handle) {
@@ -79,7 +79,11 @@ void Simulation::buildProblem(int s, const Pose& handle) {
   SpineProblem& p = problems_[s];
   p.spine = &spec;
   p.handle = handle;
-  p.prev_q = prev.solution.q;
+  // Re-base (docs/dynamics.md): the angles of this step are an increment from
+  // the joints' rotations at the previous step, which keeps every solve far
+  // from eq. 10's singularity however far the joints have turned.
+  p.base = canonicalRotations(spec, prev.rot);
+  p.prev_q.assign(2 * n, 0.0);
   p.anisotropy_strength = brush_.friction.anisotropy_strength;
   p.anisotropy_exponent = brush_.friction.anisotropy_exponent;
   p.anchor_xy_mm.resize(n);
@@ -164,20 +168,25 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
     buildProblem(s, handle);
     sliding[s] = prev.sliding;
     trial[s] = prev.solution;
+    std::fill(trial[s].q.begin(), trial[s].q.end(), 0.0);  // the re-based start
     // Step 2 of §3.1: the spine moves rigidly with the handle. If it then touches
     // nothing, and the canvas did not hold it in the previous step either (no
-    // joint on the canvas, not even grazing it below the contact threshold), its
-    // previous angles remain the optimum: spring and damping alone, nothing
-    // pushes it. No solve is needed, and a bent brush in the air stays as it is.
+    // joint on the canvas, not even grazing it below the contact threshold),
+    // only spring and joint friction act on it: it relaxes towards rest in
+    // closed form (relaxInAir), with no solve, unless relaxing would take it
+    // into the canvas.
     bool clear = true;
     for (int j = 1; j <= spec.jointCount() && clear; ++j)
       clear = prev.joints_mm[j].z() > kTouchMm;
-    spineForwardKinematics(spec, handle, prev.solution.q.data(), 0, &fk_);
-    for (int j = 1; j <= spec.jointCount() && clear; ++j) clear = fk_.x[j].z() > 0;
-    if (clear) continue;
+    if (clear) {
+      spineForwardKinematics(spec, handle, problems_[s].baseData(), trial[s].q.data(), 0, &fk_);
+      for (int j = 1; j <= spec.jointCount() && clear; ++j) clear = fk_.x[j].z() > 0;
+    }
+    if (clear && relaxInAir(s, handle)) continue;
     which.push_back(s);
     bool straight = true;
-    for (double a : trial[s].q) straight = straight && std::fabs(a) < 1e-9;
+    for (const Eigen::Matrix3d& b : problems_[s].base)
+      straight = straight && (b.col(2) - Eigen::Vector3d::UnitZ()).norm() < 1e-9;
     if (straight) trial[s].q[0] = kBucklingNudgeRad;
   }
 
@@ -196,7 +205,8 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
       std::vector<int> again;
       for (int s : which) {
         if (!state_.spines[s].summary.usable()) continue;
-        spineForwardKinematics(brush_.spines[s], handle, trial[s].q.data(), 0, &fk_);
+        spineForwardKinematics(brush_.spines[s], handle, problems_[s].baseData(),
+                               trial[s].q.data(), 0, &fk_);
         bool changed = false;
         for (size_t j = 0; j < sliding[s].size(); ++j) {
           if (!state_.spines[s].contact[j] || lifted[s][j]) continue;
@@ -230,15 +240,18 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
     const bool solved = std::find(which.begin(), which.end(), s) != which.end();
     if (!solved) st.summary = SolveSummary{SolveStatus::kFree, 0, ""};
     if (solved && !st.summary.usable()) {
-      // Keep the last good angles (carried rigidly with the handle); report it.
+      // Keep the last good pose (carried rigidly with the handle); report it.
       ++stats_.failed_spine_solves;
       step_failed = true;
-    } else {
+      std::fill(st.solution.q.begin(), st.solution.q.end(), 0.0);
+    } else if (solved) {
       st.solution = std::move(trial[s]);
     }
     finishSpine(s, solved, sliding[s]);
   }
   if (step_failed) ++stats_.failed_steps;
+  failed_run_ = step_failed ? failed_run_ + 1 : 0;
+  stats_.longest_failed_run = std::max(stats_.longest_failed_run, failed_run_);
 
   state_.handle = handle;
   state_.t_s = t_s;
@@ -276,6 +289,9 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
   const int n = spec.jointCount();
   spineEnergy(problem, st.solution.q.data(), &fk_, &st.energy, nullptr, nullptr);
   st.joints_mm = fk_.x;
+  st.rot.resize(n);
+  for (int k = 0; k < n; ++k)
+    st.rot[k] = problem.base[k] * jointRotation(st.solution.q[2 * k], st.solution.q[2 * k + 1]).r;
   const std::vector<bool> was_contact = st.contact;
   st.contact.assign(n, false);
   st.sliding.assign(n, false);
@@ -291,6 +307,68 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
     const double moved = (st.joints_mm[j + 1].head<2>() - problem.anchor_xy_mm[j]).norm();
     st.sliding[j] = sliding_before[j] ? moved >= options_.stick_mm : moved > options_.slip_mm;
   }
+}
+
+bool Simulation::relaxInAir(int s, const Pose& handle) {
+  const SpineSpec& spec = brush_.spines[s];
+  SpineProblem& p = problems_[s];
+  std::vector<Eigen::Matrix3d> relaxed = relaxedRotations(spec, p.base);
+  spineForwardKinematics(spec, handle, relaxed.data(), state_.spines[s].solution.q.data(), 0,
+                         &fk_);
+  for (int j = 1; j <= spec.jointCount(); ++j)
+    if (fk_.x[j].z() <= 0) return false;  // springing back would hit the canvas: solve
+  p.base = std::move(relaxed);
+  std::fill(state_.spines[s].solution.q.begin(), state_.spines[s].solution.q.end(), 0.0);
+  ++stats_.relaxed_spines;
+  return true;
+}
+
+namespace {
+// Below this dot product of a joint's axis with its rest axis (a bend within
+// 0.1 degrees of a full reversal) the smallest turn between them is not
+// defined well enough to measure twist by; such a joint keeps its rotation.
+constexpr double kReversedDot = -1.0 + 1.5e-6;
+}  // namespace
+
+std::vector<Eigen::Matrix3d> canonicalRotations(const SpineSpec& spine,
+                                                const std::vector<Eigen::Matrix3d>& rot) {
+  const std::vector<Eigen::Matrix3d> rest = restRotations(spine);
+  std::vector<Eigen::Matrix3d> out(rot.size());
+  Eigen::Matrix3d carry = Eigen::Matrix3d::Identity();  // twist handed down the chain
+  for (size_t k = 0; k < rot.size(); ++k) {
+    // Relative to the parent's new frame, the joint turns by carry * rot[k]
+    // (the parent's absolute frame changed by carry^-1, its axis unchanged).
+    const Eigen::Matrix3d r = carry * rot[k];
+    const Eigen::Vector3d a = r.col(2), a_rest = rest[k].col(2);
+    if (a.dot(a_rest) < kReversedDot) {
+      out[k] = r;
+      carry.setIdentity();
+      continue;
+    }
+    out[k] = minimalRotation(a_rest, a) * rest[k];  // same axis, twist as at rest
+    carry = out[k].transpose() * r;                 // a turn about the joint's own axis
+  }
+  return out;
+}
+
+std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
+                                              const std::vector<Eigen::Matrix3d>& rot) {
+  const std::vector<Eigen::Matrix3d> rest = restRotations(spine);
+  std::vector<Eigen::Matrix3d> out = rot;
+  for (size_t k = 0; k < rot.size(); ++k) {
+    const Eigen::Vector3d a = rot[k].col(2), a_rest = rest[k].col(2);
+    const double beta = std::atan2(a_rest.cross(a).norm(), a_rest.dot(a));
+    const double K = spine.stiffness_nmm_per_rad[k], D = spine.damping_nmm[k];
+    // d/dbeta (K beta^2 / 2 + D (beta0 - beta)) = 0 at beta = D / K; a joint
+    // already within that is held by its joint friction.
+    if (K * beta <= D || a.dot(a_rest) < kReversedDot) continue;
+    const double target = D / K;
+    // The axis at angle `target` from rest on the great circle towards a.
+    const Eigen::Vector3d perp = (a - a_rest * a_rest.dot(a)).normalized();
+    const Eigen::Vector3d a_new = std::cos(target) * a_rest + std::sin(target) * perp;
+    out[k] = minimalRotation(a_rest, a_new) * rest[k];
+  }
+  return out;
 }
 
 std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,

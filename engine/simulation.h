@@ -29,7 +29,11 @@ struct SimOptions {
 };
 
 struct SpineState {
-  SpineSolution solution;                  // angles, canvas forces, warm start
+  // angles, canvas forces, warm start. The angles q are this step's increment
+  // from the base rotations of lastProblems() (engine/spine_kinematics.h).
+  SpineSolution solution;
+  // Each joint's rotation relative to its parent at this step: B_k J(q_k).
+  std::vector<Eigen::Matrix3d> rot;
   std::vector<Eigen::Vector3d> joints_mm;  // n + 1 world positions, root first
   std::vector<bool> contact;               // n: joint 1..n touches the canvas
   std::vector<bool> sliding;               // n: stiction state (false = sticks)
@@ -56,6 +60,10 @@ struct SimStats {
   int fallback_solves = 0;  // spine solves rescued by the fallback solver
   int failed_spine_solves = 0;
   int failed_steps = 0;
+  // The longest run of consecutive steps in which some spine's solve failed and
+  // it was carried along unchanged (frozen).
+  int longest_failed_run = 0;
+  int relaxed_spines = 0;  // spine-steps relaxed in the air in closed form
   long iterations = 0;
 };
 
@@ -92,6 +100,7 @@ class Simulation {
   void setFriction(int s, const std::vector<bool>& sliding, const std::vector<bool>& lifted);
   void solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial);
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
+  bool relaxInAir(int s, const Pose& handle);
 
   const Brush& brush_;
   SimOptions options_;
@@ -100,7 +109,23 @@ class Simulation {
   SimStats stats_;
   std::vector<SpineProblem> problems_;
   SpineFk fk_;
+  int failed_run_ = 0;
 };
+
+// Re-bases a spine's joint rotations (docs/dynamics.md, "Re-basing"): returns
+// rotations with the same joint positions, each joint's twist about its own
+// axis measured from its rest rotation by the smallest turn of the axis, any
+// twist so removed handed on to the child joint.
+std::vector<Eigen::Matrix3d> canonicalRotations(const SpineSpec& spine,
+                                                const std::vector<Eigen::Matrix3d>& rot);
+
+// The minimum of E_s + E_d (eqs. 2, 4) for a spine touching nothing, in closed
+// form per joint: a joint whose spring torque K beta exceeds its joint
+// friction D returns towards rest along the great circle until K beta = D
+// (eq. 15's plastic residual D / K); one below that stays. `rot` must be
+// canonical (canonicalRotations).
+std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
+                                              const std::vector<Eigen::Matrix3d>& rot);
 
 // Times of the simulation steps for a trajectory: every sample time, subdivided
 // so that no spine root moves more than max_step_mm per step (bounded by

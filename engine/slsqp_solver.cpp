@@ -72,7 +72,8 @@ void canvasCallback(unsigned m, double* c, unsigned nv, const double* y, double*
   Callbacks& cb = *static_cast<Callbacks*>(data);
   const int order = grad ? 1 : 0;
   if (!cb.have(y, order)) {
-    spineForwardKinematics(*cb.problem->spine, cb.problem->handle, cb.toAngles(y), order,
+    spineForwardKinematics(*cb.problem->spine, cb.problem->handle, cb.problem->baseData(),
+                           cb.toAngles(y), order,
                            &cb.fk);
     cb.remember(y, order);
   }
@@ -302,7 +303,7 @@ class SlsqpSolver : public SpineSolver {
       bool finite = true;
       for (double a : q) finite = finite && std::isfinite(a);
       if (finite) {
-        spineForwardKinematics(*p.spine, p.handle, q.data(), 0, &fk_);
+        spineForwardKinematics(*p.spine, p.handle, p.baseData(), q.data(), 0, &fk_);
         for (int j = 1; j <= n; ++j) lowest = std::min(lowest, fk_.x[j].z());
       }
       const bool feasible = finite && lowest >= -settings_.feasibility_tol_mm;

@@ -15,9 +15,11 @@ struct BendW {
   Eigen::Vector2d dw;
   Eigen::Matrix2d ddw;
 };
-BendW bendW(const SpineSpec& spine, int k, const double* q) {
+// With a base rotation B_k the joint's axis is B_k a(q): a0 . B_k a(q) = (B_k^T a0) . a(q).
+BendW bendW(const SpineSpec& spine, const Eigen::Matrix3d* base, int k, const double* q) {
   const Eigen::Vector2d& rest = spine.rest_angles_rad[k];
-  const Eigen::Vector3d a0 = jointAxis(rest[0], rest[1]).a;
+  Eigen::Vector3d a0 = jointAxis(rest[0], rest[1]).a;
+  if (base) a0 = base[k].transpose() * a0;
   const JointAxis ax = jointAxis(q[2 * k], q[2 * k + 1]);
   BendW b;
   b.w = 1.0 - a0.dot(ax.a);
@@ -36,14 +38,14 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
   const int n = s.jointCount();
   const int nv = 2 * n;
   const int order = hess ? 2 : (grad ? 1 : 0);
-  spineForwardKinematics(s, p.handle, q, order, fk);
+  spineForwardKinematics(s, p.handle, p.baseData(), q, order, fk);
   if (grad) std::fill(grad, grad + nv, 0.0);
   if (hess) std::fill(hess, hess + nv * nv, 0.0);
   auto H = [&](int i, int j) -> double& { return hess[j * nv + i]; };
   EnergyTerms e;
 
   for (int k = 0; k < n; ++k) {
-    const BendW bw = bendW(s, k, q);
+    const BendW bw = bendW(s, p.baseData(), k, q);
     const BendSquared h = bendSquared(bw.w);
     // eq. 2: K beta^2 / 2 with beta^2 = h(w).
     const double K = s.stiffness_nmm_per_rad[k];

@@ -6,7 +6,8 @@
 //   E_d = sum_i D_i |d beta_i|                              (eq. 4)
 // with |d beta_i| taken as the joint's angular displacement in joint space,
 // |(theta_i, phi_i) - (theta_i, phi_i)_prev|: eq. 15's "constant resistance in
-// joint space". It equals |d beta| for bending in a fixed plane and also resists
+// joint space". (With re-based angles, prev is 0 and this is the angle the
+// joint's axis turns in this step, to second order.) It equals |d beta| for bending in a fixed plane and also resists
 // a turn of the bend direction, and unlike |d beta| it is smooth at a straight
 // joint, where beta = acos(cos theta cos phi) has a cone point.
 // subject to the canvas constraint z(x_i) >= 0 (eq. 5 with the canvas at z = 0).
@@ -52,6 +53,10 @@ struct SpineProblem {
   std::vector<Eigen::Vector2d> pull_dir;
   double anisotropy_strength = 0, anisotropy_exponent = 2;
   std::vector<double> prev_q;                 // joint angles at the previous step (2n)
+  // Base rotation B_k of every joint (engine/spine_kinematics.h): the angles q
+  // are an increment from it. Empty: B_k = I, q are eq. 10's angles themselves.
+  std::vector<Eigen::Matrix3d> base;
+  const Eigen::Matrix3d* baseData() const { return base.empty() ? nullptr : base.data(); }
   double eps_mm = kSmoothMm, eps_damp_rad = kSmoothDampRad;
 
   int vars() const { return 2 * spine->jointCount(); }

@@ -1,5 +1,6 @@
 #include "engine/spine_kinematics.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace bristle {
@@ -38,8 +39,32 @@ JointAxis jointAxis(double theta, double phi) {
   return a;
 }
 
-void spineForwardKinematics(const SpineSpec& spine, const Pose& handle, const double* q,
-                            int order, SpineFk* out) {
+std::vector<Eigen::Matrix3d> restRotations(const SpineSpec& spine) {
+  std::vector<Eigen::Matrix3d> r;
+  r.reserve(spine.rest_angles_rad.size());
+  for (const Eigen::Vector2d& a : spine.rest_angles_rad) r.push_back(jointRotation(a[0], a[1]).r);
+  return r;
+}
+
+Eigen::Vector2d eulerAnglesOfAxis(const Eigen::Matrix3d& r) {
+  // Third column of eq. 10: (sin phi cos theta, -sin theta, cos phi cos theta).
+  const Eigen::Vector3d a = r.col(2);
+  return {std::asin(std::clamp(-a.y(), -1.0, 1.0)), std::atan2(a.x(), a.z())};
+}
+
+Eigen::Matrix3d minimalRotation(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  // Rodrigues' formula with c = a x b = sin(angle) axis and d = cos(angle):
+  // R = I + [c]x + [c]x^2 / (1 + d).
+  const Eigen::Vector3d c = a.cross(b);
+  const double d = a.dot(b);
+  Eigen::Matrix3d cx;
+  cx << 0, -c.z(), c.y(), c.z(), 0, -c.x(), -c.y(), c.x(), 0;
+  return Eigen::Matrix3d::Identity() + cx + cx * cx / (1.0 + d);
+}
+
+void spineForwardKinematics(const SpineSpec& spine, const Pose& handle,
+                            const Eigen::Matrix3d* base, const double* q, int order,
+                            SpineFk* out) {
   const int n = spine.jointCount();
   const int nv = 2 * n;
   SpineFk& fk = *out;
@@ -54,6 +79,14 @@ void spineForwardKinematics(const SpineSpec& spine, const Pose& handle, const do
   prefix[0] = handle.rotation.toRotationMatrix();
   for (int k = 0; k < n; ++k) {
     rot[k] = jointRotation(q[2 * k], q[2 * k + 1]);
+    if (base) {
+      // R_k = B_k J(q_k): B_k is constant, so it multiplies every partial.
+      rot[k].r = base[k] * rot[k].r;
+      for (int a = 0; a < 2; ++a) {
+        rot[k].d[a] = base[k] * rot[k].d[a];
+        for (int b = 0; b < 2; ++b) rot[k].dd[a][b] = base[k] * rot[k].dd[a][b];
+      }
+    }
     prefix[k + 1] = prefix[k] * rot[k].r;
   }
 

@@ -4,10 +4,16 @@
 //
 // Joint k (0-based) carries angles q[2k] = theta_k, q[2k+1] = phi_k and bends
 // segment k relative to its parent frame (segment k-1, or the ferrule for k = 0):
-//   R_k = Ry(phi_k) Rx(theta_k)                                        (eq. 10)
+//   R_k = B_k Ry(phi_k) Rx(theta_k)                                    (eq. 10)
 //   x_{k+1} = x_k + R_handle R_0 ... R_k (0, 0, -L_k)                  (eq. 11)
-// so x_0 is the root and x_n the tip. At theta = phi = 0 a segment continues its
-// parent straight down (-z of the brush frame).
+// so x_0 is the root and x_n the tip. B_k is a fixed base rotation per joint.
+// With B_k = I this is the paper's parameterisation: theta, phi are the XYZ
+// Euler angles of eq. 10, whose singularity at theta = +-90 degrees a firmly
+// pressed brush reaches. The simulation instead re-bases every step
+// (docs/dynamics.md): B_k is the joint's rotation at the previous step and
+// (theta, phi) a small increment from it, so the singularity sits a 90-degree
+// turn within one step away, which no step takes. At theta = phi = 0 and
+// B_k = I a segment continues its parent straight down (-z of the brush frame).
 
 #include <Eigen/Core>
 #include <vector>
@@ -50,7 +56,25 @@ struct SpineFk {
 
 // order 0: positions only; 1: + first derivatives; 2: + second derivatives.
 // `out` is resized on first use and reused without allocation afterwards.
-void spineForwardKinematics(const SpineSpec& spine, const Pose& handle, const double* q,
-                            int order, SpineFk* out);
+// `base` holds the n base rotations B_k, or is null for B_k = I.
+void spineForwardKinematics(const SpineSpec& spine, const Pose& handle,
+                            const Eigen::Matrix3d* base, const double* q, int order,
+                            SpineFk* out);
+// The paper's parameterisation (every B_k = I): q are eq. 10's angles.
+inline void spineForwardKinematics(const SpineSpec& spine, const Pose& handle, const double* q,
+                                   int order, SpineFk* out) {
+  spineForwardKinematics(spine, handle, nullptr, q, order, out);
+}
+
+// The rotation of each joint at rest, R(rest theta, rest phi) of eq. 10.
+std::vector<Eigen::Matrix3d> restRotations(const SpineSpec& spine);
+
+// The eq. 10 angles (theta, phi) whose rotation has the same axis as r: for
+// reports (the trace) only; undefined in phi at theta = +-90 degrees.
+Eigen::Vector2d eulerAnglesOfAxis(const Eigen::Matrix3d& r);
+
+// The smallest rotation taking unit vector a to unit vector b (about a x b).
+// Requires a . b > -1 (not opposite).
+Eigen::Matrix3d minimalRotation(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
 }  // namespace bristle

@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/spine_kinematics.h"
+
 namespace bristle {
 namespace {
 
@@ -22,8 +24,11 @@ std::string traceLine(const BrushState& st) {
     nlohmann::json js;
     nlohmann::json joints = nlohmann::json::array(), angles = nlohmann::json::array();
     for (const Eigen::Vector3d& x : s.joints_mm) joints.push_back(vec3(x));
-    for (size_t k = 0; k + 1 < s.solution.q.size(); k += 2)
-      angles.push_back({s.solution.q[k], s.solution.q[k + 1]});
+    // eq. 10's (theta, phi) of each joint's axis relative to its parent.
+    for (const Eigen::Matrix3d& r : s.rot) {
+      const Eigen::Vector2d a = eulerAnglesOfAxis(r);
+      angles.push_back({a[0], a[1]});
+    }
     js["joints_mm"] = std::move(joints);
     js["angles_rad"] = std::move(angles);
     js["contact"] = s.contact;

@@ -1,5 +1,6 @@
 #include "render/scene_renderer.h"
 
+#include <algorithm>
 #include <memory>
 
 #include "engine/spine_solver.h"
@@ -61,6 +62,8 @@ SceneResult renderScene(const Scene& scene, const SceneRenderOptions& options,
     s.fallback_solves += r.stats.fallback_solves;
     s.failed_spine_solves += r.stats.failed_spine_solves;
     s.failed_steps += r.stats.failed_steps;
+    s.longest_failed_run = std::max(s.longest_failed_run, r.stats.longest_failed_run);
+    s.relaxed_spines += r.stats.relaxed_spines;
     s.iterations += r.stats.iterations;
   }
   return result;

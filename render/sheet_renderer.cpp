@@ -145,6 +145,8 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
     s.fallback_solves += r.fallback_solves;
     s.failed_spine_solves += r.failed_spine_solves;
     s.failed_steps += r.failed_steps;
+    s.longest_failed_run = std::max(s.longest_failed_run, r.longest_failed_run);
+    s.relaxed_spines += r.relaxed_spines;
     s.iterations += r.iterations;
   }
 

@@ -221,6 +221,9 @@ TEST_CASE("render: failed solves are counted, traced and reported, and the run g
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("solve failed (Maximum_Iterations_Exceeded)"));
   CHECK_THAT(r.err, Contains("steps had a failed solve"));
+  // The warning says how long a spine was carried frozen.
+  CHECK_THAT(r.err, Contains("carried along frozen"));
+  CHECK_THAT(r.err, Contains("steps in a row"));
   CHECK_THAT(readAll(trace), Contains("\"status\":\"failed\""));
   CHECK(std::filesystem::exists(dir.file("f.png")));
 }

@@ -80,6 +80,13 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
   p.pull_dir = {Eigen::Vector2d::Zero(), Eigen::Vector2d(0.6, 0.8), Eigen::Vector2d(-1, 0)};
   p.anisotropy_strength = GENERATE(0.0, 0.7);
   p.anisotropy_exponent = GENERATE(1.5, 3.0);
+  // Also re-based (docs/dynamics.md): the angles as increments from base
+  // rotations bent well past eq. 10's singularity at 90 degrees.
+  if (GENERATE(false, true)) {
+    p.base = {Eigen::Matrix3d(Eigen::AngleAxisd(1.7, Eigen::Vector3d(1, 0.2, 0).normalized())),
+              Eigen::Matrix3d(Eigen::AngleAxisd(2.4, Eigen::Vector3d(-0.3, 1, 0.1).normalized())),
+              Eigen::Matrix3d(Eigen::AngleAxisd(0.4, Eigen::Vector3d(0, 1, 0)))};
+  }
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> angle(-0.9, 0.9);
   for (int trial = 0; trial < 6; ++trial) {

@@ -10,6 +10,7 @@
 #include "engine/brush.h"
 #include "engine/error.h"
 #include "engine/simulation.h"
+#include "engine/spine_kinematics.h"
 #include "engine/trajectory.h"
 
 namespace bristle::testing {
@@ -69,6 +70,19 @@ inline void moveHandle(Simulation& sim, const Pose& a, const Pose& b, double* t,
   const double dist = (b.position_mm - a.position_mm).norm();
   const int n = std::max(1, static_cast<int>(std::ceil(dist / step_mm)));
   for (int i = 1; i <= n; ++i) sim.step(interpolatePose(a, b, double(i) / n), *t += 0.01);
+}
+
+// eq. 10's (theta, phi) of joint k's axis relative to its parent: the
+// simulation's own angles are increments from a re-based rotation.
+inline Eigen::Vector2d jointAngles(const SpineState& s, int k) {
+  return eulerAnglesOfAxis(s.rot[k]);
+}
+
+// The bend of joint k from its rest axis (rad).
+inline double bendFromRest(const SpineSpec& spec, const SpineState& s, int k) {
+  const Eigen::Vector3d a = s.rot[k].col(2);
+  const Eigen::Vector3d a0 = restRotations(spec)[k].col(2);
+  return std::atan2(a0.cross(a).norm(), a0.dot(a));
 }
 
 }  // namespace bristle::testing

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "engine/simulation.h"
 #include "engine/spine_kinematics.h"
 #include "test_helpers.h"
 
@@ -101,6 +102,74 @@ TEST_CASE("first and second derivatives match central differences", "[kinematics
           CHECK((fk.dd(j, v, w) - fd2).norm() < kFdTol);
         }
       }
+    }
+  }
+}
+
+TEST_CASE("re-based kinematics: derivatives with base rotations match central differences",
+          "[kinematics][rebase]") {
+  // Base rotations turned 100-170 degrees: where eq. 10's own angles are singular.
+  const SpineSpec spine = makeSpine({4.0, 3.5, 3.0}, {10, 8, 6});
+  const std::vector<Eigen::Matrix3d> base = {
+      Eigen::Matrix3d(Eigen::AngleAxisd(1.75, Eigen::Vector3d::UnitX())),
+      Eigen::Matrix3d(Eigen::AngleAxisd(2.9, Eigen::Vector3d(0.3, 1, 0).normalized())),
+      Eigen::Matrix3d(Eigen::AngleAxisd(2.0, Eigen::Vector3d(1, -1, 0.2).normalized()))};
+  Pose handle;
+  handle.position_mm = Eigen::Vector3d(1, 2, 9);
+  std::vector<double> q = {0.05, -0.02, 0.01, 0.03, -0.04, 0.02};
+  SpineFk fk, fp, fm;
+  spineForwardKinematics(spine, handle, base.data(), q.data(), 2, &fk);
+  for (int v = 0; v < 6; ++v) {
+    std::vector<double> qp = q, qm = q;
+    qp[v] += kFdStep;
+    qm[v] -= kFdStep;
+    spineForwardKinematics(spine, handle, base.data(), qp.data(), 1, &fp);
+    spineForwardKinematics(spine, handle, base.data(), qm.data(), 1, &fm);
+    for (int j = 0; j <= 3; ++j) {
+      INFO("joint " << j << " var " << v);
+      CHECK((fk.d(j, v) - (fp.x[j] - fm.x[j]) / (2 * kFdStep)).norm() < kFdTol);
+      for (int w = 0; w < 6; ++w)
+        CHECK((fk.dd(j, v, w) - (fp.d(j, w) - fm.d(j, w)) / (2 * kFdStep)).norm() < kFdTol);
+    }
+  }
+  // At q = 0 the derivatives are those of turning each joint about its own
+  // frame's x and y axes: never zero, whatever the base (no singularity).
+  std::vector<double> zero(6, 0.0);
+  spineForwardKinematics(spine, handle, base.data(), zero.data(), 1, &fk);
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 2; ++a) CHECK(fk.d(k + 1, 2 * k + a).norm() == Approx(spine.segment_lengths_mm[k]));
+}
+
+TEST_CASE("re-basing keeps every joint where it is and the twist as at rest",
+          "[kinematics][rebase]") {
+  SpineSpec spine = makeSpine({4.0, 3.5, 3.0}, {10, 8, 6});
+  spine.rest_angles_rad = {{0.05, -0.1}, {0.0, 0.2}, {-0.1, 0.1}};
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Pose handle;
+  handle.rotation = Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 1, 0).normalized());
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Eigen::Matrix3d> rot;
+    for (int k = 0; k < 3; ++k)
+      rot.push_back(Eigen::Matrix3d(Eigen::AngleAxisd(
+          2.5 * std::fabs(u(rng)), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized())));
+    const std::vector<Eigen::Matrix3d> canon = canonicalRotations(spine, rot);
+    const std::vector<double> zero(6, 0.0);
+    SpineFk a, b;
+    spineForwardKinematics(spine, handle, rot.data(), zero.data(), 0, &a);
+    spineForwardKinematics(spine, handle, canon.data(), zero.data(), 0, &b);
+    // Positions of O(10 mm) through a few 3x3 products: round-off ~1e-14.
+    for (int j = 0; j <= 3; ++j) CHECK((a.x[j] - b.x[j]).norm() < 1e-12);
+    const std::vector<Eigen::Matrix3d> rest = restRotations(spine);
+    for (int k = 0; k < 3; ++k) {
+      // Canonical: the smallest turn from the rest rotation, so its axis of
+      // rotation rest^T... lies in the plane normal to the rest axis: no twist.
+      const Eigen::AngleAxisd turn(canon[k] * rest[k].transpose());
+      CHECK(std::fabs(turn.axis().dot(rest[k].col(2))) * std::sin(turn.angle()) < 1e-12);
+      CHECK(canon[k].isUnitary(1e-12));
+      // A second re-base changes nothing.
+      const std::vector<Eigen::Matrix3d> again = canonicalRotations(spine, canon);
+      CHECK((again[k] - canon[k]).norm() < 1e-12);
     }
   }
 }

@@ -58,7 +58,7 @@ double totalForceN(const SpineSolution& s) {
 
 std::vector<Eigen::Vector3d> jointsMm(const SpineProblem& p, const SpineSolution& s) {
   SpineFk fk;
-  spineForwardKinematics(*p.spine, p.handle, s.q.data(), 0, &fk);
+  spineForwardKinematics(*p.spine, p.handle, p.baseData(), s.q.data(), 0, &fk);
   return fk.x;
 }
 
@@ -106,9 +106,11 @@ void checkSlsqpFollowsIpopt(const Brush& brush, const std::vector<Pose>& path, i
       REQUIRE(b.spines[s].summary.usable());
       if (a.spines[s].summary.status == SolveStatus::kFree) continue;
       // The rest angles are not all zero, so the simulation started this solve
-      // from the previous angles as they were (no buckling nudge).
+      // from the previous pose as it was (no buckling nudge): zero increments
+      // from the re-based rotations.
       const SpineProblem& p = ipopt.lastProblems()[s];
       SpineSolution sol = before.state.spines[s].solution;
+      std::fill(sol.q.begin(), sol.q.end(), 0.0);
       const SpineProblem* pp = &p;
       SpineSolution* ps = &sol;
       REQUIRE(same_start->solve({&pp, 1}, {&ps, 1}).usable());
@@ -267,8 +269,8 @@ TEST_CASE("slsqp reaches the one-joint closed-form equilibrium", "[solvers][slsq
   // 1e-10 mm); phi only by the energy: stopping at ftol_abs 1e-13 N mm leaves it
   // within sqrt(2e-13 / K) ~ 2e-7 rad.
   constexpr double kAngleTol = 1e-6;
-  CHECK(s.solution.q[0] == Approx(theta_star).margin(kAngleTol));
-  CHECK(s.solution.q[1] == Approx(0).margin(kAngleTol));
+  CHECK(jointAngles(s, 0)[0] == Approx(theta_star).margin(kAngleTol));
+  CHECK(jointAngles(s, 0)[1] == Approx(0).margin(kAngleTol));
   // The KKT least squares gives the multiplier to the angles' accuracy times
   // dFn/dtheta ~ K / (L sin theta*) ~ 0.6 N/rad: ~1e-6 of Fn ~ 0.08 N.
   constexpr double kForceRel = 1e-5;
