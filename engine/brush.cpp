@@ -264,6 +264,18 @@ Brush parseBrush(const std::string& text, const std::string& path,
                 "need spine roots spread over at least 0.01 mm in x-y to place strips between "
                 "(all roots are in one point)");
   });
+  if (top.has("volume")) part([&] {
+    const JsonObject v = top.object("volume");
+    VolumeSpec& vol = b.volume;
+    vol.min_separation = v.number("min_separation");
+    v.require(vol.min_separation > 0 && vol.min_separation < 1, "min_separation",
+              "must be in (0, 1): a fraction of the spines' spacing at rest (at 1 or more "
+              "the hairs would push each other apart at rest)");
+    vol.stiffness_n_per_mm = v.number("stiffness_n_per_mm", vol.stiffness_n_per_mm);
+    v.require(vol.stiffness_n_per_mm > 0 && vol.stiffness_n_per_mm <= 1000,
+              "stiffness_n_per_mm", "must be in (0, 1000] N/mm");
+    v.rejectUnknownKeys();
+  });
   if (top.has("paint")) part([&] {
     const JsonObject p = top.object("paint");
     b.paint_capacity = p.number("capacity", 1.0);

@@ -76,6 +76,16 @@ struct StripSpec {
   bool present() const { return count > 0; }
 };
 
+// Hair volume (docs/dynamics.md, "Hair volume"): hair cannot pass through
+// hair. Corresponding joints of neighbouring spines keep at least
+// min_separation times their distance at rest; squeezed closer, the bundle
+// pushes back with a smoothed stiffness.
+struct VolumeSpec {
+  double min_separation = 0;      // fraction of the rest spacing, in (0, 1); 0 = off
+  double stiffness_n_per_mm = 5;  // force per mm squeezed past the minimum
+  bool present() const { return min_separation > 0; }
+};
+
 struct Brush {
   std::string path;  // for messages
   std::string name;
@@ -84,6 +94,7 @@ struct Brush {
   FrictionSpec friction;
   SurfaceSpec surface;
   StripSpec strips;
+  VolumeSpec volume;
   double paint_capacity = 1.0;  // relative amount of paint the brush holds
 
   // Largest distance from the ferrule centre any hair can reach (mm).

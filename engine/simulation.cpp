@@ -41,7 +41,72 @@ constexpr double kLiftedMm = 1e-3;
 
 Simulation::Simulation(const Brush& brush, const SimOptions& options,
                        std::unique_ptr<SpineSolver> solver, std::unique_ptr<SpineSolver> fallback)
-    : brush_(brush), options_(options), solver_(std::move(solver)), fallback_(std::move(fallback)) {}
+    : brush_(brush),
+      options_(options),
+      solver_(std::move(solver)),
+      fallback_(std::move(fallback)),
+      volume_pairs_(brush.volume.present() ? volumePairs(brush) : std::vector<VolumePair>{}) {}
+
+std::vector<VolumePair> volumePairs(const Brush& brush) {
+  const int ns = static_cast<int>(brush.spines.size());
+  std::vector<std::vector<Eigen::Vector3d>> rest(ns);
+  SpineFk fk;
+  for (int s = 0; s < ns; ++s) {
+    const SpineSpec& spec = brush.spines[s];
+    const std::vector<Eigen::Matrix3d> r = restRotations(spec);
+    const std::vector<double> zero(2 * spec.jointCount(), 0.0);
+    spineForwardKinematics(spec, Pose{}, r.data(), zero.data(), 0, &fk);
+    rest[s] = fk.x;
+  }
+  auto meanDist = [&](int s, int t) {
+    const size_t n = std::min(rest[s].size(), rest[t].size());
+    double d = 0;
+    for (size_t j = 0; j < n; ++j) d += (rest[s][j] - rest[t][j]).norm();
+    return d / n;
+  };
+  std::vector<double> nearest(ns, HUGE_VAL);
+  for (int s = 0; s < ns; ++s)
+    for (int t = 0; t < ns; ++t)
+      if (t != s) nearest[s] = std::min(nearest[s], meanDist(s, t));
+  // Within 1.5x the nearest: a hexagonal ring's sides and spokes (1x) but not
+  // its diagonals (1.73x), a row's next spines (1x) but not the one after (2x).
+  constexpr double kNeighbourFactor = 1.5;
+  std::vector<VolumePair> pairs;
+  for (int s = 0; s < ns; ++s)
+    for (int t = s + 1; t < ns; ++t) {
+      const double d = meanDist(s, t);
+      if (d > kNeighbourFactor * std::min(nearest[s], nearest[t])) continue;
+      VolumePair p{s, t, {}};
+      const size_t n = std::min(rest[s].size(), rest[t].size());
+      for (size_t j = 1; j < n; ++j) p.rest_mm.push_back((rest[s][j] - rest[t][j]).norm());
+      pairs.push_back(std::move(p));
+    }
+  return pairs;
+}
+
+// Every spine sees its neighbours' joints where the handle carried them at the
+// start of this step (Jacobi: each solve holds the others fixed), so the
+// spines stay separate problems for both solvers.
+void Simulation::setVolume(const Pose& handle) {
+  const int ns = static_cast<int>(brush_.spines.size());
+  for (SpineProblem& p : problems_) p.volume.clear();
+  if (volume_pairs_.empty()) return;
+  carried_.resize(ns);
+  for (int s = 0; s < ns; ++s) {
+    const SpineSpec& spec = brush_.spines[s];
+    const std::vector<double> zero(2 * spec.jointCount(), 0.0);
+    spineForwardKinematics(spec, handle, problems_[s].baseData(), zero.data(), 0, &fk_);
+    carried_[s] = fk_.x;
+  }
+  const double c = brush_.volume.min_separation;
+  for (const VolumePair& vp : volume_pairs_)
+    for (size_t j = 1; j <= vp.rest_mm.size(); ++j) {
+      const double min_mm = c * vp.rest_mm[j - 1];
+      problems_[vp.s].volume.push_back({static_cast<int>(j), carried_[vp.t][j], min_mm});
+      problems_[vp.t].volume.push_back({static_cast<int>(j), carried_[vp.s][j], min_mm});
+    }
+  for (SpineProblem& p : problems_) p.volume_stiffness_n_per_mm = brush_.volume.stiffness_n_per_mm;
+}
 
 void Simulation::reset(const Pose& handle, double t_s) {
   state_ = BrushState{};
@@ -162,10 +227,11 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
   std::vector<int> which;
   std::vector<std::vector<bool>> sliding(ns);
 
+  for (int s = 0; s < ns; ++s) buildProblem(s, handle);
+  setVolume(handle);
   for (int s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush_.spines[s];
     const SpineState& prev = state_.spines[s];
-    buildProblem(s, handle);
     sliding[s] = prev.sliding;
     trial[s] = prev.solution;
     std::fill(trial[s].q.begin(), trial[s].q.end(), 0.0);  // the re-based start

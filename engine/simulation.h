@@ -67,6 +67,16 @@ struct SimStats {
   long iterations = 0;
 };
 
+// Neighbouring spines for hair volume (docs/dynamics.md): pairs whose mean
+// distance at rest, over their corresponding points, is within 1.5 times the
+// nearest such distance of either spine; with the rest distance of each
+// joint j = 1..min(n_s, n_t) (index j - 1).
+struct VolumePair {
+  int s = 0, t = 0;
+  std::vector<double> rest_mm;
+};
+std::vector<VolumePair> volumePairs(const Brush& brush);
+
 class Simulation {
  public:
   // `fallback` (optional) is tried on a spine whose solve failed with `solver`.
@@ -110,7 +120,11 @@ class Simulation {
   std::vector<SpineProblem> problems_;
   SpineFk fk_;
   int failed_run_ = 0;
+  std::vector<VolumePair> volume_pairs_;
+  std::vector<std::vector<Eigen::Vector3d>> carried_;  // joints carried rigidly, per spine
+  void setVolume(const Pose& handle);
 };
+
 
 // Re-bases a spine's joint rotations (docs/dynamics.md, "Re-basing"): returns
 // rotations with the same joint positions, each joint's twist about its own

@@ -100,6 +100,46 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
         }
       }
   }
+  // Hair volume: k psi(v), v = min - r the overlap with a neighbour's joint,
+  // psi(v) = v^3 / (6w) for 0 <= v <= w, then continued as a parabola with
+  // psi'' = 1: a C2 barrier whose push grows like k v beyond the width w.
+  const double kv = p.volume_stiffness_n_per_mm, w = kVolumeSmoothMm;
+  for (const VolumeContact& c : p.volume) {
+    const Eigen::Vector3d delta = fk->x[c.joint] - c.other_mm;
+    const double r = std::sqrt(delta.squaredNorm() + 1e-18);
+    const double v = c.min_mm - r;
+    if (v <= 0) continue;
+    double psi, dpsi, ddpsi;
+    if (v <= w) {
+      psi = v * v * v / (6 * w);
+      dpsi = v * v / (2 * w);
+      ddpsi = v / w;
+    } else {
+      psi = w * w / 6 + 0.5 * w * (v - w) + 0.5 * (v - w) * (v - w);
+      dpsi = 0.5 * w + (v - w);
+      ddpsi = 1;
+    }
+    e.volume_nmm += kv * psi;
+    const Eigen::Vector3d nrm = delta / r;  // dr/dx
+    const int nvj = 2 * c.joint;  // only joints before it move x_j
+    if (grad)
+      for (int a = 0; a < nvj; ++a) grad[a] -= kv * dpsi * nrm.dot(fk->d(c.joint, a));
+    if (hess) {
+      // d2r/dx2 = (I - n n^T) / r
+      for (int a = 0; a < nvj; ++a) {
+        const Eigen::Vector3d& da = fk->d(c.joint, a);
+        const double na = nrm.dot(da);
+        for (int b = 0; b <= a; ++b) {
+          const Eigen::Vector3d& db = fk->d(c.joint, b);
+          const double nb = nrm.dot(db);
+          const double d2r = (da.dot(db) - na * nb) / r + nrm.dot(fk->dd(c.joint, a, b));
+          const double val = kv * (ddpsi * na * nb - dpsi * d2r);
+          H(a, b) += val;
+          if (a != b) H(b, a) += val;
+        }
+      }
+    }
+  }
   if (terms) *terms = e;
   return e.total();
 }

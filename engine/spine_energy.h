@@ -4,6 +4,7 @@
 //   E_s = sum_i K_i beta_i^2 / 2                            (eqs. 2, 12)
 //   E_f = sum_i (1 - eta_i) mu F_n,i |dx_c,i|               (eqs. 3, 13-14)
 //   E_d = sum_i D_i |d beta_i|                              (eq. 4)
+//   E_v = sum_c k psi(min_c - |x_j(c) - other_c|)           (hair volume)
 // with |d beta_i| taken as the joint's angular displacement in joint space,
 // |(theta_i, phi_i) - (theta_i, phi_i)_prev|: eq. 15's "constant resistance in
 // joint space". (With re-based angles, prev is 0 and this is the angle the
@@ -36,9 +37,22 @@ inline constexpr double kSmoothDampRad = 1e-5;
 inline constexpr double kSmoothDampContactRad = 1e-3;
 
 struct EnergyTerms {
-  double spring_nmm = 0, friction_nmm = 0, damping_nmm = 0;
-  double total() const { return spring_nmm + friction_nmm + damping_nmm; }
+  double spring_nmm = 0, friction_nmm = 0, damping_nmm = 0, volume_nmm = 0;
+  double total() const { return spring_nmm + friction_nmm + damping_nmm + volume_nmm; }
 };
+
+// Hair volume (docs/dynamics.md): joint `joint` (1..n) must keep `min_mm` from
+// a neighbouring spine's joint at `other_mm`, that spine's position at the
+// start of the step carried with the handle (held fixed during this solve).
+struct VolumeContact {
+  int joint = 1;
+  Eigen::Vector3d other_mm = Eigen::Vector3d::Zero();
+  double min_mm = 0;
+};
+
+// Smoothing width of the volume barrier (mm): within it the push grows from
+// zero as the square of the overlap, beyond it linearly (C2 throughout).
+inline constexpr double kVolumeSmoothMm = 0.02;
 
 // Everything that stays fixed during one solve of one spine.
 struct SpineProblem {
@@ -53,6 +67,8 @@ struct SpineProblem {
   std::vector<Eigen::Vector2d> pull_dir;
   double anisotropy_strength = 0, anisotropy_exponent = 2;
   std::vector<double> prev_q;                 // joint angles at the previous step (2n)
+  std::vector<VolumeContact> volume;          // hair volume, empty when off
+  double volume_stiffness_n_per_mm = 0;
   // Base rotation B_k of every joint (engine/spine_kinematics.h): the angles q
   // are an increment from it. Empty: B_k = I, q are eq. 10's angles themselves.
   std::vector<Eigen::Matrix3d> base;

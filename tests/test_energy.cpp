@@ -87,15 +87,27 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
               Eigen::Matrix3d(Eigen::AngleAxisd(2.4, Eigen::Vector3d(-0.3, 1, 0.1).normalized())),
               Eigen::Matrix3d(Eigen::AngleAxisd(0.4, Eigen::Vector3d(0, 1, 0)))};
   }
+  // Hair volume against neighbours' joints (docs/dynamics.md): far enough that
+  // some trials push (within and beyond the smoothing width) and some do not.
+  if (GENERATE(false, true)) {
+    p.volume_stiffness_n_per_mm = 8;
+    p.volume = {{1, Eigen::Vector3d(10.5, 21.0, 3.0), 3.5},
+                {2, Eigen::Vector3d(12.0, 20.0, 0.5), 5.0},
+                {3, Eigen::Vector3d(9.0, 18.0, -1.0), 8.0},
+                {3, Eigen::Vector3d(11.0, 23.0, -4.0), 0.03}};
+  }
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> angle(-0.9, 0.9);
+  int pushed = 0;  // trials where the volume term acts
   for (int trial = 0; trial < 6; ++trial) {
     std::vector<double> q(6);
     for (double& a : q) a = angle(rng);
     if (trial == 0) std::fill(q.begin(), q.end(), 0.0);  // the straight spine: beta = 0
     std::vector<double> g(6), h(36), gp(6), gm(6);
     SpineFk fk;
-    spineEnergy(p, q.data(), &fk, nullptr, g.data(), h.data());
+    EnergyTerms terms;
+    spineEnergy(p, q.data(), &fk, &terms, g.data(), h.data());
+    pushed += terms.volume_nmm > 0;
     for (int v = 0; v < 6; ++v) {
       std::vector<double> qp = q, qm = q;
       qp[v] += kFdStep;
@@ -110,6 +122,7 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
       }
     }
   }
+  if (!p.volume.empty()) CHECK(pushed >= 2);
 }
 
 TEST_CASE("smoothed friction approaches mu Fn |dx| away from the kink", "[energy]") {

@@ -836,3 +836,26 @@ TEST_CASE("bad surface and strips sections are 65 naming the field", "[readers][
   doc.erase("surface");
   CHECK_BRUSH_ERROR(doc.dump(), "/strips", "one point");
 }
+
+TEST_CASE("hair volume: read, and refused where it would be meaningless", "[readers][volume]") {
+  const Brush off = parseBrush(kBrush, "brush.json");
+  CHECK_FALSE(off.volume.present());  // absent: no volume term, as before
+  nlohmann::json doc = nlohmann::json::parse(kBrush);
+  doc["volume"] = {{"min_separation", 0.8}, {"stiffness_n_per_mm", 12}};
+  const Brush on = parseBrush(doc.dump(), "brush.json");
+  CHECK(on.volume.present());
+  CHECK(on.volume.min_separation == 0.8);
+  CHECK(on.volume.stiffness_n_per_mm == 12);
+  // A separation of the rest spacing or more would push the hairs apart at rest.
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 1.2}}), "/volume/min_separation",
+                    "spacing at rest");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 1.0}}), "/volume/min_separation",
+                    "(0, 1)");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0}}), "/volume/min_separation",
+                    "(0, 1)");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"stiffness_n_per_mm", -1}}),
+                    "/volume/stiffness_n_per_mm", "(0, 1000]");
+  CHECK_BRUSH_ERROR(brushWith("/volume", nlohmann::json::object()), "/volume/min_separation");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spacing", 1}}),
+                    "/volume/spacing", "unknown key");
+}
