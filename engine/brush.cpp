@@ -274,6 +274,15 @@ Brush parseBrush(const std::string& text, const std::string& path,
     vol.stiffness_n_per_mm = v.number("stiffness_n_per_mm", vol.stiffness_n_per_mm);
     v.require(vol.stiffness_n_per_mm > 0 && vol.stiffness_n_per_mm <= 1000,
               "stiffness_n_per_mm", "must be in (0, 1000] N/mm");
+    if (v.has("max_separation")) {
+      vol.max_separation = v.number("max_separation");
+      v.require(vol.max_separation > 1 && vol.max_separation <= 100, "max_separation",
+                "must be in (1, 100]: a multiple of the spines' spacing at rest (at 1 or less "
+                "the hairs would pull each other together at rest)");
+    }
+    vol.cohesion_n_per_mm = v.number("cohesion_n_per_mm", vol.cohesion_n_per_mm);
+    v.require(vol.cohesion_n_per_mm > 0 && vol.cohesion_n_per_mm <= 1000, "cohesion_n_per_mm",
+              "must be in (0, 1000] N/mm");
     v.rejectUnknownKeys();
   });
   if (top.has("paint")) part([&] {

@@ -83,6 +83,10 @@ struct StripSpec {
 struct VolumeSpec {
   double min_separation = 0;      // fraction of the rest spacing, in (0, 1); 0 = off
   double stiffness_n_per_mm = 5;  // force per mm squeezed past the minimum
+  // Cohesion of the wet bundle: pairs pulled further apart than max_separation
+  // times their rest distance pull back with this stiffness. 0 = none.
+  double max_separation = 0;      // > 1, or 0 = no cohesion
+  double cohesion_n_per_mm = 0.5;
   bool present() const { return min_separation > 0; }
 };
 

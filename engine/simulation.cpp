@@ -98,14 +98,24 @@ void Simulation::setVolume(const Pose& handle) {
     spineForwardKinematics(spec, handle, problems_[s].baseData(), zero.data(), 0, &fk_);
     carried_[s] = fk_.x;
   }
-  const double c = brush_.volume.min_separation;
-  for (const VolumePair& vp : volume_pairs_)
+  const VolumeSpec& v = brush_.volume;
+  for (const VolumePair& vp : volume_pairs_) {
+    // Cohesion holds a pair within max_separation times its widest spacing at
+    // rest (the belly's), at every joint: a tip that converges to the point at
+    // rest may spread as wide as the belly, but not splay past it.
+    const double widest = *std::max_element(vp.rest_mm.begin(), vp.rest_mm.end());
     for (size_t j = 1; j <= vp.rest_mm.size(); ++j) {
-      const double min_mm = c * vp.rest_mm[j - 1];
-      problems_[vp.s].volume.push_back({static_cast<int>(j), carried_[vp.t][j], min_mm});
-      problems_[vp.t].volume.push_back({static_cast<int>(j), carried_[vp.s][j], min_mm});
+      const double min_mm = v.min_separation * vp.rest_mm[j - 1];
+      const double max_mm = v.max_separation * widest;
+      const int jj = static_cast<int>(j);
+      problems_[vp.s].volume.push_back({jj, carried_[vp.t][j], min_mm, max_mm});
+      problems_[vp.t].volume.push_back({jj, carried_[vp.s][j], min_mm, max_mm});
     }
-  for (SpineProblem& p : problems_) p.volume_stiffness_n_per_mm = brush_.volume.stiffness_n_per_mm;
+  }
+  for (SpineProblem& p : problems_) {
+    p.volume_stiffness_n_per_mm = v.stiffness_n_per_mm;
+    p.cohesion_n_per_mm = v.max_separation > 0 ? v.cohesion_n_per_mm : 0.0;
+  }
 }
 
 void Simulation::reset(const Pose& handle, double t_s) {
@@ -222,6 +232,35 @@ void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSol
 }
 
 const BrushState& Simulation::step(const Pose& handle, double t_s) {
+  return stepSplitting(handle, t_s, 0);
+}
+
+// A step with a failed solve is redone as two half steps (the handle pose
+// interpolated, paper §3.1 step 1): from a nearer start, a spine passing its
+// buckling point or squeezed by its neighbours converges. Up to 2^4 pieces.
+const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int depth) {
+  constexpr int kMaxSplitDepth = 4;
+  const Snapshot before = snapshot();
+  const int run_before = failed_run_;
+  stepOnce(handle, t_s);
+  if (stats_.failed_steps == before.stats.failed_steps || depth >= kMaxSplitDepth) return state_;
+  const SimStats failed = stats_;
+  restore(before);
+  failed_run_ = run_before;
+  const Pose from = state_.handle;
+  const double t0 = state_.t_s;
+  stepSplitting(interpolatePose(from, handle, 0.5), 0.5 * (t0 + t_s), depth + 1);
+  stepSplitting(handle, t_s, depth + 1);
+  // One step to the caller: the halves count as one, and the work of the
+  // failed attempt stays counted.
+  stats_.steps -= 1;
+  stats_.iterations += failed.iterations - before.stats.iterations;
+  ++stats_.split_steps;
+  state_.step -= 1;
+  return state_;
+}
+
+const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   const int ns = static_cast<int>(brush_.spines.size());
   std::vector<SpineSolution> trial(ns);
   std::vector<int> which;

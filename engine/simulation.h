@@ -64,6 +64,7 @@ struct SimStats {
   // it was carried along unchanged (frozen).
   int longest_failed_run = 0;
   int relaxed_spines = 0;  // spine-steps relaxed in the air in closed form
+  int split_steps = 0;     // steps redone in halves after a failed solve
   long iterations = 0;
 };
 
@@ -85,7 +86,8 @@ class Simulation {
 
   // The brush at rest at this pose (no contact).
   void reset(const Pose& handle, double t_s);
-  // One step (paper §3.1 steps 1-3) to the new handle pose.
+  // One step (paper §3.1 steps 1-3) to the new handle pose. A step whose solve
+  // fails is redone in halves (up to 16 pieces) before a failure is kept.
   const BrushState& step(const Pose& handle, double t_s);
 
   const BrushState& state() const { return state_; }
@@ -111,6 +113,8 @@ class Simulation {
   void solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial);
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
   bool relaxInAir(int s, const Pose& handle);
+  const BrushState& stepOnce(const Pose& handle, double t_s);
+  const BrushState& stepSplitting(const Pose& handle, double t_s, int depth);
 
   const Brush& brush_;
   SimOptions options_;

@@ -30,6 +30,15 @@ BendW bendW(const SpineSpec& spine, const Eigen::Matrix3d* base, int k, const do
   return b;
 }
 
+struct VolumePsi {
+  double psi, dpsi, ddpsi;
+};
+VolumePsi volumePsi(double v) {
+  constexpr double w = kVolumeSmoothMm;
+  if (v <= w) return {v * v * v / (6 * w), v * v / (2 * w), v / w};
+  return {w * w / 6 + 0.5 * w * (v - w) + 0.5 * (v - w) * (v - w), 0.5 * w + (v - w), 1.0};
+}
+
 }  // namespace
 
 double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
@@ -100,40 +109,42 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
         }
       }
   }
-  // Hair volume: k psi(v), v = min - r the overlap with a neighbour's joint,
-  // psi(v) = v^3 / (6w) for 0 <= v <= w, then continued as a parabola with
-  // psi'' = 1: a C2 barrier whose push grows like k v beyond the width w.
-  const double kv = p.volume_stiffness_n_per_mm, w = kVolumeSmoothMm;
+  // Hair volume (docs/dynamics.md): f(r) = k psi(min - r) + k_t psi(r - max) of
+  // the distance r to a neighbour's joint, psi(v) = v^3 / (6w) for 0 <= v <= w,
+  // then continued as a parabola with psi'' = 1: a C2 barrier whose push grows
+  // like k v beyond the width w; the cohesion part pulls back alike.
   for (const VolumeContact& c : p.volume) {
     const Eigen::Vector3d delta = fk->x[c.joint] - c.other_mm;
     const double r = std::sqrt(delta.squaredNorm() + 1e-18);
-    const double v = c.min_mm - r;
-    if (v <= 0) continue;
-    double psi, dpsi, ddpsi;
-    if (v <= w) {
-      psi = v * v * v / (6 * w);
-      dpsi = v * v / (2 * w);
-      ddpsi = v / w;
-    } else {
-      psi = w * w / 6 + 0.5 * w * (v - w) + 0.5 * (v - w) * (v - w);
-      dpsi = 0.5 * w + (v - w);
-      ddpsi = 1;
+    double f = 0, df = 0, ddf = 0;  // f and its derivatives in r
+    if (r < c.min_mm) {
+      const VolumePsi ps = volumePsi(c.min_mm - r);
+      f += p.volume_stiffness_n_per_mm * ps.psi;
+      df -= p.volume_stiffness_n_per_mm * ps.dpsi;
+      ddf += p.volume_stiffness_n_per_mm * ps.ddpsi;
     }
-    e.volume_nmm += kv * psi;
+    if (c.max_mm > 0 && r > c.max_mm) {
+      const VolumePsi ps = volumePsi(r - c.max_mm);
+      f += p.cohesion_n_per_mm * ps.psi;
+      df += p.cohesion_n_per_mm * ps.dpsi;
+      ddf += p.cohesion_n_per_mm * ps.ddpsi;
+    }
+    if (f == 0 && df == 0) continue;
+    e.volume_nmm += f;
     const Eigen::Vector3d nrm = delta / r;  // dr/dx
-    const int nvj = 2 * c.joint;  // only joints before it move x_j
+    const int nvj = 2 * c.joint;             // only joints before it move x_j
     if (grad)
-      for (int a = 0; a < nvj; ++a) grad[a] -= kv * dpsi * nrm.dot(fk->d(c.joint, a));
+      for (int a = 0; a < nvj; ++a) grad[a] += df * nrm.dot(fk->d(c.joint, a));
     if (hess) {
-      // d2r/dx2 = (I - n n^T) / r
       for (int a = 0; a < nvj; ++a) {
         const Eigen::Vector3d& da = fk->d(c.joint, a);
         const double na = nrm.dot(da);
         for (int b = 0; b <= a; ++b) {
           const Eigen::Vector3d& db = fk->d(c.joint, b);
           const double nb = nrm.dot(db);
+          // d2r/dq2 = dx^T (I - n n^T) dx / r + n . d2x
           const double d2r = (da.dot(db) - na * nb) / r + nrm.dot(fk->dd(c.joint, a, b));
-          const double val = kv * (ddpsi * na * nb - dpsi * d2r);
+          const double val = ddf * na * nb + df * d2r;
           H(a, b) += val;
           if (a != b) H(b, a) += val;
         }

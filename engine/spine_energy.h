@@ -4,7 +4,7 @@
 //   E_s = sum_i K_i beta_i^2 / 2                            (eqs. 2, 12)
 //   E_f = sum_i (1 - eta_i) mu F_n,i |dx_c,i|               (eqs. 3, 13-14)
 //   E_d = sum_i D_i |d beta_i|                              (eq. 4)
-//   E_v = sum_c k psi(min_c - |x_j(c) - other_c|)           (hair volume)
+//   E_v = sum_c k psi(min_c - r_c) + k_t psi(r_c - max_c)   (hair volume, cohesion)
 // with |d beta_i| taken as the joint's angular displacement in joint space,
 // |(theta_i, phi_i) - (theta_i, phi_i)_prev|: eq. 15's "constant resistance in
 // joint space". (With re-based angles, prev is 0 and this is the angle the
@@ -44,10 +44,12 @@ struct EnergyTerms {
 // Hair volume (docs/dynamics.md): joint `joint` (1..n) must keep `min_mm` from
 // a neighbouring spine's joint at `other_mm`, that spine's position at the
 // start of the step carried with the handle (held fixed during this solve).
+// Cohesion: beyond max_mm (0 = none) the pair pulls back together.
 struct VolumeContact {
   int joint = 1;
   Eigen::Vector3d other_mm = Eigen::Vector3d::Zero();
   double min_mm = 0;
+  double max_mm = 0;
 };
 
 // Smoothing width of the volume barrier (mm): within it the push grows from
@@ -69,6 +71,7 @@ struct SpineProblem {
   std::vector<double> prev_q;                 // joint angles at the previous step (2n)
   std::vector<VolumeContact> volume;          // hair volume, empty when off
   double volume_stiffness_n_per_mm = 0;
+  double cohesion_n_per_mm = 0;
   // Base rotation B_k of every joint (engine/spine_kinematics.h): the angles q
   // are an increment from it. Empty: B_k = I, q are eq. 10's angles themselves.
   std::vector<Eigen::Matrix3d> base;

@@ -91,10 +91,12 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
   // some trials push (within and beyond the smoothing width) and some do not.
   if (GENERATE(false, true)) {
     p.volume_stiffness_n_per_mm = 8;
-    p.volume = {{1, Eigen::Vector3d(10.5, 21.0, 3.0), 3.5},
-                {2, Eigen::Vector3d(12.0, 20.0, 0.5), 5.0},
-                {3, Eigen::Vector3d(9.0, 18.0, -1.0), 8.0},
-                {3, Eigen::Vector3d(11.0, 23.0, -4.0), 0.03}};
+    p.cohesion_n_per_mm = 0.7;  // and cohesion beyond max_mm
+    p.volume = {{1, Eigen::Vector3d(10.5, 21.0, 3.0), 3.5, 0},
+                {2, Eigen::Vector3d(12.0, 20.0, 0.5), 5.0, 6.0},
+                {3, Eigen::Vector3d(9.0, 18.0, -1.0), 8.0, 0},
+                {3, Eigen::Vector3d(11.0, 23.0, -4.0), 0.03, 2.0},
+                {2, Eigen::Vector3d(7.0, 22.0, -2.0), 0.5, 0.9}};
   }
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> angle(-0.9, 0.9);

@@ -856,6 +856,16 @@ TEST_CASE("hair volume: read, and refused where it would be meaningless", "[read
   CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"stiffness_n_per_mm", -1}}),
                     "/volume/stiffness_n_per_mm", "(0, 1000]");
   CHECK_BRUSH_ERROR(brushWith("/volume", nlohmann::json::object()), "/volume/min_separation");
+  // Cohesion at or below the rest spacing would pull the hairs together at rest.
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"max_separation", 0.9}}),
+                    "/volume/max_separation", "(1, 100]");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"max_separation", 1.3},
+                                          {"cohesion_n_per_mm", 0}}),
+                    "/volume/cohesion_n_per_mm", "(0, 1000]");
+  doc["volume"] = {{"min_separation", 0.8}, {"max_separation", 1.3}, {"cohesion_n_per_mm", 2}};
+  const Brush cohesive = parseBrush(doc.dump(), "brush.json");
+  CHECK(cohesive.volume.max_separation == 1.3);
+  CHECK(cohesive.volume.cohesion_n_per_mm == 2);
   CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spacing", 1}}),
                     "/volume/spacing", "unknown key");
 }
