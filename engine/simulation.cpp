@@ -45,7 +45,9 @@ Simulation::Simulation(const Brush& brush, const SimOptions& options,
       options_(options),
       solver_(std::move(solver)),
       fallback_(std::move(fallback)),
-      volume_pairs_(brush.volume.present() ? volumePairs(brush) : std::vector<VolumePair>{}) {}
+      volume_pairs_(brush.volume.present() ? volumePairs(brush) : std::vector<VolumePair>{}) {
+  for (const SpineSpec& spec : brush.spines) rest_rot_.push_back(restRotations(spec));
+}
 
 std::vector<VolumePair> volumePairs(const Brush& brush) {
   const int ns = static_cast<int>(brush.spines.size());
@@ -157,7 +159,7 @@ void Simulation::buildProblem(int s, const Pose& handle) {
   // Re-base (docs/dynamics.md): the angles of this step are an increment from
   // the joints' rotations at the previous step, which keeps every solve far
   // from eq. 10's singularity however far the joints have turned.
-  p.base = canonicalRotations(spec, prev.rot);
+  p.base = canonicalRotations(rest_rot_[s], prev.rot);
   p.prev_q.assign(2 * n, 0.0);
   p.anisotropy_strength = brush_.friction.anisotropy_strength;
   p.anisotropy_exponent = brush_.friction.anisotropy_exponent;
@@ -417,7 +419,7 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
 bool Simulation::relaxInAir(int s, const Pose& handle) {
   const SpineSpec& spec = brush_.spines[s];
   SpineProblem& p = problems_[s];
-  std::vector<Eigen::Matrix3d> relaxed = relaxedRotations(spec, p.base);
+  std::vector<Eigen::Matrix3d> relaxed = relaxedRotations(spec, rest_rot_[s], p.base);
   spineForwardKinematics(spec, handle, relaxed.data(), state_.spines[s].solution.q.data(), 0,
                          &fk_);
   for (int j = 1; j <= spec.jointCount(); ++j)
@@ -437,7 +439,11 @@ constexpr double kReversedDot = -1.0 + 1.5e-6;
 
 std::vector<Eigen::Matrix3d> canonicalRotations(const SpineSpec& spine,
                                                 const std::vector<Eigen::Matrix3d>& rot) {
-  const std::vector<Eigen::Matrix3d> rest = restRotations(spine);
+  return canonicalRotations(restRotations(spine), rot);
+}
+
+std::vector<Eigen::Matrix3d> canonicalRotations(const std::vector<Eigen::Matrix3d>& rest,
+                                                const std::vector<Eigen::Matrix3d>& rot) {
   std::vector<Eigen::Matrix3d> out(rot.size());
   Eigen::Matrix3d carry = Eigen::Matrix3d::Identity();  // twist handed down the chain
   for (size_t k = 0; k < rot.size(); ++k) {
@@ -458,7 +464,12 @@ std::vector<Eigen::Matrix3d> canonicalRotations(const SpineSpec& spine,
 
 std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
                                               const std::vector<Eigen::Matrix3d>& rot) {
-  const std::vector<Eigen::Matrix3d> rest = restRotations(spine);
+  return relaxedRotations(spine, restRotations(spine), rot);
+}
+
+std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
+                                              const std::vector<Eigen::Matrix3d>& rest,
+                                              const std::vector<Eigen::Matrix3d>& rot) {
   std::vector<Eigen::Matrix3d> out = rot;
   for (size_t k = 0; k < rot.size(); ++k) {
     const Eigen::Vector3d a = rot[k].col(2), a_rest = rest[k].col(2);

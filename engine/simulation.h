@@ -125,6 +125,7 @@ class Simulation {
   SpineFk fk_;
   int failed_run_ = 0;
   std::vector<VolumePair> volume_pairs_;
+  std::vector<std::vector<Eigen::Matrix3d>> rest_rot_;  // per spine, restRotations
   std::vector<std::vector<Eigen::Vector3d>> carried_;  // joints carried rigidly, per spine
   void setVolume(const Pose& handle);
 };
@@ -136,6 +137,9 @@ class Simulation {
 // twist so removed handed on to the child joint.
 std::vector<Eigen::Matrix3d> canonicalRotations(const SpineSpec& spine,
                                                 const std::vector<Eigen::Matrix3d>& rot);
+// The same with the spine's rest rotations (restRotations) given.
+std::vector<Eigen::Matrix3d> canonicalRotations(const std::vector<Eigen::Matrix3d>& rest,
+                                                const std::vector<Eigen::Matrix3d>& rot);
 
 // The minimum of E_s + E_d (eqs. 2, 4) for a spine touching nothing, in closed
 // form per joint: a joint whose spring torque K beta exceeds its joint
@@ -143,6 +147,9 @@ std::vector<Eigen::Matrix3d> canonicalRotations(const SpineSpec& spine,
 // (eq. 15's plastic residual D / K); one below that stays. `rot` must be
 // canonical (canonicalRotations).
 std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
+                                              const std::vector<Eigen::Matrix3d>& rot);
+std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
+                                              const std::vector<Eigen::Matrix3d>& rest,
                                               const std::vector<Eigen::Matrix3d>& rot);
 
 // Times of the simulation steps for a trajectory: every sample time, subdivided
