@@ -239,26 +239,29 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
 
 // A step with a failed solve is redone as two half steps (the handle pose
 // interpolated, paper §3.1 step 1): from a nearer start, a spine passing its
-// buckling point or squeezed by its neighbours converges. Up to 2^4 pieces.
+// buckling point converges. Up to 2^3 pieces; to the caller they are one step,
+// failed if a piece still failed.
 const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int depth) {
-  constexpr int kMaxSplitDepth = 4;
+  constexpr int kMaxSplitDepth = 3;
   const Snapshot before = snapshot();
   const int run_before = failed_run_;
   stepOnce(handle, t_s);
   if (stats_.failed_steps == before.stats.failed_steps || depth >= kMaxSplitDepth) return state_;
-  const SimStats failed = stats_;
+  const long wasted_iterations = stats_.iterations - before.stats.iterations;
   restore(before);
   failed_run_ = run_before;
   const Pose from = state_.handle;
   const double t0 = state_.t_s;
   stepSplitting(interpolatePose(from, handle, 0.5), 0.5 * (t0 + t_s), depth + 1);
   stepSplitting(handle, t_s, depth + 1);
-  // One step to the caller: the halves count as one, and the work of the
-  // failed attempt stays counted.
-  stats_.steps -= 1;
-  stats_.iterations += failed.iterations - before.stats.iterations;
+  const bool failed = stats_.failed_steps > before.stats.failed_steps;
+  stats_.steps = before.stats.steps + 1;
+  state_.step = before.state.step + 1;
+  stats_.failed_steps = before.stats.failed_steps + (failed ? 1 : 0);
+  failed_run_ = failed ? run_before + 1 : 0;
+  stats_.longest_failed_run = std::max(before.stats.longest_failed_run, failed_run_);
+  stats_.iterations += wasted_iterations;  // the failed attempt's work stays counted
   ++stats_.split_steps;
-  state_.step -= 1;
   return state_;
 }
 

@@ -64,7 +64,7 @@ struct SimStats {
   // it was carried along unchanged (frozen).
   int longest_failed_run = 0;
   int relaxed_spines = 0;  // spine-steps relaxed in the air in closed form
-  int split_steps = 0;     // steps redone in halves after a failed solve
+  int split_steps = 0;     // steps or pieces of steps redone in halves after a failed solve
   long iterations = 0;
 };
 
@@ -87,7 +87,7 @@ class Simulation {
   // The brush at rest at this pose (no contact).
   void reset(const Pose& handle, double t_s);
   // One step (paper §3.1 steps 1-3) to the new handle pose. A step whose solve
-  // fails is redone in halves (up to 16 pieces) before a failure is kept.
+  // fails is redone in halves (up to 8 pieces) before a failure is kept.
   const BrushState& step(const Pose& handle, double t_s);
 
   const BrushState& state() const { return state_; }

@@ -267,3 +267,28 @@ TEST_CASE("hair volume: neighbouring hairs on the paper do not collapse onto eac
   CHECK(without < 0.5);
   CHECK(with > 0.7);
 }
+
+TEST_CASE("a failed step is retried in halves and counted once", "[dynamics][split]") {
+  // Two energy evaluations cannot converge a contact solve: every piece fails,
+  // so every contact step is split to the limit and still fails. To the
+  // caller each is one step, failed once.
+  SlsqpSettings starved;
+  starved.max_evaluations = 2;
+  const SpineSpec spine = makeSpine({5, 5}, {8, 5}, 0.005);
+  const Brush brush = makeBrush({spine}, 0.4, 0.3);
+  Simulation sim(brush, SimOptions{}, makeSlsqpSolver(starved));
+  double t = 0;
+  sim.reset(poseAt(0, 0, 12), t);
+  int calls = 0;
+  for (int i = 1; i <= 40; ++i, ++calls) sim.step(poseAt(0.1 * i, 0, 12 - 0.1 * i), t += 0.01);
+  const SimStats& st = sim.stats();
+  CHECK(st.steps == calls);
+  CHECK(sim.state().step == calls);
+  REQUIRE(st.failed_steps > 0);
+  CHECK(st.failed_steps <= calls);
+  // Each failed step was split to the limit first: halves, quarters, eighths,
+  // 1 + 2 + 4 = 7 pieces redone in halves (and 15 attempts in all).
+  CHECK(st.split_steps == 7 * st.failed_steps);
+  CHECK(st.longest_failed_run <= st.failed_steps);
+  CHECK(st.longest_failed_run >= 1);
+}
