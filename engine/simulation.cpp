@@ -240,13 +240,19 @@ const BrushState& Simulation::step(const Pose& handle, double t_s) {
 // A step with a failed solve is redone as two half steps (the handle pose
 // interpolated, paper §3.1 step 1): from a nearer start, a spine passing its
 // buckling point converges. Up to 2^3 pieces; to the caller they are one step,
-// failed if a piece still failed.
+// failed if a piece still failed. A failure that persists from the previous
+// step is kept without splitting.
 const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int depth) {
   constexpr int kMaxSplitDepth = 3;
   const Snapshot before = snapshot();
   const int run_before = failed_run_;
   stepOnce(handle, t_s);
-  if (stats_.failed_steps == before.stats.failed_steps || depth >= kMaxSplitDepth) return state_;
+  // A failure that goes on from the previous step (a solve that cannot
+  // converge at all, say with a tiny iteration limit) is not split again: only
+  // the first failed step of a run pays for the halves.
+  if (stats_.failed_steps == before.stats.failed_steps || depth >= kMaxSplitDepth ||
+      (depth == 0 && run_before > 0))
+    return state_;
   const long wasted_iterations = stats_.iterations - before.stats.iterations;
   restore(before);
   failed_run_ = run_before;
