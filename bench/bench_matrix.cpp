@@ -2,8 +2,9 @@
 // brush pressed to 0..80% of its hair length, at tilts 0/30/60 degrees, pulled
 // 30 mm along +x at 10/50/200 mm/s, and pressed and lifted in place -- counting
 // failed simulation steps and timing every step. A plain program, not a Google
-// Benchmark and not a test: `bench_matrix [--solver ipopt|slsqp] [--brush NAME]
-// [--quick] [--csv FILE]`. Exits 1 when any step failed, 64 on a bad command line.
+// Benchmark and not a test: `bench_matrix [--solver ipopt|slsqp] [--no-fallback]
+// [--brush NAME|FILE]... [--quick] [--csv FILE]`. Exits 1 when any step failed,
+// 64 on a bad command line.
 
 #include <unistd.h>
 
@@ -69,7 +70,7 @@ std::vector<Case> casesFor(const std::string& path, const Matrix& m) {
 
 struct Row {
   std::string brush;
-  int cases = 0, clamped = 0, steps = 0, failed_steps = 0, failed_cases = 0;
+  int cases = 0, clamped = 0, steps = 0, failed_steps = 0, failed_cases = 0, rescued = 0;
   int longest_failed_run = 0;
   std::string worst = "-";
   int worst_failed = 0;
@@ -81,9 +82,12 @@ struct Row {
 
 void usage(FILE* to) {
   std::fprintf(to,
-               "usage: bench_matrix [--solver ipopt|slsqp] [--brush NAME]... [--quick] "
-               "[--csv FILE]\n"
-               "  Library brushes: round flat bright filbert badger fan calligraphy.\n"
+               "usage: bench_matrix [--solver ipopt|slsqp] [--no-fallback] [--brush NAME|FILE]...\n"
+               "                    [--quick] [--csv FILE]\n"
+               "  As bristle render, the other solver rescues a spine whose solve failed\n"
+               "  (counted as rescued); --no-fallback leaves such a failure standing.\n"
+               "  Library brushes: round flat bright filbert badger fan calligraphy, or a\n"
+               "  brush file of one's own (a path with a slash or ending in .json).\n"
                "  Full matrix per brush: press 0..0.8 of the hair length (step 0.1) x tilt\n"
                "  0/30/60 x speed 10/50/200 mm/s pulls, and press_lift at every press and\n"
                "  tilt (108 cases). --quick: press 0.1/0.4/0.8 x tilt 0/30/60 at 50 mm/s, and\n"
@@ -101,7 +105,7 @@ std::string fmtMs(double s) {
 int main(int argc, char** argv) {
   std::string solver = "ipopt", csv_path;
   std::vector<std::string> brushes;
-  bool quick = false;
+  bool quick = false, fallback = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -115,6 +119,8 @@ int main(int argc, char** argv) {
       solver = value();
     } else if (a == "--brush") {
       brushes.push_back(value());
+    } else if (a == "--no-fallback") {
+      fallback = false;
     } else if (a == "--quick") {
       quick = true;
     } else if (a == "--csv") {
@@ -133,8 +139,13 @@ int main(int argc, char** argv) {
     return 64;
   }
   if (brushes.empty()) brushes = kLibrary;
+  // A name with a slash or a .json ending is a brush file of one's own.
+  auto isFile = [](const std::string& b) {
+    return b.find('/') != std::string::npos ||
+           (b.size() > 5 && b.compare(b.size() - 5, 5, ".json") == 0);
+  };
   for (const std::string& b : brushes)
-    if (std::find(kLibrary.begin(), kLibrary.end(), b) == kLibrary.end()) {
+    if (!isFile(b) && std::find(kLibrary.begin(), kLibrary.end(), b) == kLibrary.end()) {
       std::fprintf(stderr, "bench_matrix: unknown brush '%s'\n", b.c_str());
       return 64;
     }
@@ -160,7 +171,8 @@ int main(int argc, char** argv) {
   try {
     for (const std::string& name : brushes) {
       const std::string path =
-          std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/" + name + ".json";
+          isFile(name) ? name
+                       : std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/" + name + ".json";
       const Brush brush = loadBrush(path);
       Row row;
       row.brush = name;
@@ -171,12 +183,13 @@ int main(int argc, char** argv) {
                        describe(c).c_str());
           std::fflush(stderr);
         }
-        CaseResult r = runCase(brush, c, solver);
+        CaseResult r = runCase(brush, c, solver, fallback);
         ++row.cases;
         row.clamped += r.clamped;
         row.steps += r.steps;
         row.failed_steps += r.failed_steps;
         row.failed_cases += r.failed_steps > 0;
+        row.rescued += r.fallback_solves;
         row.longest_failed_run = std::max(row.longest_failed_run, r.longest_failed_run);
         row.wall_s += r.wall_s;
         if (r.failed_steps > row.worst_failed) {
@@ -223,18 +236,20 @@ int main(int argc, char** argv) {
   }
   if (progress) std::fprintf(stderr, "\r\033[K");
 
-  std::printf("solver %s, %s matrix; ms/step: median and p95 over every step, light (press "
+  std::printf("solver %s%s, %s matrix; ms/step: median and p95 over every step, light (press "
               "<= 0.2) and heavy (>= 0.6) = wall / steps\n",
-              solver.c_str(), quick ? "quick" : "full");
-  std::printf("%-12s %5s %7s %7s %7s %7s %7s %7s %7s %7s %7s  %s\n", "brush", "cases", "clamped",
-              "steps", "failed", "f.cases", "f.run", "median", "p95", "light", "heavy",
-              "worst case (failed/steps)");
+              solver.c_str(), fallback ? " (fallback: the other)" : " alone",
+              quick ? "quick" : "full");
+  std::printf("%-12s %5s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s  %s\n", "brush", "cases",
+              "clamped", "steps", "failed", "f.cases", "f.run", "rescued", "median", "p95",
+              "light", "heavy", "worst case (failed/steps)");
   int total_failed = 0, total_steps = 0;
   for (Row& r : rows) {
     total_failed += r.failed_steps;
     total_steps += r.steps;
-    std::printf("%-12s %5d %7d %7d %7d %7d %7d %7s %7s %7s %7s  %s\n", r.brush.c_str(), r.cases,
-                r.clamped, r.steps, r.failed_steps, r.failed_cases, r.longest_failed_run,
+    std::printf("%-12s %5d %7d %7d %7d %7d %7d %7d %7s %7s %7s %7s  %s\n", r.brush.c_str(),
+                r.cases, r.clamped, r.steps, r.failed_steps, r.failed_cases, r.longest_failed_run,
+                r.rescued,
                 fmtMs(bench::percentile(r.step_ms, 50) / 1e3).c_str(),
                 fmtMs(bench::percentile(r.step_ms, 95) / 1e3).c_str(),
                 r.light_steps ? fmtMs(r.light_s / r.light_steps).c_str() : "-",

@@ -117,12 +117,14 @@ class TimedSolver : public SpineSolver {
   TimedSolver(double* total_s, bool slsqp)
       : inner_(slsqp ? makeSlsqpSolver() : makeIpoptSolver()), total_s_(total_s) {}
   SolveSummary solve(std::span<const SpineProblem* const> problems,
-                     std::span<SpineSolution* const> solutions) override {
+                     std::span<SpineSolution* const> solutions,
+                     std::span<const VolumeLink> links) override {
     const Clock::time_point t0 = Clock::now();
-    SolveSummary s = inner_->solve(problems, solutions);
+    SolveSummary s = inner_->solve(problems, solutions, links);
     *total_s_ += seconds(t0, Clock::now());
     return s;
   }
+  bool couplesSpines() const override { return inner_->couplesSpines(); }
   const char* name() const override { return inner_->name(); }
 
  private:

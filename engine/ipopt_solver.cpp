@@ -1,7 +1,7 @@
 // Ipopt backend: all spines of a brush are solved as one sparse NLP per step
-// (block-diagonal Hessian and Jacobian), so Ipopt's and MUMPS's set-up is paid
-// once per step rather than once per spine (SOLVER-NOTES.md: ~1.5-2 ms for 10
-// spines instead of ~10 ms).
+// (block-diagonal Jacobian; block-diagonal Hessian plus one off-diagonal block
+// per pair of spines that hair volume couples), so Ipopt's and MUMPS's set-up
+// is paid once per step rather than once per spine.
 
 #include <IpIpoptApplication.hpp>
 #include <IpRegOptions.hpp>
@@ -21,10 +21,16 @@ using Ipopt::Index;
 using Ipopt::Number;
 
 class BrushNlp : public Ipopt::TNLP {
+  // The Hessian block coupling two spines through hair volume.
+  struct CrossBlock {
+    int hi, lo;             // spine indices, hi > lo
+    std::vector<double> h;  // vars(hi) x vars(lo), row-major
+  };
+
  public:
   BrushNlp(std::span<const SpineProblem* const> problems, std::span<SpineSolution* const> sols,
-           bool warm)
-      : problems_(problems), sols_(sols), warm_(warm) {
+           std::span<const VolumeLink> links, bool warm)
+      : problems_(problems), sols_(sols), links_(links), warm_(warm) {
     for (const SpineProblem* p : problems_) {
       var_offset_.push_back(nvars_);
       con_offset_.push_back(ncons_);
@@ -37,6 +43,20 @@ class BrushNlp : public Ipopt::TNLP {
     fk_.resize(problems_.size());
     grad_.resize(nvars_);
     hess_.resize(problems_.size());
+    // One dense off-diagonal Hessian block per coupled pair of spines, in the
+    // lower triangle: rows of the later spine (larger variable offset), columns
+    // of the earlier one.
+    for (const VolumeLink& l : links_) {
+      const int hi = std::max(l.a, l.b), lo = std::min(l.a, l.b);
+      int k = 0;
+      while (k < static_cast<int>(blocks_.size()) && (blocks_[k].hi != hi || blocks_[k].lo != lo))
+        ++k;
+      if (k == static_cast<int>(blocks_.size())) {
+        blocks_.push_back({hi, lo, {}});
+        nnz_hess_ += problems_[hi]->vars() * problems_[lo]->vars();
+      }
+      link_block_.push_back(k);
+    }
   }
 
   Ipopt::ApplicationReturnStatus status = Ipopt::Internal_Error;
@@ -140,6 +160,13 @@ class BrushNlp : public Ipopt::TNLP {
             ++k;
           }
       }
+      for (const CrossBlock& b : blocks_)
+        for (int r = 0; r < problems_[b.hi]->vars(); ++r)
+          for (int c = 0; c < problems_[b.lo]->vars(); ++c) {
+            rows[k] = var_offset_[b.hi] + r;
+            cols[k] = var_offset_[b.lo] + c;
+            ++k;
+          }
       return true;
     }
     update(x, new_x);
@@ -156,6 +183,8 @@ class BrushNlp : public Ipopt::TNLP {
           values[k++] = v;
         }
     }
+    for (const CrossBlock& b : blocks_)
+      for (double h : b.h) values[k++] = obj_factor * h;
     return true;
   }
 
@@ -190,11 +219,37 @@ class BrushNlp : public Ipopt::TNLP {
       energy_ += spineEnergy(*problems_[s], x + var_offset_[s], &fk_[s], nullptr,
                              grad_.data() + var_offset_[s], hess_[s].data());
     }
+    for (CrossBlock& b : blocks_)
+      b.h.assign(static_cast<size_t>(problems_[b.hi]->vars()) * problems_[b.lo]->vars(), 0.0);
+    for (size_t i = 0; i < links_.size(); ++i) addLink(links_[i], &blocks_[link_block_[i]]);
+  }
+
+  // Hair volume between joint j of spines a and b, both free (volumeLinkEnergy):
+  // the diagonal blocks go to each spine's Hessian, the cross terms to the
+  // pair's block, whose rows belong to the later spine.
+  void addLink(const VolumeLink& l, CrossBlock* block) {
+    const int nva = problems_[l.a]->vars(), nvb = problems_[l.b]->vars();
+    cross_.assign(static_cast<size_t>(nva) * nvb, 0.0);
+    energy_ += volumeLinkEnergy(l, fk_[l.a], fk_[l.b], grad_.data() + var_offset_[l.a],
+                                grad_.data() + var_offset_[l.b], hess_[l.a].data(),
+                                hess_[l.b].data(), cross_.data());
+    for (int w = 0; w < nva; ++w)    // variable of a
+      for (int v = 0; v < nvb; ++v) {  // variable of b
+        const double h = cross_[static_cast<size_t>(w) * nvb + v];
+        if (l.a > l.b)
+          block->h[static_cast<size_t>(w) * nvb + v] += h;
+        else
+          block->h[static_cast<size_t>(v) * nva + w] += h;
+      }
   }
 
   std::span<const SpineProblem* const> problems_;
   std::span<SpineSolution* const> sols_;
+  std::span<const VolumeLink> links_;
   bool warm_;
+  std::vector<CrossBlock> blocks_;
+  std::vector<int> link_block_;  // per link, its block
+  std::vector<double> cross_;    // one link's cross terms (workspace)
   std::vector<int> var_offset_, con_offset_;
   int nvars_ = 0, ncons_ = 0, nnz_jac_ = 0, nnz_hess_ = 0;
   std::vector<SpineFk> fk_;
@@ -274,8 +329,11 @@ class IpoptSolver : public SpineSolver {
 
   const char* name() const override { return "ipopt"; }
 
+  bool couplesSpines() const override { return true; }
+
   SolveSummary solve(std::span<const SpineProblem* const> problems,
-                     std::span<SpineSolution* const> solutions) override {
+                     std::span<SpineSolution* const> solutions,
+                     std::span<const VolumeLink> links) override {
     SolveSummary summary;
     if (!initialized_) {
       summary.status = SolveStatus::kFailed;
@@ -295,7 +353,7 @@ class IpoptSolver : public SpineSolver {
       o.SetStringValue("mu_strategy", warm ? "monotone" : "adaptive");
       o.SetNumericValue("mu_init", warm ? 1e-6 : 0.1);
     }
-    Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, warm);
+    Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm);
     Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
     try {
       st = app_->OptimizeTNLP(Ipopt::GetRawPtr(nlp));

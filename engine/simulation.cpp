@@ -86,37 +86,36 @@ std::vector<VolumePair> volumePairs(const Brush& brush) {
   return pairs;
 }
 
-// Every spine sees its neighbours' joints where the handle carried them at the
-// start of this step (Jacobi: each solve holds the others fixed), so the
-// spines stay separate problems for both solvers.
-void Simulation::setVolume(const Pose& handle) {
-  const int ns = static_cast<int>(brush_.spines.size());
-  for (SpineProblem& p : problems_) p.volume.clear();
-  if (volume_pairs_.empty()) return;
-  carried_.resize(ns);
-  for (int s = 0; s < ns; ++s) {
-    const SpineSpec& spec = brush_.spines[s];
-    const std::vector<double> zero(2 * spec.jointCount(), 0.0);
-    spineForwardKinematics(spec, handle, problems_[s].baseData(), zero.data(), 0, &fk_);
-    carried_[s] = fk_.x;
-  }
+// The limits hair volume puts on joint j (1..) of a neighbour pair
+// (docs/dynamics.md): at least min_separation times the pair's rest distance at
+// that joint, and with cohesion at most max_separation times its widest rest
+// spacing (the belly's, used at every joint, so that a tip which converges to
+// the point at rest may still spread as wide as the belly, but not splay past it).
+Simulation::VolumeLimits Simulation::volumeLimits(const VolumePair& vp, int j) const {
   const VolumeSpec& v = brush_.volume;
+  const double widest = *std::max_element(vp.rest_mm.begin(), vp.rest_mm.end());
+  return {v.min_separation * vp.rest_mm[j - 1], v.max_separation * widest};
+}
+
+// Spine s's volume contacts with every neighbour not in `group`, each held
+// where `trial` puts it in this step (its solved, relaxed or carried pose).
+void Simulation::setVolumeContacts(int s, const std::vector<SpineSolution>& trial,
+                                   const std::vector<char>& group) {
+  SpineProblem& p = problems_[s];
+  p.volume.clear();
+  p.volume_stiffness_n_per_mm = brush_.volume.stiffness_n_per_mm;
+  p.cohesion_n_per_mm = brush_.volume.max_separation > 0 ? brush_.volume.cohesion_n_per_mm : 0.0;
   for (const VolumePair& vp : volume_pairs_) {
-    // Cohesion holds a pair within max_separation times its widest spacing at
-    // rest (the belly's), at every joint: a tip that converges to the point at
-    // rest may spread as wide as the belly, but not splay past it.
-    const double widest = *std::max_element(vp.rest_mm.begin(), vp.rest_mm.end());
-    for (size_t j = 1; j <= vp.rest_mm.size(); ++j) {
-      const double min_mm = v.min_separation * vp.rest_mm[j - 1];
-      const double max_mm = v.max_separation * widest;
-      const int jj = static_cast<int>(j);
-      problems_[vp.s].volume.push_back({jj, carried_[vp.t][j], min_mm, max_mm});
-      problems_[vp.t].volume.push_back({jj, carried_[vp.s][j], min_mm, max_mm});
+    if (vp.s != s && vp.t != s) continue;
+    const int other = vp.s == s ? vp.t : vp.s;
+    if (!group.empty() && group[other]) continue;
+    const SpineProblem& po = problems_[other];
+    spineForwardKinematics(brush_.spines[other], po.handle, po.baseData(), trial[other].q.data(),
+                           0, &fk_);
+    for (int j = 1; j <= static_cast<int>(vp.rest_mm.size()); ++j) {
+      const VolumeLimits lim = volumeLimits(vp, j);
+      p.volume.push_back({j, fk_.x[j], lim.min_mm, lim.max_mm});
     }
-  }
-  for (SpineProblem& p : problems_) {
-    p.volume_stiffness_n_per_mm = v.stiffness_n_per_mm;
-    p.cohesion_n_per_mm = v.max_separation > 0 ? v.cohesion_n_per_mm : 0.0;
   }
 }
 
@@ -193,21 +192,66 @@ void Simulation::setFriction(int s, const std::vector<bool>& sliding,
   p.eps_damp_rad = touching ? kSmoothDampContactRad : kSmoothDampRad;
 }
 
+// Hair volume couples the spines. A solver that takes the whole brush as one NLP
+// (Ipopt) gets every neighbour pair within `which` as links and solves them
+// together, exactly; a neighbour outside `which` is held where it is. A solver
+// of one spine at a time (SLSQP) solves them in turn, each against its
+// neighbours as last solved (Gauss-Seidel), the order reversed every step so
+// that no side of the brush always goes first.
 void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial) {
+  if (volume_pairs_.empty()) {
+    solveGroup(which, trial, {});
+    return;
+  }
+  const int ns = static_cast<int>(brush_.spines.size());
+  if (solver_->couplesSpines()) {
+    std::vector<char> group(ns, 0);
+    std::vector<int> index(ns, -1);
+    for (size_t i = 0; i < which.size(); ++i) {
+      group[which[i]] = 1;
+      index[which[i]] = static_cast<int>(i);
+    }
+    for (int s : which) setVolumeContacts(s, *trial, group);
+    std::vector<VolumeLink> links;
+    const VolumeSpec& v = brush_.volume;
+    for (const VolumePair& vp : volume_pairs_) {
+      if (!group[vp.s] || !group[vp.t]) continue;
+      for (int j = 1; j <= static_cast<int>(vp.rest_mm.size()); ++j) {
+        const VolumeLimits lim = volumeLimits(vp, j);
+        links.push_back({index[vp.s], index[vp.t], j, lim.min_mm, lim.max_mm,
+                         v.stiffness_n_per_mm, v.max_separation > 0 ? v.cohesion_n_per_mm : 0.0});
+      }
+    }
+    solveGroup(which, trial, links);
+    return;
+  }
+  std::vector<int> order = which;
+  if (state_.step % 2 == 1) std::reverse(order.begin(), order.end());
+  for (int s : order) {
+    setVolumeContacts(s, *trial, {});
+    solveGroup({s}, trial, {});
+  }
+}
+
+void Simulation::solveGroup(const std::vector<int>& which, std::vector<SpineSolution>* trial,
+                            const std::vector<VolumeLink>& links) {
   std::vector<const SpineProblem*> problems;
   std::vector<SpineSolution*> solutions;
   for (int s : which) {
     problems.push_back(&problems_[s]);
     solutions.push_back(&(*trial)[s]);
   }
-  SolveSummary summary = solver_->solve(problems, solutions);
+  SolveSummary summary = solver_->solve(problems, solutions, links);
   stats_.iterations += summary.iterations;
   if (summary.usable()) {
     for (int s : which) state_.spines[s].summary = summary;
     return;
   }
   // Isolate the failure: each spine on its own from a cold start, then with the
-  // fallback solver; a spine that still fails keeps its last good state.
+  // fallback solver; a spine that still fails keeps its last good state. Alone,
+  // a spine sees all its neighbours held where they were before this solve.
+  if (!links.empty())
+    for (int s : which) setVolumeContacts(s, *trial, {});
   for (int s : which) {
     SpineSolution cold = state_.spines[s].solution;
     cold.lambda.clear();
@@ -278,7 +322,6 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   std::vector<std::vector<bool>> sliding(ns);
 
   for (int s = 0; s < ns; ++s) buildProblem(s, handle);
-  setVolume(handle);
   for (int s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush_.spines[s];
     const SpineState& prev = state_.spines[s];

@@ -111,6 +111,8 @@ class Simulation {
   void buildProblem(int s, const Pose& handle);
   void setFriction(int s, const std::vector<bool>& sliding, const std::vector<bool>& lifted);
   void solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial);
+  void solveGroup(const std::vector<int>& which, std::vector<SpineSolution>* trial,
+                  const std::vector<VolumeLink>& links);
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
   bool relaxInAir(int s, const Pose& handle);
   const BrushState& stepOnce(const Pose& handle, double t_s);
@@ -126,8 +128,12 @@ class Simulation {
   int failed_run_ = 0;
   std::vector<VolumePair> volume_pairs_;
   std::vector<std::vector<Eigen::Matrix3d>> rest_rot_;  // per spine, restRotations
-  std::vector<std::vector<Eigen::Vector3d>> carried_;  // joints carried rigidly, per spine
-  void setVolume(const Pose& handle);
+  struct VolumeLimits {
+    double min_mm, max_mm;
+  };
+  VolumeLimits volumeLimits(const VolumePair& pair, int joint) const;
+  void setVolumeContacts(int s, const std::vector<SpineSolution>& trial,
+                         const std::vector<char>& group);
 };
 
 

@@ -148,7 +148,14 @@ class SlsqpSolver : public SpineSolver {
   const char* name() const override { return "slsqp"; }
 
   SolveSummary solve(std::span<const SpineProblem* const> problems,
-                     std::span<SpineSolution* const> solutions) override {
+                     std::span<SpineSolution* const> solutions,
+                     std::span<const VolumeLink> links) override {
+    if (!links.empty()) {  // one spine at a time: the caller couples them (couplesSpines)
+      SolveSummary failed;
+      failed.status = SolveStatus::kFailed;
+      failed.message = "slsqp solves spines one at a time and takes no volume links";
+      return failed;
+    }
     try {
       return solveAll(problems, solutions);
     } catch (...) {  // e.g. bad_alloc: a summary, never an exception (STYLE.md item 5)

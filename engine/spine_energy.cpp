@@ -41,6 +41,65 @@ VolumePsi volumePsi(double v) {
 
 }  // namespace
 
+VolumePairEnergy volumePairEnergy(double r, double min_mm, double max_mm,
+                                  double stiffness_n_per_mm, double cohesion_n_per_mm) {
+  VolumePairEnergy e;
+  if (r < min_mm) {
+    const VolumePsi ps = volumePsi(min_mm - r);
+    e.f += stiffness_n_per_mm * ps.psi;
+    e.df -= stiffness_n_per_mm * ps.dpsi;
+    e.ddf += stiffness_n_per_mm * ps.ddpsi;
+  }
+  if (max_mm > 0 && r > max_mm) {
+    const VolumePsi ps = volumePsi(r - max_mm);
+    e.f += cohesion_n_per_mm * ps.psi;
+    e.df += cohesion_n_per_mm * ps.dpsi;
+    e.ddf += cohesion_n_per_mm * ps.ddpsi;
+  }
+  return e;
+}
+
+// Both joints free: r = |x_a - x_b|, n = (x_a - x_b) / r, dr/dq_a = n . dx_a,
+// dr/dq_b = -n . dx_b; within a spine d2r = (dx . dx' - (dr)(dr')) / r +- n . d2x,
+// across the two d2r/dq_b dq_a = -(dx_b . dx_a + (dr/dq_b)(dr/dq_a)) / r.
+double volumeLinkEnergy(const VolumeLink& l, const SpineFk& fa, const SpineFk& fb,
+                        double* grad_a, double* grad_b, double* hess_aa, double* hess_bb,
+                        double* hess_ba) {
+  const Eigen::Vector3d delta = fa.x[l.joint] - fb.x[l.joint];
+  const double r = std::sqrt(delta.squaredNorm() + 1e-18);
+  const VolumePairEnergy pe =
+      volumePairEnergy(r, l.min_mm, l.max_mm, l.stiffness_n_per_mm, l.cohesion_n_per_mm);
+  if (pe.f == 0 && pe.df == 0 && pe.ddf == 0) return 0.0;
+  const Eigen::Vector3d nrm = delta / r;
+  const int nj = 2 * l.joint;  // only the joints before j move x_j
+  const int nva = fa.vars(), nvb = fb.vars();
+  double ra[2 * kMaxJointsPerSpine], rb[2 * kMaxJointsPerSpine];  // dr/dq
+  for (int v = 0; v < nj; ++v) {
+    ra[v] = nrm.dot(fa.d(l.joint, v));
+    rb[v] = -nrm.dot(fb.d(l.joint, v));
+    if (grad_a) grad_a[v] += pe.df * ra[v];
+    if (grad_b) grad_b[v] += pe.df * rb[v];
+  }
+  for (int v = 0; v < nj; ++v)
+    for (int w = 0; w < nj; ++w) {
+      if (hess_aa) {
+        const double d2 = (fa.d(l.joint, v).dot(fa.d(l.joint, w)) - ra[v] * ra[w]) / r +
+                          nrm.dot(fa.dd(l.joint, v, w));
+        hess_aa[w * nva + v] += pe.ddf * ra[v] * ra[w] + pe.df * d2;
+      }
+      if (hess_bb) {
+        const double d2 = (fb.d(l.joint, v).dot(fb.d(l.joint, w)) - rb[v] * rb[w]) / r -
+                          nrm.dot(fb.dd(l.joint, v, w));
+        hess_bb[w * nvb + v] += pe.ddf * rb[v] * rb[w] + pe.df * d2;
+      }
+      if (hess_ba) {  // v: variable of b, w: variable of a
+        const double d2 = -(fb.d(l.joint, v).dot(fa.d(l.joint, w)) + rb[v] * ra[w]) / r;
+        hess_ba[w * nvb + v] += pe.ddf * rb[v] * ra[w] + pe.df * d2;
+      }
+    }
+  return pe.f;
+}
+
 double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
                    double* grad, double* hess) {
   const SpineSpec& s = *p.spine;
@@ -116,19 +175,9 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
   for (const VolumeContact& c : p.volume) {
     const Eigen::Vector3d delta = fk->x[c.joint] - c.other_mm;
     const double r = std::sqrt(delta.squaredNorm() + 1e-18);
-    double f = 0, df = 0, ddf = 0;  // f and its derivatives in r
-    if (r < c.min_mm) {
-      const VolumePsi ps = volumePsi(c.min_mm - r);
-      f += p.volume_stiffness_n_per_mm * ps.psi;
-      df -= p.volume_stiffness_n_per_mm * ps.dpsi;
-      ddf += p.volume_stiffness_n_per_mm * ps.ddpsi;
-    }
-    if (c.max_mm > 0 && r > c.max_mm) {
-      const VolumePsi ps = volumePsi(r - c.max_mm);
-      f += p.cohesion_n_per_mm * ps.psi;
-      df += p.cohesion_n_per_mm * ps.dpsi;
-      ddf += p.cohesion_n_per_mm * ps.ddpsi;
-    }
+    const VolumePairEnergy pe = volumePairEnergy(r, c.min_mm, c.max_mm,
+                                                 p.volume_stiffness_n_per_mm, p.cohesion_n_per_mm);
+    const double f = pe.f, df = pe.df, ddf = pe.ddf;  // f and its derivatives in r
     if (f == 0 && df == 0) continue;
     e.volume_nmm += f;
     const Eigen::Vector3d nrm = delta / r;  // dr/dx

@@ -56,6 +56,34 @@ struct VolumeContact {
 // zero as the square of the overlap, beyond it linearly (C2 throughout).
 inline constexpr double kVolumeSmoothMm = 0.02;
 
+// The hair-volume energy of one pair of joints at distance r (docs/dynamics.md):
+// f(r) = k psi(min - r) + k_t psi(r - max) (no cohesion when max_mm is 0), and
+// its first and second derivatives in r. Shared by the one-spine energy below
+// (neighbour held fixed) and the whole-brush NLP (both joints free).
+struct VolumePairEnergy {
+  double f = 0, df = 0, ddf = 0;
+};
+VolumePairEnergy volumePairEnergy(double r, double min_mm, double max_mm,
+                                  double stiffness_n_per_mm, double cohesion_n_per_mm);
+
+// Hair volume between two spines that are solved together (docs/dynamics.md):
+// the energy volumePairEnergy() of the distance between joint `joint` of
+// problems[a] and joint `joint` of problems[b] (indices into the span given to
+// SpineSolver::solve, engine/spine_solver.h), with both joints free.
+struct VolumeLink {
+  int a = 0, b = 0, joint = 1;
+  double min_mm = 0, max_mm = 0;  // max_mm 0: no cohesion
+  double stiffness_n_per_mm = 0, cohesion_n_per_mm = 0;
+};
+
+// Adds one link's energy (returned) and its derivatives, given both spines'
+// kinematics (order 2 when hessians are wanted): grad_a and grad_b (vars of
+// each), hess_aa and hess_bb (full, column-major, as spineEnergy's) and hess_ba,
+// d2E / dq_b,u dq_a,v at [v * vars_b + u]. Any pointer may be null.
+double volumeLinkEnergy(const VolumeLink& link, const SpineFk& fa, const SpineFk& fb,
+                        double* grad_a, double* grad_b, double* hess_aa, double* hess_bb,
+                        double* hess_ba);
+
 // Everything that stays fixed during one solve of one spine.
 struct SpineProblem {
   const SpineSpec* spine = nullptr;

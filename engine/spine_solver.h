@@ -46,8 +46,18 @@ class SpineSolver {
   virtual ~SpineSolver() = default;
   // Solves all problems as one step. solutions[i] holds the start (warm start)
   // on entry and the result on exit (unchanged if the summary is not usable).
+  // `links` couple the problems' energies (hair volume); only a solver whose
+  // couplesSpines() is true takes them, any other fails the solve when given some.
   virtual SolveSummary solve(std::span<const SpineProblem* const> problems,
-                             std::span<SpineSolution* const> solutions) = 0;
+                             std::span<SpineSolution* const> solutions,
+                             std::span<const VolumeLink> links) = 0;
+  SolveSummary solve(std::span<const SpineProblem* const> problems,
+                     std::span<SpineSolution* const> solutions) {
+    return solve(problems, solutions, {});
+  }
+  // True when solve() minimises the problems' energies and the links' as one
+  // NLP. Otherwise hair volume is solved one spine at a time (Gauss-Seidel).
+  virtual bool couplesSpines() const { return false; }
   virtual const char* name() const = 0;
 };
 

@@ -127,6 +127,83 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
   if (!p.volume.empty()) CHECK(pushed >= 2);
 }
 
+TEST_CASE("hair volume between two free spines matches finite differences", "[energy][volume]") {
+  // Two spines of a whole-brush NLP (engine/ipopt_solver.cpp) coupled by one link
+  // per joint: gradient in both spines' angles, both diagonal blocks and the
+  // cross block d2E / dq_b dq_a, all against central differences of the energy
+  // and of the gradient. Re-based (bent past 90 degrees) and not.
+  SpineSpec sa = makeSpine({4.0, 3.5, 3.0}, {10, 7, 5}, 0.0, Eigen::Vector3d(0.5, 0, -0.3));
+  SpineSpec sb = makeSpine({4.0, 3.0}, {9, 6}, 0.0, Eigen::Vector3d(-1.2, 0.8, 0));
+  sb.rest_angles_rad[1] = Eigen::Vector2d(0.2, -0.1);
+  Pose handle;
+  handle.position_mm = Eigen::Vector3d(10, 20, 6);
+  handle.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
+  std::vector<Eigen::Matrix3d> base_a, base_b;
+  if (GENERATE(false, true)) {
+    base_a = {Eigen::Matrix3d(Eigen::AngleAxisd(1.7, Eigen::Vector3d(1, 0.2, 0).normalized())),
+              Eigen::Matrix3d(Eigen::AngleAxisd(0.6, Eigen::Vector3d(-0.3, 1, 0.1).normalized())),
+              Eigen::Matrix3d(Eigen::AngleAxisd(0.4, Eigen::Vector3d(0, 1, 0)))};
+    base_b = {Eigen::Matrix3d(Eigen::AngleAxisd(1.9, Eigen::Vector3d(0.9, 0.4, 0).normalized())),
+              Eigen::Matrix3d(Eigen::AngleAxisd(0.3, Eigen::Vector3d(0, 0, 1)))};
+  }
+  // Limits chosen so that some trials squeeze, some pull apart (cohesion) and
+  // some leave a link slack; within and beyond the barrier's smoothing width.
+  std::vector<VolumeLink> links = {{0, 1, 1, 2.4, 2.9, 8, 0.7}, {0, 1, 2, 3.0, 5.0, 8, 0.7}};
+  const int na = 6, nb = 4;
+  auto energy = [&](const std::vector<double>& q, std::vector<double>* grad,
+                    std::vector<double>* haa, std::vector<double>* hbb,
+                    std::vector<double>* hba) {
+    SpineFk fa, fb;
+    const int order = haa ? 2 : 1;
+    spineForwardKinematics(sa, handle, base_a.empty() ? nullptr : base_a.data(), q.data(), order,
+                           &fa);
+    spineForwardKinematics(sb, handle, base_b.empty() ? nullptr : base_b.data(), q.data() + na,
+                           order, &fb);
+    grad->assign(na + nb, 0.0);
+    if (haa) {
+      haa->assign(na * na, 0.0);
+      hbb->assign(nb * nb, 0.0);
+      hba->assign(na * nb, 0.0);
+    }
+    double e = 0;
+    for (const VolumeLink& l : links)
+      e += volumeLinkEnergy(l, fa, fb, grad->data(), grad->data() + na,
+                            haa ? haa->data() : nullptr, hbb ? hbb->data() : nullptr,
+                            hba ? hba->data() : nullptr);
+    return e;
+  };
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-0.8, 0.8);
+  int acting = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    std::vector<double> q(na + nb);
+    for (double& a : q) a = angle(rng);
+    std::vector<double> g, haa, hbb, hba, gp, gm;
+    const double e = energy(q, &g, &haa, &hbb, &hba);
+    acting += e > 0;
+    for (int v = 0; v < na + nb; ++v) {
+      std::vector<double> qp = q, qm = q;
+      qp[v] += kFdStep;
+      qm[v] -= kFdStep;
+      const double ep = energy(qp, &gp, nullptr, nullptr, nullptr);
+      const double em = energy(qm, &gm, nullptr, nullptr, nullptr);
+      INFO("trial " << trial << " var " << v);
+      CHECK(close(g[v], (ep - em) / (2 * kFdStep)));
+      for (int w = 0; w < na + nb; ++w) {
+        const double fd = (gp[w] - gm[w]) / (2 * kFdStep);  // d2E / dq_w dq_v
+        double h;
+        if (v < na && w < na) h = haa[v * na + w];
+        else if (v >= na && w >= na) h = hbb[(v - na) * nb + (w - na)];
+        else if (v < na) h = hba[v * nb + (w - na)];    // w of b, v of a
+        else h = hba[w * nb + (v - na)];                // v of b, w of a
+        INFO("hessian (" << w << "," << v << ")");
+        CHECK(close(h, fd));
+      }
+    }
+  }
+  CHECK(acting >= 4);
+}
+
 TEST_CASE("smoothed friction approaches mu Fn |dx| away from the kink", "[energy]") {
   // eq. 3 smoothed: |sqrt(d^2 + eps^2) - eps - |d|| <= eps.
   for (double d : {0.0, 1e-4, 0.01, 1.0}) {

@@ -32,7 +32,7 @@ TEST_CASE("press matrix: no library brush fails a step, however hard it is press
     c.tilt_deg = row.tilt_deg;
     c.speed_mm_s = row.speed_mm_s;
     INFO(name << ": " << describe(c));
-    const CaseResult r = runCase(brush, c, "ipopt");
+    const CaseResult r = runCase(brush, c, "ipopt", /*fallback=*/false);
     CHECK(r.steps > 100);
     CHECK(r.failed_steps == 0);
   }

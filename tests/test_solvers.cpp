@@ -341,6 +341,69 @@ TEST_CASE("one whole-brush Ipopt NLP and per-spine Ipopt solves reach the same o
   CHECK(compared >= 4);
 }
 
+TEST_CASE("hair volume solved as one NLP: each spine is optimal against the other",
+          "[solvers][ipopt][volume]") {
+  // Two spines splayed apart at rest, in the air, held by cohesion at their tips
+  // and kept apart at their first joints (docs/dynamics.md). Ipopt solves both
+  // with the links (both joints free). At the joint optimum of the sum of the
+  // energies each spine is also the optimum of its own energy with the other
+  // held where it ended: solved alone against it, neither moves.
+  SpineSpec sa = makeSpine({5.0, 5.0}, {3, 2}, 0.0, Eigen::Vector3d(1.0, 0, 0));
+  SpineSpec sb = makeSpine({5.0, 5.0}, {3, 2}, 0.0, Eigen::Vector3d(-1.0, 0, 0));
+  sa.rest_angles_rad = {Eigen::Vector2d(0, 0.35), Eigen::Vector2d(0, 0.3)};
+  sb.rest_angles_rad = {Eigen::Vector2d(0, -0.35), Eigen::Vector2d(0, -0.3)};
+  auto problem = [](const SpineSpec& spec) {
+    SpineProblem p;
+    p.spine = &spec;
+    p.handle = poseAt(0, 0, 50);  // far above the canvas
+    p.friction_n.assign(2, 0.0);
+    p.anchor_xy_mm.assign(2, Eigen::Vector2d::Zero());
+    p.prev_q.assign(4, 0.0);
+    p.volume_stiffness_n_per_mm = 5;
+    p.cohesion_n_per_mm = 2;
+    return p;
+  };
+  const SpineProblem pa = problem(sa), pb = problem(sb);
+  // Tips at rest ~9.3 mm apart; cohesion beyond 4 mm. First joints ~5.4 mm apart
+  // at rest, held at least 6 mm apart.
+  const std::vector<VolumeLink> links = {{0, 1, 2, 0.0, 4.0, 5, 2}, {0, 1, 1, 6.0, 0.0, 5, 2}};
+  std::vector<SpineSolution> sol(2);
+  for (SpineSolution& x : sol) x.q.assign(4, 0.0);
+  std::vector<const SpineProblem*> pp = {&pa, &pb};
+  std::vector<SpineSolution*> ps = {&sol[0], &sol[1]};
+  std::unique_ptr<SpineSolver> ipopt = makeIpoptSolver();
+  REQUIRE(ipopt->couplesSpines());
+  REQUIRE(ipopt->solve(pp, ps, links).usable());
+  const std::vector<Eigen::Vector3d> xa = jointsMm(pa, sol[0]), xb = jointsMm(pb, sol[1]);
+  // Both links act: the tips pulled in past their rest distance, towards 4 mm
+  // (the cohesion spring stretches, 2 N/mm against bending springs of a few
+  // N mm/rad on 5-10 mm levers), and the first joints pushed out.
+  const double tips = (xa[2] - xb[2]).norm(), firsts = (xa[1] - xb[1]).norm();
+  INFO("tips " << tips << " mm, first joints " << firsts << " mm");
+  CHECK(tips < 8.0);
+  CHECK(tips > 4.0);
+  CHECK(firsts > 5.6);
+  // Each alone against the other where it ended (a VolumeContact per link).
+  for (int s = 0; s < 2; ++s) {
+    SpineProblem alone = s == 0 ? pa : pb;
+    const std::vector<Eigen::Vector3d>& other = s == 0 ? xb : xa;
+    for (const VolumeLink& l : links) alone.volume.push_back({l.joint, other[l.joint], l.min_mm, l.max_mm});
+    SpineSolution one;
+    one.q.assign(4, 0.0);
+    const SpineProblem* p1 = &alone;
+    SpineSolution* s1 = &one;
+    REQUIRE(makeIpoptSolver()->solve({&p1, 1}, {&s1, 1}).usable());
+    INFO("spine " << s);
+    CHECK(maxDistanceMm(jointsMm(alone, one), s == 0 ? xa : xb) < kSolverAgreeMm);
+  }
+  // SLSQP solves spines one at a time and refuses links rather than ignore them.
+  std::vector<SpineSolution> sl(2);
+  for (SpineSolution& x : sl) x.q.assign(4, 0.0);
+  std::vector<SpineSolution*> psl = {&sl[0], &sl[1]};
+  CHECK_FALSE(makeSlsqpSolver()->couplesSpines());
+  CHECK_FALSE(makeSlsqpSolver()->solve(pp, psl, links).usable());
+}
+
 TEST_CASE("slsqp starts from angles on their limits", "[solvers][slsqp]") {
   // SLSQP works on scaled angles y = w q with bounds limit * w; q / (1 / w) can
   // land one ulp outside limit * w, which NLopt refuses ("bounds fail") unless

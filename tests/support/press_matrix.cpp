@@ -123,7 +123,8 @@ Trajectory makeCaseTrajectory(const Brush& brush, const Case& c) {
   return makeCaseTrajectoryDetailed(brush, c).trajectory;
 }
 
-CaseResult runCase(const Brush& brush, const Case& c, const std::string& solver) {
+CaseResult runCase(const Brush& brush, const Case& c, const std::string& solver,
+                   bool fallback) {
   using Clock = std::chrono::steady_clock;
   const CaseTrajectory ct = makeCaseTrajectoryDetailed(brush, c);
   const Trajectory& traj = ct.trajectory;
@@ -131,7 +132,8 @@ CaseResult runCase(const Brush& brush, const Case& c, const std::string& solver)
   const SimOptions options;
   const std::vector<double> times = planStepTimes(traj, brush, options);
 
-  Simulation sim(brush, options, makeSolver(solver));
+  Simulation sim(brush, options, makeSolver(solver),
+                 fallback ? makeSolver(solver == "ipopt" ? "slsqp" : "ipopt") : nullptr);
   sim.reset(traj.poseAt(times.front()), times.front());
 
   CaseResult r;
@@ -158,6 +160,7 @@ CaseResult runCase(const Brush& brush, const Case& c, const std::string& solver)
   r.steps = static_cast<int>(r.step_s.size());
   r.failed_steps = st.failed_steps;
   r.failed_spine_solves = st.failed_spine_solves;
+  r.fallback_solves = st.fallback_solves;
   r.s_per_step = r.steps > 0 ? r.wall_s / r.steps : 0;
   return r;
 }

@@ -79,6 +79,7 @@ struct CaseResult {
   int failed_steps = 0;
   int failed_spine_solves = 0;
   int longest_failed_run = 0;  // consecutive steps with a failed spine solve
+  int fallback_solves = 0;     // spine solves the fallback solver rescued
   double wall_s = 0;           // all steps (not the set-up)
   double s_per_step = 0;
   bool clamped = false;
@@ -86,9 +87,11 @@ struct CaseResult {
   std::vector<double> step_s;  // wall time of every step, in order
 };
 
-// Runs the simulation over planStepTimes with default SimOptions, `solver`
-// "ipopt" or "slsqp" and no fallback solver. Throws bristle::Error(kUsage) for
-// another solver name.
-CaseResult runCase(const Brush& brush, const Case& c, const std::string& solver);
+// Runs the simulation over planStepTimes with default SimOptions and `solver`
+// "ipopt" or "slsqp". With `fallback`, the other one rescues a spine whose solve
+// failed, as bristle render does; without, a failure stays a failure. Throws
+// bristle::Error(kUsage) for another solver name.
+CaseResult runCase(const Brush& brush, const Case& c, const std::string& solver,
+                   bool fallback = true);
 
 }  // namespace bristle::testsupport
