@@ -283,6 +283,10 @@ Brush parseBrush(const std::string& text, const std::string& path,
     vol.cohesion_n_per_mm = v.number("cohesion_n_per_mm", vol.cohesion_n_per_mm);
     v.require(vol.cohesion_n_per_mm > 0 && vol.cohesion_n_per_mm <= 1000, "cohesion_n_per_mm",
               "must be in (0, 1000] N/mm");
+    vol.tip_spread = v.number("tip_spread", vol.tip_spread);
+    v.require(vol.tip_spread >= 0 && vol.tip_spread <= 1, "tip_spread",
+              "must be in [0, 1]: 0 holds each joint to its own spacing at rest, 1 to the "
+              "widest");
     v.rejectUnknownKeys();
   });
   if (top.has("paint")) part([&] {

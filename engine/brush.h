@@ -87,6 +87,11 @@ struct VolumeSpec {
   // times their rest distance pull back with this stiffness. 0 = none.
   double max_separation = 0;      // > 1, or 0 = no cohesion
   double cohesion_n_per_mm = 0.5;
+  // What max_separation multiplies at joint j: the pair's rest distance there,
+  // raised towards its widest rest spacing (the belly's) by this fraction.
+  // 1: the widest everywhere, so converging tips may spread as wide as the
+  // belly; 0: each joint's own, so the tips keep their point.
+  double tip_spread = 1;
   bool present() const { return min_separation > 0; }
 };
 

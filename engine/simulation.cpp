@@ -88,13 +88,15 @@ std::vector<VolumePair> volumePairs(const Brush& brush) {
 
 // The limits hair volume puts on joint j (1..) of a neighbour pair
 // (docs/dynamics.md): at least min_separation times the pair's rest distance at
-// that joint, and with cohesion at most max_separation times its widest rest
-// spacing (the belly's, used at every joint, so that a tip which converges to
-// the point at rest may still spread as wide as the belly, but not splay past it).
+// that joint, and with cohesion at most max_separation times that distance
+// raised by tip_spread towards the pair's widest rest spacing (the belly's):
+// at 1 a tip which converges to the point at rest may spread as wide as the
+// belly, but not splay past it.
 Simulation::VolumeLimits Simulation::volumeLimits(const VolumePair& vp, int j) const {
   const VolumeSpec& v = brush_.volume;
   const double widest = *std::max_element(vp.rest_mm.begin(), vp.rest_mm.end());
-  return {v.min_separation * vp.rest_mm[j - 1], v.max_separation * widest};
+  const double rest = vp.rest_mm[j - 1];
+  return {v.min_separation * rest, v.max_separation * (rest + v.tip_spread * (widest - rest))};
 }
 
 // Spine s's volume contacts with every neighbour not in `group`, each held

@@ -866,6 +866,12 @@ TEST_CASE("hair volume: read, and refused where it would be meaningless", "[read
   const Brush cohesive = parseBrush(doc.dump(), "brush.json");
   CHECK(cohesive.volume.max_separation == 1.3);
   CHECK(cohesive.volume.cohesion_n_per_mm == 2);
+  CHECK(cohesive.volume.tip_spread == 1);
+  doc["volume"]["tip_spread"] = 0.25;
+  CHECK(parseBrush(doc.dump(), "brush.json").volume.tip_spread == 0.25);
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"max_separation", 1.3},
+                                          {"tip_spread", 1.5}}),
+                    "/volume/tip_spread", "[0, 1]");
   CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spacing", 1}}),
                     "/volume/spacing", "unknown key");
 }
