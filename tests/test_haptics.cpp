@@ -74,7 +74,11 @@ TEST_CASE("per-spine canvas forces sum to the brush force", "[haptics][force_mod
 
 TEST_CASE("force model (eqs. 21-22) predicts a fresh simulation at p0 + dp",
           "[haptics][force_model]") {
-  const Brush brush = roundBrush();
+  // The paper's brush: spines that know nothing of each other. With the
+  // library round's hair volume on, neighbours push and hold each other, and
+  // the same probes are predicted within ~18 mN instead (docs/haptics.md).
+  Brush brush = roundBrush();
+  brush.volume = VolumeSpec{};
   Simulation sim = pressedRound(brush);
   const Simulation::Snapshot base = sim.snapshot();
   const ForceModel model = buildForceModel(&sim, 1, ForceModelOptions{});

@@ -109,6 +109,15 @@ def base(name, description, spines, mu_s, mu_k, aniso=0.0):
                          "anisotropy": {"strength": aniso, "exponent": 2}}}
 
 
+def volume(tip_spread):
+    """Hair volume (docs/dynamics.md): neighbouring spines keep 0.8 of their
+    spacing at rest and, wet, hold within 1.3 times it (tip_spread: how far the
+    converging tips may spread towards the belly's spacing). Measured in
+    docs/fidelity.md: it fills a pressed round's star and a badger's ring."""
+    return {"min_separation": 0.8, "stiffness_n_per_mm": 5, "max_separation": 1.3,
+            "cohesion_n_per_mm": 1, "tip_spread": tip_spread}
+
+
 def round_brush():
     lengths, K, D = [6.0, 5.5, 5.0, 3.5], [10.0, 8.0, 6.5, 5.0], [0.008, 0.006, 0.005, 0.004]
     sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0]],
@@ -121,6 +130,7 @@ def round_brush():
              sp, 0.45, 0.35, 0.3)
     belly = [0.9, 1.3, 1.1, 0.6, 0.25]
     b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
+    b["volume"] = volume(0.45)
     b["paint"] = {"capacity": 1.0}
     return b
 
@@ -164,6 +174,7 @@ def badger():
     b["surface"] = tube_cage(sp, 12, lambda k: 1.2, lambda k: 1.2)
     b["strips"] = {"count": 300, "root_width_mm": 0.12, "tip_width_mm": 0.05, "seed": 5,
                    "placement": "area", "length_jitter": 0.15}
+    b["volume"] = volume(0.3)
     b["paint"] = {"capacity": 1.5}
     return b
 
