@@ -1,5 +1,7 @@
 #include "engine/scene.h"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -48,17 +50,14 @@ std::string resolve(const std::string& base_dir, const std::string& p) {
   return (fs::path(base_dir) / path).lexically_normal().string();
 }
 
-// A referenced file must be readable; else 66 naming the scene field.
+// A referenced file must be a readable regular file; else 66 naming the scene field.
 void requireReadable(const std::string& scene, const std::string& pointer,
                      const std::string& resolved) {
-  std::error_code ec;
   std::string why;
-  if (fs::is_directory(resolved, ec)) {
-    why = "is a directory";
-  } else {
-    std::ifstream in(resolved, std::ios::binary);
-    if (in) return;
-    why = std::strerror(errno);
+  const int fd = openInputFile(resolved, &why);
+  if (fd >= 0) {
+    ::close(fd);
+    return;
   }
   throw Error(ExitCode::kNoInput,
               scene + ": " + pointer + ": cannot read '" + resolved + "': " + why);
@@ -265,7 +264,7 @@ bool isKnownPigment(const std::string& name) { return findPigment(name) != nullp
 std::string knownPigmentList() { return pigmentNames(); }
 
 bool looksLikeScene(const std::string& text) {
-  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json j = parseJsonOrDiscarded(text);
   if (!j.is_object()) return false;
   auto it = j.find("format");
   return it != j.end() && it->is_string() &&

@@ -7,6 +7,7 @@
 
 #include <png.h>
 #include <zlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <bit>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "engine/error.h"
+#include "engine/text_file.h"
 
 namespace bristle::render {
 
@@ -195,9 +197,23 @@ constexpr std::size_t kSignatureBytes = 8;
 
 // Opens a PNG and consumes its signature. Throws kNoInput / kDataError.
 std::FILE* openPng(const std::string& path) {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
+  // A regular file (a FIFO or a device is refused, and never blocks), no larger
+  // than any input may be.
+  std::string why;
+  const int fd = openInputFile(path, &why);
+  if (fd < 0) throw Error(ExitCode::kNoInput, path + ": cannot read: " + why);
+  struct stat st {};
+  if (::fstat(fd, &st) == 0 && static_cast<std::uint64_t>(st.st_size) > kMaxInputBytes) {
+    ::close(fd);
+    throw Error(ExitCode::kDataError, path + ": size: " + std::to_string(st.st_size) +
+                                          " bytes is over the input limit of " +
+                                          std::to_string(kMaxInputBytes) + " bytes (256 MiB)");
+  }
+  std::FILE* file = ::fdopen(fd, "rb");
   if (file == nullptr) {
-    throw Error(ExitCode::kNoInput, path + ": cannot read: " + describeErrno(errno));
+    const int open_errno = errno;
+    ::close(fd);
+    throw Error(ExitCode::kNoInput, path + ": cannot read: " + describeErrno(open_errno));
   }
   png_byte signature[kSignatureBytes] = {};
   const std::size_t got = std::fread(signature, 1, kSignatureBytes, file);

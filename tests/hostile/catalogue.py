@@ -1,0 +1,427 @@
+#!/usr/bin/env python3
+"""The catalogue of hostile and absurd inputs (docs/errors.md).
+
+Each case builds its inputs in a fresh folder, runs the built bristle there on
+them (so messages name short relative paths), and checks:
+  - the exit code;
+  - stderr is exactly one line, the catalogue's message (which names the file,
+    the field and the rule);
+  - the folder holds exactly what it held before, byte for byte: no output, no
+    temporary file, and every input and pre-existing output unchanged.
+
+  catalogue.py --list                  the case ids (CMake registers one ctest test each)
+  catalogue.py --bristle BIN ID...     runs cases
+  catalogue.py --markdown              the table of docs/errors.md
+  catalogue.py --check-doc FILE        FILE's table is the catalogue's
+"""
+
+import argparse
+import json
+import os
+import shutil
+import stat
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parents[2]
+ROUND = SRC / "scenes/brushes/round.json"
+S_CURVE = SRC / "scenes/trajectories/s-curve.csv"
+HEADER = "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz"
+# A hang is a failure, not a measurement: no case comes near this.
+HANG_GUARD_S = 120
+
+CASES = []
+
+
+def case(cid, what, args, code, message, setup=None):
+    """Registers a case: `bristle ARGS` in a folder set up by setup(dir) exits
+    with `code` and prints `bristle: message` alone on stderr."""
+    assert not any(c.id == cid for c in CASES), cid
+    CASES.append(argparse.Namespace(id=cid, what=what, args=args, code=code,
+                                    message=message, setup=setup or (lambda d: None)))
+
+
+# ---- inputs ---------------------------------------------------------------
+
+def write(d, name, text):
+    (d / name).write_text(text)
+
+
+def brush_doc():
+    return json.loads(ROUND.read_text())
+
+
+def brush(name="b.json", edit=None, text=None):
+    """A setup step: the round brush, edited by edit(doc), or raw text."""
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+            return
+        doc = brush_doc()
+        if edit:
+            edit(doc)
+        write(d, name, json.dumps(doc, indent=1))
+    return step
+
+
+def trajectory(name="t.csv", rows=None, text=None):
+    """A setup step: the S-curve, or rows (lists of 8 values) after the header."""
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+        elif rows is None:
+            shutil.copy(S_CURVE, d / name)
+        else:
+            write(d, name, "# bristle-trajectory/1\n" + HEADER + "\n" +
+                  "".join(",".join(str(v) for v in r) + "\n" for r in rows))
+    return step
+
+
+def fnv1a64(data):
+    h = 0xcbf29ce484222325
+    for c in data:
+        h = ((h ^ c) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+    return f"{h:016x}"
+
+
+def session(name="r.csv", rows=()):
+    """A setup step: a recorded session of b.json (written first) with rows."""
+    def step(d):
+        write(d, name, "# bristle-trajectory/1\n# bristle record: a live session\n"
+              f"# brush_fnv1a64: {fnv1a64((d / 'b.json').read_bytes())}\n" + HEADER + "\n" +
+              "".join(",".join(str(v) for v in r) + "\n" for r in rows))
+    return step
+
+
+def scene(name="s.json", edit=None, text=None):
+    """A setup step: a one-stroke scene of b.json along t.csv."""
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+            return
+        doc = {"format": "bristle-scene/1", "name": "hostile",
+               "canvas": {"size_mm": [120, 90], "px_per_mm": 4},
+               "strokes": [{"brush": "b.json", "trajectory": "t.csv",
+                            "paint": {"paints": ["sumi-ink"]}}]}
+        if edit:
+            edit(doc)
+        write(d, name, json.dumps(doc, indent=1))
+    return step
+
+
+def sheet(name="sh.json", edit=None, text=None):
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+            return
+        doc = {"format": "bristle-sheet/1", "name": "hostile", "brushes": ["b.json"],
+               "trajectories": ["t.csv"]}
+        if edit:
+            edit(doc)
+        write(d, name, json.dumps(doc, indent=1))
+    return step
+
+
+def manifest(name="m.json", edit=None, text=None):
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+            return
+        doc = {"format": "bristle-batch/1",
+               "jobs": [{"id": "one", "brush": "b.json", "trajectory": "t.csv"}]}
+        if edit:
+            edit(doc)
+        write(d, name, json.dumps(doc, indent=1))
+    return step
+
+
+def fifo(name):
+    return lambda d: os.mkfifo(d / name)
+
+
+def folder(name):
+    return lambda d: (d / name).mkdir()
+
+
+def symlink(name, target):
+    return lambda d: os.symlink(target, d / name)
+
+
+def sparse(name, size):
+    """A file of `size` bytes that occupies no disk blocks."""
+    def step(d):
+        with open(d / name, "wb") as f:
+            f.truncate(size)
+    return step
+
+
+def copy(src, name):
+    return lambda d: shutil.copy(SRC / src, d / name)
+
+
+def all_of(*steps):
+    def step(d):
+        for s in steps:
+            s(d)
+    return step
+
+
+STROKE = all_of(brush(), trajectory())
+
+
+def deep(n, inner="1"):
+    return "[" * n + inner + "]" * n
+
+
+def render(brush_path="b.json", traj="t.csv", out="o.png", *more):
+    return ["render", "--brush", brush_path, "--trajectory", traj, "-o", out, *more]
+
+
+# ---- running ---------------------------------------------------------------
+
+def snapshot(d):
+    """Every entry under d: its kind and, for a regular file, its bytes."""
+    state = {}
+    for root, dirs, files in os.walk(d):
+        for name in dirs + files:
+            p = Path(root) / name
+            rel = str(p.relative_to(d))
+            st = os.lstat(p)
+            if stat.S_ISLNK(st.st_mode):
+                state[rel] = ("symlink", os.readlink(p))
+            elif stat.S_ISREG(st.st_mode) and st.st_size > (16 << 20):
+                # Sparse stand-ins for huge files: unchanged when their size,
+                # inode and modification time are.
+                state[rel] = ("file", (st.st_size, st.st_ino, st.st_mtime_ns))
+            elif stat.S_ISREG(st.st_mode):
+                state[rel] = ("file", p.read_bytes())
+            elif stat.S_ISDIR(st.st_mode):
+                state[rel] = ("dir", None)
+            else:
+                state[rel] = ("special", stat.S_IFMT(st.st_mode))
+    return state
+
+
+def run_case(bristle, c):
+    problems = []
+    with tempfile.TemporaryDirectory(prefix="bristle-hostile-") as tmp:
+        d = Path(tmp)
+        c.setup(d)
+        before = snapshot(d)
+        env = dict(os.environ)
+        env.pop("GALLIUM_DRIVER", None)
+        try:
+            r = subprocess.run([bristle, *c.args], cwd=d, env=env, stdin=subprocess.DEVNULL,
+                               capture_output=True, timeout=HANG_GUARD_S)
+        except subprocess.TimeoutExpired:
+            return [f"still running after {HANG_GUARD_S} s (a hang)"]
+        err = r.stderr.decode(errors="replace")
+        if os.environ.get("HOSTILE_SHOW"):
+            print(f"  [{r.returncode}] {err!r}")
+        expected = "bristle: " + c.message + "\n"
+        if r.returncode != c.code:
+            problems.append(f"exit code {r.returncode}, expected {c.code}")
+        if err != expected:
+            problems.append(f"stderr was\n  {err!r}\nexpected\n  {expected!r}")
+        after = snapshot(d)
+        for name in sorted(set(before) | set(after)):
+            if name not in after:
+                problems.append(f"{name} was removed")
+            elif name not in before:
+                problems.append(f"{name} was left behind")
+            elif before[name] != after[name]:
+                problems.append(f"{name} was changed")
+    return problems
+
+
+def markdown():
+    def cell(s):
+        return s.replace("|", "\\|")
+    lines = ["| case | input | command | exit | message (after `bristle: `) |",
+             "|---|---|---|---|---|"]
+    for c in CASES:
+        lines.append(f"| `{c.id}` | {cell(c.what)} | `bristle {cell(' '.join(c.args))}` | "
+                     f"{c.code} | `{cell(c.message)}` |")
+    return "\n".join(lines) + "\n"
+
+
+BEGIN, END = "<!-- catalogue: begin -->\n", "<!-- catalogue: end -->\n"
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--list", action="store_true")
+    ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("--check-doc")
+    ap.add_argument("--bristle")
+    ap.add_argument("ids", nargs="*")
+    a = ap.parse_args()
+    if a.list:
+        print(";".join(c.id for c in CASES))
+        return 0
+    if a.markdown:
+        sys.stdout.write(markdown())
+        return 0
+    if a.check_doc:
+        text = Path(a.check_doc).read_text()
+        if BEGIN not in text or END not in text:
+            print(f"{a.check_doc}: no catalogue markers")
+            return 1
+        table = text[text.index(BEGIN) + len(BEGIN):text.index(END)]
+        if table != markdown():
+            print(f"{a.check_doc}: the table is not the catalogue's; regenerate it with "
+                  "tests/hostile/catalogue.py --markdown")
+            return 1
+        return 0
+    by_id = {c.id: c for c in CASES}
+    failed = 0
+    for cid in a.ids or list(by_id):
+        problems = run_case(a.bristle, by_id[cid])
+        print(f"{cid}: {'ok' if not problems else 'FAIL'}")
+        for p in problems:
+            print("  " + p)
+        failed += bool(problems)
+    return 1 if failed else 0
+
+
+# ---- the catalogue ---------------------------------------------------------
+# Cases are grouped as docs/errors.md is. Each message is the whole line.
+
+
+# -- deep nesting: refused while parsing, before anything walks the document --
+DEEP = 100000
+
+
+def deep_brush_name(d):
+    doc = json.dumps(brush_doc(), indent=1).replace('"name": "round"', '"name": ' + deep(DEEP), 1)
+    write(d, "b.json", doc)
+
+
+def deep_key(file_step, key, text_of):
+    """file_step's document with key's value replaced by 100,000 nested arrays."""
+    def step(d):
+        file_step(d)
+        name = text_of
+        doc = json.loads((d / name).read_text())
+        doc[key] = "@@DEEP@@"
+        write(d, name, json.dumps(doc).replace('"@@DEEP@@"', deep(DEEP)))
+    return step
+
+
+DEEP_MSG = "arrays and objects nest deeper than the limit of 64 levels"
+case("deep-brush-name-validate", "a brush whose `name` is 100,000 nested arrays",
+     ["validate", "b.json"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     deep_brush_name)
+case("deep-brush-name-render", "the same brush, rendered", render(), 65,
+     "b.json: line 3, column 73: " + DEEP_MSG, all_of(deep_brush_name, trajectory()))
+case("deep-brush-objects", "a brush that is 100,000 nested objects",
+     ["validate", "b.json"], 65, "b.json: line 1, column 321: " + DEEP_MSG,
+     brush(text='{"a":' * DEEP + "1" + "}" * DEEP))
+case("deep-brush-65-levels", "a brush nested 65 levels deep (one more than the limit)",
+     ["validate", "b.json"], 65, "b.json: line 1, column 65: " + DEEP_MSG,
+     brush(text=deep(65)))
+case("deep-brush-64-levels", "a brush nested 64 levels deep: within the limit, refused for "
+     "what it is", ["validate", "b.json"], 65, "b.json: /: must be a JSON object",
+     brush(text=deep(64)))
+case("deep-brackets-in-strings", "a brush with a key whose value is a string of 100,000 `[`: "
+     "not nesting", ["validate", "b.json"], 65, "b.json: /x: unknown key 'x'",
+     brush(edit=lambda b: b.update(x="[" * DEEP)))
+case("deep-scene-name", "a scene whose `name` is 100,000 nested arrays",
+     ["validate", "s.json"], 65, "s.json: line 1, column 102: " + DEEP_MSG,
+     all_of(STROKE, deep_key(scene(), "name", "s.json")))
+case("deep-scene-render", "the same scene, rendered", ["render", "s.json", "-o", "o.png"], 65,
+     "s.json: line 1, column 102: " + DEEP_MSG,
+     all_of(STROKE, deep_key(scene(), "name", "s.json")))
+case("deep-sheet-name", "a sheet whose `name` is 100,000 nested arrays",
+     ["sheet", "sh.json", "-o", "o.png"], 65, "sh.json: line 1, column 102: " + DEEP_MSG,
+     all_of(STROKE, deep_key(sheet(), "name", "sh.json")))
+case("deep-manifest-format", "a batch manifest whose `format` is 100,000 nested arrays",
+     ["batch", "m.json", "--out", "out"], 65, "m.json: line 1, column 75: " + DEEP_MSG,
+     all_of(STROKE, folder("out"), deep_key(manifest(), "format", "m.json")))
+case("deep-manifest-validate-trailing", "a brush of 100,000 `[` never closed",
+     ["validate", "b.json"], 65, "b.json: line 1, column 65: " + DEEP_MSG,
+     brush(text="[" * DEEP))
+
+# -- inputs are regular files, no larger than 256 MiB --------------------------
+NOT_REG = "; an input must be a regular file"
+case("fifo-brush", "a FIFO with no writer as the brush", render(), 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, all_of(fifo("b.json"), trajectory()))
+case("fifo-trajectory", "a FIFO as the trajectory", render(), 66,
+     "t.csv: cannot read: is a FIFO" + NOT_REG, all_of(brush(), fifo("t.csv")))
+case("fifo-validate-brush", "a FIFO given to validate", ["validate", "b.json"], 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, fifo("b.json"))
+case("fifo-validate-csv", "a FIFO given to validate as a trajectory", ["validate", "t.csv"],
+     66, "t.csv: cannot read: is a FIFO" + NOT_REG, fifo("t.csv"))
+case("fifo-scene", "a FIFO as the scene", ["render", "s.json", "-o", "o.png"], 66,
+     "s.json: cannot read: is a FIFO" + NOT_REG, fifo("s.json"))
+case("fifo-scene-stroke-brush", "a scene stroke whose brush is a FIFO",
+     ["render", "s.json", "-o", "o.png"], 66,
+     "s.json: /strokes/0/brush: cannot read 'b.json': is a FIFO" + NOT_REG,
+     all_of(fifo("b.json"), trajectory(), scene()))
+case("fifo-scene-stroke-trajectory", "a scene stroke whose trajectory is a FIFO",
+     ["validate", "s.json"], 66,
+     "s.json: /strokes/0/trajectory: cannot read 't.csv': is a FIFO" + NOT_REG,
+     all_of(brush(), fifo("t.csv"), scene()))
+case("fifo-sheet", "a FIFO as the sheet", ["sheet", "sh.json", "-o", "o.png"], 66,
+     "sh.json: cannot read: is a FIFO" + NOT_REG, fifo("sh.json"))
+case("fifo-sheet-trajectory", "a sheet listing a FIFO as a trajectory",
+     ["sheet", "sh.json", "-o", "o.png"], 66,
+     "sh.json: /trajectories/0: cannot read 't.csv': is a FIFO" + NOT_REG,
+     all_of(brush(), fifo("t.csv"), sheet()))
+case("fifo-manifest", "a FIFO as the batch manifest", ["batch", "m.json", "--out", "out"], 66,
+     "m.json: cannot read: is a FIFO" + NOT_REG, all_of(folder("out"), fifo("m.json")))
+case("fifo-session", "a FIFO as the session to replay",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 66,
+     "r.csv: cannot read: is a FIFO" + NOT_REG, all_of(brush(), fifo("r.csv")))
+case("fifo-record-trajectory", "a FIFO as the trajectory `record --device none` plays",
+     ["record", "--device", "none", "--brush", "b.json", "--trajectory", "t.csv", "-o", "r.csv"],
+     66, "t.csv: cannot read: is a FIFO" + NOT_REG, all_of(brush(), fifo("t.csv")))
+case("fifo-png", "a FIFO as an image to compare", ["compare", "a.png", "b.png"], 66,
+     "a.png: cannot read: is a FIFO" + NOT_REG,
+     all_of(fifo("a.png"), copy("golden/round-s-curve.png", "b.png")))
+case("devzero-brush", "/dev/zero as the brush", render("/dev/zero"), 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG, trajectory())
+case("devzero-trajectory", "/dev/zero as the trajectory", render("b.json", "/dev/zero"), 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG, brush())
+case("devzero-png", "/dev/zero as an image to compare", ["compare", "/dev/zero", "b.png"], 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG,
+     copy("golden/round-s-curve.png", "b.png"))
+case("devnull-validate", "/dev/null given to validate", ["validate", "/dev/null"], 66,
+     "/dev/null: cannot read: is a character device" + NOT_REG)
+case("symlink-to-devzero", "a symlink to /dev/zero as the brush", render("z.json"), 66,
+     "z.json: cannot read: is a character device" + NOT_REG,
+     all_of(symlink("z.json", "/dev/zero"), trajectory()))
+case("dir-brush", "a directory as the brush", render("d.json"), 66,
+     "d.json: cannot read: is a directory", all_of(folder("d.json"), trajectory()))
+case("dir-trajectory", "a directory as the trajectory", render("b.json", "d.csv"), 66,
+     "d.csv: cannot read: is a directory", all_of(brush(), folder("d.csv")))
+case("dir-png", "a directory as an image to compare", ["compare", "d.png", "b.png"], 66,
+     "d.png: cannot read: is a directory",
+     all_of(folder("d.png"), copy("golden/round-s-curve.png", "b.png")))
+case("dir-manifest", "a directory as the batch manifest", ["batch", "m", "--out", "out"], 66,
+     "m: cannot read: is a directory", all_of(folder("m"), folder("out")))
+case("missing-brush", "a brush that does not exist", render("none.json"), 66,
+     "none.json: cannot read: No such file or directory", trajectory())
+SIZE = "bytes is over the input limit of 268435456 bytes (256 MiB)"
+case("huge-brush", "a sparse brush of 256 MiB + 1 byte", ["validate", "b.json"], 65,
+     "b.json: size: 268435457 " + SIZE, sparse("b.json", (256 << 20) + 1))
+case("huge-trajectory", "a sparse trajectory of 1 TiB", render(), 65,
+     "t.csv: size: 1099511627776 " + SIZE, all_of(brush(), sparse("t.csv", 1 << 40)))
+case("huge-scene", "a sparse scene of 300 MB", ["render", "s.json", "-o", "o.png"], 65,
+     "s.json: size: 300000000 " + SIZE, sparse("s.json", 300_000_000))
+case("huge-session", "a sparse session of 1 GB",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 65,
+     "r.csv: size: 1000000000 " + SIZE, all_of(brush(), sparse("r.csv", 1_000_000_000)))
+case("huge-png", "a sparse PNG of 1 GB", ["compare", "a.png", "b.png"], 65,
+     "a.png: size: 1000000000 " + SIZE,
+     all_of(sparse("a.png", 1_000_000_000), copy("golden/round-s-curve.png", "b.png")))
+case("empty-brush", "an empty brush file", ["validate", "b.json"], 65,
+     "b.json: line 1, column 1: malformed JSON (syntax error while parsing value - unexpected "
+     "end of input; expected '[', '{', or a literal)", brush(text=""))
+
+CASES_END = None  # the cases are appended above this line
+
+if __name__ == "__main__":
+    sys.exit(main())
