@@ -32,6 +32,11 @@ int runPreview(const PreviewArgs& args) {
     sim.reset(rest, 0);
   } else {
     Trajectory traj = loadTrajectory(args.trajectory);
+    if (args.offset_mm.size() == 3 &&
+        !(std::fabs(args.offset_mm[0]) <= kMaxPositionMm &&
+          std::fabs(args.offset_mm[1]) <= kMaxPositionMm &&
+          std::fabs(args.offset_mm[2]) <= kMaxPositionMm))
+      throw Error(ExitCode::kUsage, "--offset-mm: must be within +-100000 mm (the limit)");
     if (args.offset_mm.size() == 3)
       for (TrajectorySample& s : traj.samples)
         s.pose.position_mm += Eigen::Vector3d(args.offset_mm[0], args.offset_mm[1],

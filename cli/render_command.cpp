@@ -87,6 +87,8 @@ int runRender(const RenderArgs& args) {
   if (args.offset_mm.size() == 3) {
     const Eigen::Vector3d offset(args.offset_mm[0], args.offset_mm[1], args.offset_mm[2]);
     if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");
+    if (offset.cwiseAbs().maxCoeff() > kMaxPositionMm)
+      throw Error(ExitCode::kUsage, "--offset-mm: must be within +-100000 mm (the limit)");
     for (TrajectorySample& s : trajectory.samples) s.pose.position_mm += offset;
   }
   validateTrajectoryForBrush(trajectory, brush);

@@ -67,6 +67,9 @@ void parsePlacement(const JsonObject& o, Placement* out) {
   if (o.has("offset_mm")) {
     const std::vector<double> off = o.numbers("offset_mm");
     o.require(off.size() == 2, "offset_mm", "must be [x, y] in mm");
+    for (size_t i = 0; i < 2; ++i)
+      checkedElement(o, "offset_mm", i, off[i], std::fabs(off[i]) <= kMaxPositionMm,
+                     "must be within +-100000 mm (the limit)");
     out->offset_x_mm = off[0];
     out->offset_y_mm = off[1];
   }

@@ -421,6 +421,126 @@ case("empty-brush", "an empty brush file", ["validate", "b.json"], 65,
      "b.json: line 1, column 1: malformed JSON (syntax error while parsing value - unexpected "
      "end of input; expected '[', '{', or a literal)", brush(text=""))
 
+# -- absurd but finite values: limits checked before anything is allocated ----
+REST = [0.976296, -0.169359, 0.134772, 0.0]   # the S-curve's first attitude
+
+
+def rows(*positions, t=None, q=REST):
+    """Trajectory rows at (x, y, z) positions, 1 s apart unless t lists the times."""
+    t = t or list(range(len(positions)))
+    return [[t[i], *p, *q] for i, p in enumerate(positions)]
+
+
+HIGH = (15, 40, 25)
+case("traj-x-1e308", "a trajectory with x = 1e308", render(), 65,
+     "t.csv: line 3, column 2 (x_mm): x_mm = 1e+308 is outside the limit of +-100000 mm",
+     all_of(brush(), trajectory(rows=[[0, 1e308, 40, 25, *REST], [1, 15, 40, 25, *REST]])))
+case("traj-y-minus-1e6", "a trajectory with y = -1e6", ["validate", "t.csv"], 65,
+     "t.csv: line 4, column 3 (y_mm): y_mm = -1000000.0 is outside the limit of +-100000 mm",
+     trajectory(rows=[[0, 15, 40, 25, *REST], [1, 15, -1e6, 25, *REST]]))
+case("traj-z-just-over", "a trajectory with z = 100000.001", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 4 (z_mm): z_mm = 100000.001 is outside the limit of +-100000 mm",
+     trajectory(rows=[[0, 15, 40, 100000.001, *REST], [1, 15, 40, 25, *REST]]))
+case("traj-x-at-limit", "a trajectory reaching x = 100000 mm, the limit: too large a canvas",
+     render(), 65,
+     "t.csv: extent: the stroke needs a 800308 x 428 px canvas, above the limit of 16384 px "
+     "a side and 64 Mpx; lower --px-per-mm",
+     all_of(brush(), trajectory(rows=rows(HIGH, (100000, 40, 25)))))
+case("traj-quaternion-1e200", "a quaternion of 1e200", render(), 65,
+     "t.csv: line 4, column 5 (qw): qw = 1e+200 is outside the limit of +-1e6 (quaternions are "
+     "normalised on read)",
+     all_of(brush(), trajectory(rows=[[0, *HIGH, *REST], [1, *HIGH, 1e200, 1e200, 0, 0]])))
+case("traj-quaternion-minus-1e7", "a quaternion component of -1e7", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 8 (qz): qz = -10000000.0 is outside the limit of +-1e6 (quaternions "
+     "are normalised on read)",
+     trajectory(rows=[[0, *HIGH, 1, 0, 0, -1e7], [1, *HIGH, *REST]]))
+case("traj-quaternion-tiny", "a quaternion of norm 1e-200", ["validate", "t.csv"], 65,
+     "t.csv: line 3: quaternion (qw,qx,qy,qz) has near-zero norm",
+     trajectory(rows=[[0, *HIGH, 1e-200, 0, 0, 0], [1, *HIGH, *REST]]))
+case("traj-time-1e300", "a sample at t = 1e300 s", render(), 65,
+     "t.csv: line 4, column 1 (t_s): t_s = 1e300 is outside the limit of +-1e9 s",
+     all_of(brush(), trajectory(rows=rows(HIGH, HIGH, t=[0, "1e300"]))))
+case("traj-span-1e7", "two samples 1e7 s apart: 1.2 billion steps at 120 Hz", render(), 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(rows=rows(HIGH, HIGH, t=[0, 10000000]))))
+case("traj-span-2e9", "two samples 2e9 s apart (the whole time range)", render(), 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 240000000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(rows=rows(HIGH, HIGH, t=[-1000000000, 1000000000]))))
+case("traj-span-over-many-rows", "a day of gesture in 25 one-hour spans: the limit is for the "
+     "whole trajectory", render(), 65,
+     "t.csv: line 6, column 1 (t_s): the trajectory plans 10368001 simulation steps up to here, "
+     "over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(rows=rows(*[HIGH] * 25, t=[3600 * 8 * i for i in range(25)]))))
+case("traj-teleport", "the handle jumps 1 m in a microsecond", render(), 65,
+     "t.csv: line 4, column 1 (t_s): the 1e-06 s since the previous sample plan 4000 simulation "
+     "steps, over the limit of 1000000 steps per second of gesture (the handle moves 1000 mm)",
+     all_of(brush(), trajectory(rows=rows(HIGH, (1015, 40, 25), t=[0, "0.000001"]))))
+case("traj-t-column-named", "a long span when t_s is not the first column", render(), 65,
+     "t.csv: line 4, column 3 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(text="# bristle-trajectory/1\nx_mm,y_mm,t_s,z_mm,qw,qx,qy,qz\n"
+                                "15,40,0,25,1,0,0,0\n15,40,1e7,25,1,0,0,0\n")))
+case("scene-span-1e7", "a scene stroke whose trajectory spans 1e7 s",
+     ["render", "s.json", "-o", "o.png"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(rows=rows(HIGH, (15, 40, 9), t=[0, 10000000])), scene(
+         edit=lambda s: s.update(sim={"rate_hz": 120}))))
+case("replay-span-1e7", "a session spanning 1e7 s, replayed",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 65,
+     "r.csv: line 6, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), session("r.csv", rows=rows(HIGH, HIGH, t=[0, 10000000]))))
+
+
+def set_spine(key, index, value):
+    def edit(b):
+        b["spines"][0][key][index] = value
+    return edit
+
+
+def set_cage(vertex, axis, value):
+    def edit(b):
+        b["surface"]["cage_vertices_mm"][vertex][axis] = value
+    return edit
+
+
+LIMIT_MM = "(the limit)"
+case("brush-width-1e308", "a brush width of 1e308 mm", ["validate", "b.json"], 65,
+     "b.json: /spines/0/width_mm/1 = 1e+308: must be <= 1000 mm " + LIMIT_MM,
+     brush(edit=set_spine("width_mm", 1, 1e308)))
+case("brush-width-render", "the same brush, rendered", render(), 65,
+     "b.json: /spines/0/width_mm/1 = 1e+308: must be <= 1000 mm " + LIMIT_MM,
+     all_of(brush(edit=set_spine("width_mm", 1, 1e308)), trajectory()))
+case("brush-segment-1e308", "a segment 1e308 mm long", ["validate", "b.json"], 65,
+     "b.json: /spines/0/segment_lengths_mm/0 = 1e+308: must be <= 1000 mm " + LIMIT_MM,
+     brush(edit=set_spine("segment_lengths_mm", 0, 1e308)))
+case("brush-root-x-1e308", "a spine root at x = 1e308 mm", ["validate", "b.json"], 65,
+     "b.json: /spines/0/root_mm/0 = 1e+308: must be within +-1000 mm " + LIMIT_MM,
+     brush(edit=set_spine("root_mm", 0, 1e308)))
+case("brush-root-z-minus-2000", "a spine root 2 m below the handle", ["validate", "b.json"], 65,
+     "b.json: /spines/0/root_mm/2 = -2000.0: must be within +-1000 mm " + LIMIT_MM,
+     brush(edit=set_spine("root_mm", 2, -2000)))
+case("brush-cage-1e308", "a cage vertex at y = 1e308 mm", ["validate", "b.json"], 65,
+     "b.json: /surface/cage_vertices_mm/3 = [-0.7829,1e+308,0.0]: must be within +-1000 mm "
+     + LIMIT_MM, brush(edit=set_cage(3, 1, 1e308)))
+case("brush-cage-render", "the same brush, rendered", render(), 65,
+     "b.json: /surface/cage_vertices_mm/3 = [-0.7829,1e+308,0.0]: must be within +-1000 mm "
+     + LIMIT_MM, all_of(brush(edit=set_cage(3, 1, 1e308)), trajectory()))
+case("scene-offset-1e308", "a scene placement offset of 1e308 mm", ["validate", "s.json"], 65,
+     "s.json: /strokes/0/placement/offset_mm/0 = 1e+308: must be within +-100000 mm (the limit)",
+     all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update(
+         placement={"offset_mm": [1e308, 0]}))))
+case("scene-canvas-1e308", "a scene canvas 1e308 mm wide", ["validate", "s.json"], 65,
+     "s.json: /canvas/size_mm: 1e+308 x 90 mm at 4 px/mm is inf x 360 px: larger than the limit of "
+     "16384 px a side and 67108864 px in all",
+     all_of(STROKE, scene(edit=lambda s: s["canvas"].update(size_mm=[1e308, 90]))))
+case("render-offset-1e308", "`--offset-mm 1e308 0 0`", render("b.json", "t.csv", "o.png",
+     "--offset-mm", "1e308", "0", "0"), 64, "--offset-mm: must be within +-100000 mm (the limit)",
+     STROKE)
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
