@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
@@ -21,6 +22,7 @@
 namespace bristle::cli {
 
 int runPreview(const PreviewArgs& args) {
+  checkOutputs({{"-o", args.output}}, {{"brush", args.brush}, {"--trajectory", args.trajectory}});
   const Brush brush = loadBrush(args.brush);
   BrushGeometry geometry(brush);
   Simulation sim(brush, SimOptions{}, makeIpoptSolver(), makeSlsqpSolver());

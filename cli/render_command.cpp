@@ -81,6 +81,8 @@ int runRender(const RenderArgs& args) {
   static_cast<PaintOptions&>(png) = args;
   png.inputs = {args.brush, args.trajectory};
   checkStrokePngOptions(png);
+  checkOutputs({{"-o", args.output}, {"--trace", args.trace}, {"--forces", args.forces}},
+               {{"--brush", args.brush}, {"--trajectory", args.trajectory}});
 
   const Brush brush = loadBrush(args.brush);
   Trajectory trajectory = loadTrajectory(args.trajectory);

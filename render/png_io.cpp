@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/text_file.h"
 
@@ -155,7 +156,10 @@ void writePngRows(const std::string& path, int width, int height, int channels,
   }
 
   // Write beside the target and rename, so readers never see a partial file.
-  const std::string temp_path = path + ".tmp-" + std::to_string(::getpid());
+  // Through a symbolic link the link's target is replaced; a device, FIFO or
+  // directory is refused, never replaced (engine/atomic_output.h).
+  const std::string target = outputTarget(path);
+  const std::string temp_path = target + ".tmp-" + std::to_string(::getpid());
   std::FILE* file = std::fopen(temp_path.c_str(), "wb");
   if (file == nullptr) {
     throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
@@ -181,7 +185,7 @@ void writePngRows(const std::string& path, int width, int height, int channels,
     }
     throw Error(ExitCode::kIoError, path + ": write failed: " + reason);
   }
-  if (std::rename(temp_path.c_str(), path.c_str()) != 0) {
+  if (std::rename(temp_path.c_str(), target.c_str()) != 0) {
     const int rename_errno = errno;
     std::remove(temp_path.c_str());
     throw Error(ExitCode::kCantCreate,

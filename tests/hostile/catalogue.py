@@ -541,6 +541,172 @@ case("render-offset-1e308", "`--offset-mm 1e308 0 0`", render("b.json", "t.csv",
      "--offset-mm", "1e308", "0", "0"), 64, "--offset-mm: must be within +-100000 mm (the limit)",
      STROKE)
 
+# -- outputs never overwrite inputs, never replace a device or a FIFO ---------
+OVER = "; an output must not overwrite an input"
+NOT_REG_OUT = "; an output must be a regular file"
+PNG = copy("golden/round-s-curve.png", "a.png")
+case("out-is-brush", "`-o` is the brush", render(out="b.json"), 64,
+     "b.json: -o: is the same file as the input b.json (--brush)" + OVER, STROKE)
+case("out-is-trajectory", "`-o` is the trajectory", render(out="t.csv"), 64,
+     "t.csv: -o: is the same file as the input t.csv (--trajectory)" + OVER, STROKE)
+case("trace-is-trajectory", "`--trace` is the trajectory", render("b.json", "t.csv", "o.png",
+     "--trace", "t.csv"), 64,
+     "t.csv: --trace: is the same file as the input t.csv (--trajectory)" + OVER, STROKE)
+case("forces-is-brush", "`--forces` is the brush", render("b.json", "t.csv", "o.png",
+     "--forces", "./b.json"), 64,
+     "./b.json: --forces: is the same file as the input b.json (--brush)" + OVER, STROKE)
+case("trace-is-output", "`--trace` is the `-o` PNG", render("b.json", "t.csv", "o.png",
+     "--trace", "o.png"), 64,
+     "o.png: --trace: is the same file as the output o.png (-o); give each output its own file",
+     STROKE)
+case("out-symlink-to-brush", "`-o` is a symbolic link to the brush", render(out="l.png"), 64,
+     "l.png: -o: is the same file as the input b.json (--brush)" + OVER,
+     all_of(STROKE, symlink("l.png", "b.json")))
+case("out-hardlink-to-trajectory", "`-o` is a hard link to the trajectory",
+     render(out="h.png"), 64,
+     "h.png: -o: is the same file as the input t.csv (--trajectory)" + OVER,
+     all_of(STROKE, lambda d: os.link(d / "t.csv", d / "h.png")))
+case("out-is-devnull", "`-o /dev/null`", render(out="/dev/null"), 73,
+     "/dev/null: cannot create output: is a character device" + NOT_REG_OUT, STROKE)
+case("out-is-devfull", "`-o /dev/full`", render(out="/dev/full"), 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT, STROKE)
+case("trace-is-devstdout", "`--trace /dev/stdout` (a pipe)", render("b.json", "t.csv", "o.png",
+     "--trace", "/dev/stdout"), 73,
+     "/dev/stdout: cannot create output: is a FIFO" + NOT_REG_OUT, STROKE)
+case("out-is-fifo", "`-o` is a FIFO", render(out="f.png"), 73,
+     "f.png: cannot create output: is a FIFO" + NOT_REG_OUT, all_of(STROKE, fifo("f.png")))
+case("out-is-directory", "`-o` is a directory", render(out="d.png"), 73,
+     "d.png: cannot create output: is a directory" + NOT_REG_OUT, all_of(STROKE, folder("d.png")))
+case("out-symlink-to-devnull", "`-o` is a symbolic link to /dev/null", render(out="n.png"), 73,
+     "n.png: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(STROKE, symlink("n.png", "/dev/null")))
+case("scene-out-is-scene", "a scene rendered onto itself", ["render", "s.json", "-o", "s.json"],
+     64, "s.json: -o: is the same file as the input s.json (scene)" + OVER, all_of(STROKE, scene()))
+case("scene-out-is-brush", "a scene rendered onto its stroke's brush",
+     ["render", "s.json", "-o", "b.json"], 64,
+     "b.json: -o: is the same file as the input b.json (s.json: /strokes/0/brush)" + OVER,
+     all_of(STROKE, scene()))
+case("scene-trace-is-trajectory", "a scene's `--trace` onto its stroke's trajectory",
+     ["render", "s.json", "-o", "o.png", "--trace", "t.csv"], 64,
+     "t.csv: --trace: is the same file as the input t.csv (s.json: /strokes/0/trajectory)" + OVER,
+     all_of(STROKE, scene()))
+case("sheet-out-is-sheet", "a sheet rendered onto itself", ["sheet", "sh.json", "-o", "sh.json"],
+     64, "sh.json: -o: is the same file as the input sh.json (sheet)" + OVER,
+     all_of(STROKE, sheet()))
+case("sheet-out-is-trajectory", "a sheet rendered onto a trajectory it lists",
+     ["sheet", "sh.json", "-o", "t.csv"], 64,
+     "t.csv: -o: is the same file as the input t.csv (sh.json: /trajectories/0)" + OVER,
+     all_of(STROKE, sheet()))
+case("preview-out-is-brush", "`preview` onto its brush", ["preview", "b.json", "-o", "b.json"],
+     64, "b.json: -o: is the same file as the input b.json (brush)" + OVER, brush())
+RECORD = ["record", "--device", "none", "--brush", "b.json", "--trajectory", "t.csv"]
+case("record-out-is-trajectory", "`record -o` is the `--trajectory` it plays",
+     RECORD + ["-o", "t.csv"], 64,
+     "t.csv: -o: is the same file as the input t.csv (--trajectory)" + OVER, STROKE)
+case("record-forces-is-brush", "`record --forces` is the brush",
+     RECORD + ["-o", "r.csv", "--forces", "b.json"], 64,
+     "b.json: --forces: is the same file as the input b.json (--brush)" + OVER, STROKE)
+case("record-png-is-session", "`record --png` is the session `-o`",
+     RECORD + ["-o", "r.csv", "--png", "r.csv"], 64,
+     "r.csv: --png: is the same file as the output r.csv (-o); give each output its own file",
+     STROKE)
+case("record-forces-missing-folder", "`record --forces` in a missing folder, over an existing "
+     "session: the session is not truncated", RECORD + ["-o", "r.csv", "--forces", "no/f.csv"],
+     73, "no/f.csv: cannot create output: No such file or directory",
+     all_of(STROKE, trajectory("r.csv")))
+case("record-out-is-devfull", "`record -o /dev/full`", RECORD + ["-o", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT, STROKE)
+case("replay-out-is-session", "`replay -o` is the session",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "r.csv"], 64,
+     "r.csv: -o: is the same file as the input r.csv (session)" + OVER,
+     all_of(brush(), trajectory("r.csv")))
+case("compare-diff-is-reference", "`compare --diff` is the reference image",
+     ["compare", "a.png", "b.png", "--diff", "a.png"], 64,
+     "a.png: --diff: is the same file as the input a.png (a)" + OVER,
+     all_of(PNG, copy("golden/round-s-curve.png", "b.png")))
+case("compare-diff-is-second", "`compare --diff` is the second image, through `./`",
+     ["compare", "a.png", "b.png", "--diff", "./b.png"], 64,
+     "./b.png: --diff: is the same file as the input b.png (b)" + OVER,
+     all_of(PNG, copy("golden/round-s-curve.png", "b.png")))
+case("compare-diff-is-devfull", "`compare --diff /dev/full`",
+     ["compare", "a.png", "b.png", "--diff", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(PNG, copy("golden/round-s-curve.png", "b.png")))
+case("batch-log-is-manifest", "`batch --log` is the manifest",
+     ["batch", "m.json", "--out", "out", "--log", "m.json"], 64,
+     "m.json: --log: is the same file as the input m.json (manifest)" + OVER,
+     all_of(STROKE, folder("out"), manifest()))
+case("batch-log-is-brush", "`batch --log` is a job's brush",
+     ["batch", "m.json", "--out", "out", "--log", "b.json"], 64,
+     "b.json: --log: is the same file as the input b.json (m.json: /jobs/0/brush)" + OVER,
+     all_of(STROKE, folder("out"), manifest()))
+
+# -- more of the same, through every command that reads the file -------------
+case("deep-sheet-validate", "a sheet whose `title` is 100,000 nested arrays, validated",
+     ["validate", "sh.json"], 65, "sh.json: line 1, column 172: " + DEEP_MSG,
+     all_of(STROKE, deep_key(sheet(), "title", "sh.json")))
+case("deep-scene-stroke-brush", "a scene whose stroke's brush is nested 100,000 deep",
+     ["render", "s.json", "-o", "o.png"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     all_of(deep_brush_name, trajectory(), scene()))
+case("deep-sheet-brush", "a sheet whose brush is nested 100,000 deep",
+     ["sheet", "sh.json", "-o", "o.png"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     all_of(deep_brush_name, trajectory(), sheet()))
+case("deep-preview-brush", "`preview` of a brush nested 100,000 deep",
+     ["preview", "b.json", "-o", "o.png"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     deep_brush_name)
+case("deep-replay-brush", "`replay` with a brush nested 100,000 deep",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 65,
+     "b.json: line 3, column 73: " + DEEP_MSG, all_of(deep_brush_name, trajectory("r.csv")))
+case("deep-record-brush", "`record` with a brush nested 100,000 deep",
+     RECORD + ["-o", "r.csv"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     all_of(deep_brush_name, trajectory()))
+case("fifo-preview-brush", "`preview` of a FIFO", ["preview", "b.json", "-o", "o.png"], 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, fifo("b.json"))
+case("fifo-preview-trajectory", "`preview --trajectory` a FIFO",
+     ["preview", "b.json", "--trajectory", "t.csv", "-o", "o.png"], 66,
+     "t.csv: cannot read: is a FIFO" + NOT_REG, all_of(brush(), fifo("t.csv")))
+case("fifo-replay-brush", "`replay --brush` a FIFO",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, all_of(fifo("b.json"), trajectory("r.csv")))
+case("fifo-record-brush", "`record --brush` a FIFO", RECORD + ["-o", "r.csv"], 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, all_of(fifo("b.json"), trajectory()))
+case("fifo-sheet-brush", "a sheet listing a FIFO as a brush", ["validate", "sh.json"], 66,
+     "sh.json: /brushes/0: cannot read 'b.json': is a FIFO" + NOT_REG,
+     all_of(fifo("b.json"), trajectory(), sheet()))
+case("fifo-manifest-brush", "a batch job whose brush is a FIFO (`--dry-run`)",
+     ["batch", "m.json", "--out", "out", "--dry-run", "-q"], 66,
+     "job 'one' failed (66): m.json: /jobs/0/brush: b.json: cannot read: is a FIFO" + NOT_REG,
+     all_of(fifo("b.json"), trajectory(), folder("out"), manifest()))
+case("devzero-scene", "/dev/zero as the scene", ["render", "/dev/zero", "-o", "o.png"], 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG)
+case("devzero-session", "/dev/zero as the session",
+     ["replay", "/dev/zero", "--brush", "b.json", "-o", "o.png"], 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG, brush())
+case("devzero-manifest", "/dev/zero as the batch manifest",
+     ["batch", "/dev/zero", "--out", "out"], 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG, folder("out"))
+case("devzero-scene-stroke", "a scene stroke whose trajectory is /dev/zero",
+     ["validate", "s.json"], 66,
+     "s.json: /strokes/0/trajectory: cannot read '/dev/zero': is a character device" + NOT_REG,
+     all_of(brush(), scene(edit=lambda s: s["strokes"][0].update(trajectory="/dev/zero"))))
+case("dir-scene-stroke-brush", "a scene stroke whose brush is a directory",
+     ["validate", "s.json"], 66, "s.json: /strokes/0/brush: cannot read 'b.json': is a directory",
+     all_of(folder("b.json"), trajectory(), scene()))
+case("huge-scene-stroke-brush", "a scene stroke whose brush is a sparse 512 MiB file",
+     ["validate", "s.json"], 65, "b.json: size: 536870912 " + SIZE,
+     all_of(sparse("b.json", 512 << 20), trajectory(), scene()))
+case("huge-manifest", "a sparse batch manifest of 2 GiB", ["batch", "m.json", "--out", "out"],
+     65, "m.json: size: 2147483648 " + SIZE, all_of(folder("out"), sparse("m.json", 2 << 30)))
+case("traj-x-nan", "a trajectory with x = nan", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 2 (x_mm): must be finite",
+     trajectory(rows=[[0, "nan", 40, 25, *REST], [1, *HIGH, *REST]]))
+case("traj-t-1e999", "a time of 1e999 (beyond a double)", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 1 (t_s): '1e999' is outside the range of a double",
+     trajectory(rows=[["1e999", *HIGH, *REST], [1, *HIGH, *REST]]))
+case("brush-number-1e999", "a brush number of 1e999 (beyond a double)", ["validate", "b.json"],
+     65, "b.json: line 1, column 8: number 1e999 is out of range (must be finite)",
+     brush(text='{"mu": 1e999}'))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
