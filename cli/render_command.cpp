@@ -54,7 +54,9 @@ std::string canvasText(const CanvasGrid& g) {
   return buf;
 }
 
-void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
+void printError(const std::string& message) {
+  std::cerr << "bristle: " << oneLine(message) << "\n";
+}
 
 void warnFailedSolves(const SimStats& stats) {
   if (stats.failed_steps <= 0) return;

@@ -707,6 +707,27 @@ case("brush-number-1e999", "a brush number of 1e999 (beyond a double)", ["valida
      65, "b.json: line 1, column 8: number 1e999 is out of range (must be finite)",
      brush(text='{"mu": 1e999}'))
 
+# -- control characters in the input never break the one-line message ---------
+case("nul-in-csv-cell", "a NUL byte inside a trajectory number", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 2 (x_mm): '1\\u00002' is not a number",
+     trajectory(text="# bristle-trajectory/1\n" + HEADER + "\n0,1\x002,40,25,1,0,0,0\n"))
+case("nul-in-csv-header", "a NUL byte inside a trajectory's header", ["validate", "t.csv"], 65,
+     "t.csv: line 2, column 2 (x_\\u0000mm): unknown column 'x_\\u0000mm'",
+     trajectory(text="# bristle-trajectory/1\nt_s,x_\x00mm,y_mm,z_mm,qw,qx,qy,qz\n"))
+case("tab-in-format-line", "control characters in a trajectory's format line",
+     ["validate", "t.csv"], 65,
+     "t.csv: line 1: unknown format version 'bristle-trajectory/1\\u0007\\u001b[2J' (expected "
+     "bristle-trajectory/1)",
+     trajectory(text="# bristle-trajectory/1\x07\x1b[2J\n" + HEADER + "\n"))
+case("escaped-controls-in-paint-name", "a scene's paint name holding an escaped newline and NUL",
+     ["validate", "s.json"], 65,
+     "s.json: /strokes/0/paint/paints/0: unknown pigment 'ink\\u000a\\u0000' (known: "
+     "ultramarine, cadmium-yellow, cadmium-red, quinacridone-rose, indian-red, burnt-umber, "
+     "hookers-green, phthalo-green, cerulean-blue, hansa-yellow, brilliant-orange, "
+     "titanium-white, ivory-black, yellow-ochre, burnt-sienna, phthalo-blue, alizarin-crimson, "
+     "viridian, sumi-ink; or a colour \"#rrggbb\")",
+     all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update(paint={"paints": ["ink\n\x00"]}))))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
