@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "engine/atomic_output.h"
+#include "engine/canvas.h"
 #include "engine/error.h"
 #include "engine/text_file.h"
 
@@ -193,9 +194,11 @@ void writePngRows(const std::string& path, int width, int height, int channels,
   }
 }
 
-// Refuse images whose RGBA8 decode would need more than 1 GiB: a corrupt or
-// hostile header should give an error, not an allocation failure.
-constexpr std::uint64_t kMaxReadPixels = std::uint64_t{1} << 28;
+// Refuse images larger than any canvas bristle writes (64 Mpx, engine/canvas.h):
+// their 16-bit RGBA decode needs at most 512 MiB, and a small file whose header
+// claims 16384 x 16384 px (a decompression bomb) is an error before anything
+// is allocated for it, not 2 GiB per image and an allocation failure.
+constexpr auto kMaxReadPixels = static_cast<std::uint64_t>(kMaxCanvasPixels);
 
 constexpr std::size_t kSignatureBytes = 8;
 
@@ -315,8 +318,10 @@ void decodePng(const std::string& path, Decode to, Decoder* d, Decoded* image) {
   const std::uint64_t height = png_get_image_height(d->png, d->info);
   const std::size_t row_bytes = png_get_rowbytes(d->png, d->info);
   if (width * height > kMaxReadPixels) {
-    throw Error(ExitCode::kDataError, path + ": " + std::to_string(width) + "x" +
-                                          std::to_string(height) + " px is too large");
+    throw Error(ExitCode::kDataError,
+                path + ": IHDR: " + std::to_string(width) + " x " + std::to_string(height) +
+                    " px is over the limit of " + std::to_string(kMaxReadPixels) +
+                    " px (64 Mpx, the largest canvas bristle writes)");
   }
   if (image == nullptr) {
     std::vector<png_byte> scratch(row_bytes);

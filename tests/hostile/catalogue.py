@@ -161,6 +161,29 @@ def copy(src, name):
     return lambda d: shutil.copy(SRC / src, d / name)
 
 
+def png_header(name, width, height):
+    """A setup step: a small PNG whose header claims width x height RGB pixels (a
+    decompression bomb's header, with one tiny IDAT)."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data +
+                struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff))
+
+    def step(d):
+        ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+        (d / name).write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) +
+                               chunk(b"IDAT", zlib.compress(b"\0" * 64)) + chunk(b"IEND", b""))
+    return step
+
+
+def truncated(src, name, keep):
+    def step(d):
+        (d / name).write_bytes((SRC / src).read_bytes()[:keep])
+    return step
+
+
 def all_of(*steps):
     def step(d):
         for s in steps:
@@ -727,6 +750,72 @@ case("escaped-controls-in-paint-name", "a scene's paint name holding an escaped 
      "titanium-white, ivory-black, yellow-ochre, burnt-sienna, phthalo-blue, alizarin-crimson, "
      "viridian, sumi-ink; or a colour \"#rrggbb\")",
      all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update(paint={"paints": ["ink\n\x00"]}))))
+
+# -- PNG inputs: bombs and broken files ---------------------------------------
+GOLD = "golden/round-s-curve.png"
+PNG_LIMIT = "px is over the limit of 67108864 px (64 Mpx, the largest canvas bristle writes)"
+case("png-bomb-16384", "a 100-byte PNG claiming 16384 x 16384 px (a decompression bomb)",
+     ["compare", "a.png", "b.png"], 65, "a.png: IHDR: 16384 x 16384 " + PNG_LIMIT,
+     all_of(png_header("a.png", 16384, 16384), copy(GOLD, "b.png")))
+case("png-bomb-wide", "a PNG claiming 1,000,000 x 100 px", ["compare", "a.png", "b.png"], 65,
+     "b.png: IHDR: 1000000 x 100 " + PNG_LIMIT,
+     all_of(copy(GOLD, "a.png"), png_header("b.png", 1000000, 100)))
+case("png-bomb-diff", "a bomb as the second image, with `--diff`",
+     ["compare", "a.png", "b.png", "--diff", "d.png"], 65,
+     "b.png: IHDR: 8193 x 8193 " + PNG_LIMIT,
+     all_of(copy(GOLD, "a.png"), png_header("b.png", 8193, 8193)))
+case("png-truncated", "a PNG cut off half way", ["compare", "a.png", "b.png"], 65,
+     "b.png: corrupt or truncated PNG: Read Error",
+     all_of(copy(GOLD, "a.png"), truncated(GOLD, "b.png", 3000)))
+case("png-signature-only", "a PNG of its 8-byte signature alone", ["compare", "a.png", "b.png"],
+     65, "a.png: corrupt or truncated PNG: Read Error",
+     all_of(truncated(GOLD, "a.png", 8), copy(GOLD, "b.png")))
+case("png-text", "a text file named .png", ["compare", "a.png", "b.png"], 65,
+     "a.png: not a PNG file", all_of(lambda d: write(d, "a.png", "hello\n"), copy(GOLD, "b.png")))
+case("png-empty", "an empty file named .png", ["compare", "a.png", "b.png"], 65,
+     "a.png: not a PNG file", all_of(lambda d: write(d, "a.png", ""), copy(GOLD, "b.png")))
+
+# -- more outputs, through every command that writes -------------------------
+case("preview-out-devnull", "`preview -o /dev/null`", ["preview", "b.json", "-o", "/dev/null"],
+     73, "/dev/null: cannot create output: is a character device" + NOT_REG_OUT, brush())
+case("replay-out-devfull", "`replay -o /dev/full`",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(brush(), trajectory("r.csv")))
+case("sheet-out-directory", "`sheet -o` a directory", ["sheet", "sh.json", "-o", "d.png"], 73,
+     "d.png: cannot create output: is a directory" + NOT_REG_OUT,
+     all_of(STROKE, sheet(), folder("d.png")))
+case("scene-out-fifo", "a scene rendered to a FIFO", ["render", "s.json", "-o", "f.png"], 73,
+     "f.png: cannot create output: is a FIFO" + NOT_REG_OUT, all_of(STROKE, scene(), fifo("f.png")))
+case("scene-trace-devfull", "a scene's `--trace /dev/full`",
+     ["render", "s.json", "-o", "o.png", "--trace", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(STROKE, scene()))
+case("forces-is-directory", "`--forces` a directory", render("b.json", "t.csv", "o.png",
+     "--forces", "d.csv"), 73, "d.csv: cannot create output: is a directory" + NOT_REG_OUT,
+     all_of(STROKE, folder("d.csv")))
+case("forces-is-trace", "`--forces` and `--trace` the same file", render("b.json", "t.csv",
+     "o.png", "--trace", "x.jsonl", "--forces", "x.jsonl"), 64,
+     "x.jsonl: --forces: is the same file as the output x.jsonl (--trace); give each output its "
+     "own file", STROKE)
+case("record-forces-devnull", "`record --forces /dev/null`",
+     RECORD + ["-o", "r.csv", "--forces", "/dev/null"], 73,
+     "/dev/null: cannot create output: is a character device" + NOT_REG_OUT, STROKE)
+case("record-png-directory", "`record --png` a directory, over an existing session",
+     RECORD + ["-o", "r.csv", "--png", "d.png"], 73,
+     "d.png: cannot create output: is a directory" + NOT_REG_OUT,
+     all_of(STROKE, trajectory("r.csv"), folder("d.png")))
+case("batch-log-devfull", "`batch --log /dev/full`",
+     ["batch", "m.json", "--out", "out", "--log", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(STROKE, folder("out"), manifest()))
+case("compare-diff-missing-folder", "`compare --diff` into a missing folder",
+     ["compare", "a.png", "b.png", "--diff", "no/d.png"], 73,
+     "no/d.png: cannot create output: No such file or directory",
+     all_of(PNG, truncated(GOLD, "b.png", 10 ** 9)))
+case("dangling-brush", "a brush that is a dangling symbolic link", render("l.json"), 66,
+     "l.json: cannot read: No such file or directory",
+     all_of(symlink("l.json", "gone.json"), trajectory()))
 
 CASES_END = None  # the cases are appended above this line
 
