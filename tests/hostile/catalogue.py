@@ -817,6 +817,58 @@ case("dangling-brush", "a brush that is a dangling symbolic link", render("l.jso
      "l.json: cannot read: No such file or directory",
      all_of(symlink("l.json", "gone.json"), trajectory()))
 
+# -- the limits through every command that reads the file --------------------
+FAR = all_of(brush(), trajectory(rows=[[0, 1e308, 40, 25, *REST], [1, *HIGH, *REST]]))
+LONG = all_of(brush(), trajectory(rows=rows(HIGH, (15, 40, 9), t=[0, 10000000])))
+case("sheet-traj-x-1e308", "a sheet listing a trajectory with x = 1e308",
+     ["sheet", "sh.json", "-o", "o.png"], 65,
+     "t.csv: line 3, column 2 (x_mm): x_mm = 1e+308 is outside the limit of "
+     "+-100000 mm", all_of(FAR, sheet()))
+case("scene-traj-quaternion-1e200", "a scene stroke along a quaternion of 1e200",
+     ["validate", "s.json"], 65,
+     "t.csv: line 4, column 5 (qw): qw = 1e+200 is outside the limit of "
+     "+-1e6 (quaternions are normalised on read)",
+     all_of(brush(), trajectory(rows=[[0, *HIGH, *REST], [1, *HIGH, 1e200, 0, 0, 0]]), scene()))
+case("record-traj-x-1e308", "`record --device none` playing x = 1e308",
+     RECORD + ["-o", "r.csv"], 65,
+     "t.csv: line 3, column 2 (x_mm): x_mm = 1e+308 is outside the limit of "
+     "+-100000 mm", FAR)
+case("replay-session-quaternion-1e200", "a session with a quaternion of 1e200, replayed",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 65,
+     "r.csv: line 6, column 5 (qw): qw = 1e+200 is outside the limit of "
+     "+-1e6 (quaternions are normalised on read)",
+     all_of(brush(), session("r.csv", rows=[[0, *HIGH, *REST], [1, *HIGH, 1e200, 0, 0, 0]])))
+case("preview-offset-1e308", "`preview --offset-mm 1e308 0 0`",
+     ["preview", "b.json", "--trajectory", "t.csv", "--offset-mm", "1e308", "0", "0", "-o",
+      "o.png"], 64, "--offset-mm: must be within +-100000 mm (the limit)", STROKE)
+case("preview-span-1e7", "`preview` along two samples 1e7 s apart",
+     ["preview", "b.json", "--trajectory", "t.csv", "--at", "1", "-o", "o.png"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 "
+     "simulation steps up to here, over the limit of 10000000 per trajectory", LONG)
+case("sheet-span-1e7", "a sheet whose trajectory spans 1e7 s",
+     ["sheet", "sh.json", "-o", "o.png"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 "
+     "simulation steps up to here, over the limit of 10000000 per trajectory",
+     all_of(LONG, sheet()))
+case("session-buttons-1e308", "a session whose buttons are 1e308",
+     ["validate", "r.csv"], 65, "r.csv: line 3, column 9 (buttons): must be a non-negative integer "
+     "bitmask",
+     trajectory("r.csv", text="# bristle-trajectory/1\n" + HEADER + ",buttons\n"
+                "0,15,40,25,1,0,0,0,1e308\n1,15,40,25,1,0,0,0,0\n"))
+case("scene-rotate-1e308", "a scene stroke rotated by 1e308 degrees", ["validate", "s.json"],
+     65, "s.json: /strokes/0/placement/rotate_deg = 1e+308: must be within "
+     "+-3600 degrees", all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update(
+         placement={"rotate_deg": 1e308}))))
+case("scene-px-per-mm-1e308", "a scene canvas at 1e308 px/mm", ["validate", "s.json"], 65,
+     "s.json: /canvas/px_per_mm = 1e+308: must be in (0, 100]",
+     all_of(STROKE, scene(edit=lambda s: s["canvas"].update(px_per_mm=1e308))))
+case("scene-rate-1e308", "a scene simulated at 1e308 Hz", ["validate", "s.json"], 65,
+     "s.json: /sim/rate_hz = 1e+308: must be in [1, 10000] steps per second",
+     all_of(STROKE, scene(edit=lambda s: s.update(sim={"rate_hz": 1e308}))))
+case("sheet-px-per-mm-1e308", "a sheet at 1e308 px/mm", ["validate", "sh.json"], 65,
+     "sh.json: /px_per_mm = 1e+308: must be in (0, 100]",
+     all_of(STROKE, sheet(edit=lambda s: s.update(px_per_mm=1e308))))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
