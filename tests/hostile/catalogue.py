@@ -869,6 +869,12 @@ case("sheet-px-per-mm-1e308", "a sheet at 1e308 px/mm", ["validate", "sh.json"],
      "sh.json: /px_per_mm = 1e+308: must be in (0, 100]",
      all_of(STROKE, sheet(edit=lambda s: s.update(px_per_mm=1e308))))
 
+case("fifo-in-brush-library", "a FIFO among the brushes of `brushes --library`",
+     ["brushes", "--library", "lib"], 66,
+     "lib/zz.json: cannot read: is a FIFO" + NOT_REG,
+     all_of(folder("lib"), copy("scenes/brushes/round.json", "lib/round.json"),
+            fifo("lib/zz.json")))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
