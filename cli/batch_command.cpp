@@ -394,6 +394,15 @@ int runBatch(const BatchArgs& args) {
                             : shardFromEnvironment([](const char* n) { return std::getenv(n); },
                                                    args.shard_count);
     const BatchManifest manifest = loadBatchManifest(args.manifest);
+    // The job log is appended to: never to the manifest or a file a job reads.
+    std::vector<NamedFile> inputs{{"manifest", args.manifest}};
+    for (const BatchJob& job : manifest.jobs) {
+      const std::string at = args.manifest + ": " + job.pointer;
+      inputs.push_back({at + (job.kind == BatchJobKind::kSheet ? "/sheet" : "/scene"), job.input});
+      inputs.push_back({at + "/brush", job.brush});
+      inputs.push_back({at + "/trajectory", job.trajectory});
+    }
+    checkOutputs({{"--log", args.log}}, inputs);
     const std::vector<int> mine = jobsOfShard(static_cast<int>(manifest.jobs.size()), shard);
 
     std::error_code ec;

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
@@ -21,6 +22,7 @@
 namespace bristle::cli {
 
 int runPreview(const PreviewArgs& args) {
+  checkOutputs({{"-o", args.output}}, {{"brush", args.brush}, {"--trajectory", args.trajectory}});
   const Brush brush = loadBrush(args.brush);
   BrushGeometry geometry(brush);
   Simulation sim(brush, SimOptions{}, makeIpoptSolver(), makeSlsqpSolver());
@@ -32,6 +34,11 @@ int runPreview(const PreviewArgs& args) {
     sim.reset(rest, 0);
   } else {
     Trajectory traj = loadTrajectory(args.trajectory);
+    if (args.offset_mm.size() == 3 &&
+        !(std::fabs(args.offset_mm[0]) <= kMaxPositionMm &&
+          std::fabs(args.offset_mm[1]) <= kMaxPositionMm &&
+          std::fabs(args.offset_mm[2]) <= kMaxPositionMm))
+      throw Error(ExitCode::kUsage, "--offset-mm: must be within +-100000 mm (the limit)");
     if (args.offset_mm.size() == 3)
       for (TrajectorySample& s : traj.samples)
         s.pose.position_mm += Eigen::Vector3d(args.offset_mm[0], args.offset_mm[1],

@@ -102,8 +102,14 @@ StrokePngOptions sessionPngOptions(const Args& args, const std::string& session)
 
 int runRecord(const RecordArgs& args) {
   const StrokePngOptions png = sessionPngOptions(args, args.output);
+  // Every output is checked before the session file is opened (which
+  // truncates it): none is an input or another output, each can be created.
+  checkOutputs({{"-o", args.output}, {"--forces", args.forces}, {"--png", args.png}},
+               {{"--brush", args.brush}, {"--trajectory", args.trajectory}});
   const Brush brush = loadBrush(args.brush);
   const std::string hash = haptics::brushFileHash(args.brush);
+  checkCanCreate(args.output);
+  if (!args.forces.empty()) checkCanCreate(args.forces);
   if (!args.png.empty()) checkCanCreate(args.png);
 
   bool is_none = false;
@@ -161,6 +167,7 @@ int runRecord(const RecordArgs& args) {
 
 int runReplay(const ReplayArgs& args) {
   const StrokePngOptions png = sessionPngOptions(args, args.session);
+  checkOutputs({{"-o", args.output}}, {{"session", args.session}, {"--brush", args.brush}});
   const Brush brush = loadBrush(args.brush);
   checkCanCreate(args.output);
   renderSession(brush, args.session, haptics::brushFileHash(args.brush), png, args.output);

@@ -54,7 +54,9 @@ std::string canvasText(const CanvasGrid& g) {
   return buf;
 }
 
-void printError(const std::string& message) { std::cerr << "bristle: " << message << "\n"; }
+void printError(const std::string& message) {
+  std::cerr << "bristle: " << oneLine(message) << "\n";
+}
 
 void warnFailedSolves(const SimStats& stats) {
   if (stats.failed_steps <= 0) return;
@@ -81,12 +83,16 @@ int runRender(const RenderArgs& args) {
   static_cast<PaintOptions&>(png) = args;
   png.inputs = {args.brush, args.trajectory};
   checkStrokePngOptions(png);
+  checkOutputs({{"-o", args.output}, {"--trace", args.trace}, {"--forces", args.forces}},
+               {{"--brush", args.brush}, {"--trajectory", args.trajectory}});
 
   const Brush brush = loadBrush(args.brush);
   Trajectory trajectory = loadTrajectory(args.trajectory);
   if (args.offset_mm.size() == 3) {
     const Eigen::Vector3d offset(args.offset_mm[0], args.offset_mm[1], args.offset_mm[2]);
     if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");
+    if (offset.cwiseAbs().maxCoeff() > kMaxPositionMm)
+      throw Error(ExitCode::kUsage, "--offset-mm: must be within +-100000 mm (the limit)");
     for (TrajectorySample& s : trajectory.samples) s.pose.position_mm += offset;
   }
   validateTrajectoryForBrush(trajectory, brush);

@@ -51,7 +51,14 @@ void checkSceneOptions(const RenderArgs& args) {
 int runRenderScene(const RenderArgs& args) {
   checkSceneOptions(args);
   if (args.output.empty()) throw Error(ExitCode::kUsage, "render: -o/--output is required");
+  checkOutputs({{"-o", args.output}, {"--trace", args.trace}}, {{"scene", args.scene}});
   const Scene scene = loadScene(args.scene);
+  std::vector<NamedFile> inputs;
+  for (const SceneStroke& st : scene.strokes) {
+    inputs.push_back({args.scene + ": " + st.pointer + "/brush", st.brush_path});
+    inputs.push_back({args.scene + ": " + st.pointer + "/trajectory", st.trajectory_path});
+  }
+  checkOutputs({{"-o", args.output}, {"--trace", args.trace}}, inputs);
   const std::vector<std::string> warnings = sceneWarnings(scene);
   for (const std::string& w : warnings) printError("warning: " + w);
 

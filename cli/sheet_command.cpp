@@ -31,7 +31,15 @@ std::string fmt(double v) {
 }  // namespace
 
 int runSheet(const SheetArgs& args) {
+  checkOutputs({{"-o", args.output}}, {{"sheet", args.sheet}});
   Sheet sheet = loadSheet(args.sheet);
+  std::vector<NamedFile> inputs;
+  for (size_t i = 0; i < sheet.brush_paths.size(); ++i)
+    inputs.push_back({args.sheet + ": /brushes/" + std::to_string(i), sheet.brush_paths[i]});
+  for (size_t i = 0; i < sheet.trajectory_paths.size(); ++i)
+    inputs.push_back(
+        {args.sheet + ": /trajectories/" + std::to_string(i), sheet.trajectory_paths[i]});
+  checkOutputs({{"-o", args.output}}, inputs);
   // Command-line overrides of the sheet's own settings (a quick, coarse proof).
   if (args.px_per_mm > 0) sheet.px_per_mm = args.px_per_mm;
   if (!args.solver.empty()) sheet.solver = args.solver;

@@ -25,9 +25,12 @@ std::vector<double> positiveArray(const JsonObject& o, const std::string& key, s
   o.require(v.size() == n, key,
             "must have " + std::to_string(n) + " entries (one per " +
                 (key == "width_mm" ? std::string("joint, root included") : "segment") + ")");
-  for (size_t i = 0; i < v.size(); ++i)
+  for (size_t i = 0; i < v.size(); ++i) {
     checkedElement(o, key, i, v[i], allow_zero ? v[i] >= 0 : v[i] > 0,
                    allow_zero ? "must be >= 0" : "must be > 0");
+    if (key == "width_mm")
+      checkedElement(o, key, i, v[i], v[i] <= kMaxBrushMm, "must be <= 1000 mm (the limit)");
+  }
   return v;
 }
 
@@ -35,14 +38,20 @@ SpineSpec parseSpine(const JsonObject& o) {
   SpineSpec s;
   const std::vector<double> root = o.numbers("root_mm");
   o.require(root.size() == 3, "root_mm", "must be [x, y, z]");
+  for (size_t i = 0; i < 3; ++i)
+    checkedElement(o, "root_mm", i, root[i], std::fabs(root[i]) <= kMaxBrushMm,
+                   "must be within +-1000 mm (the limit)");
   s.root_mm = Eigen::Vector3d(root[0], root[1], root[2]);
   s.segment_lengths_mm = o.numbers("segment_lengths_mm");
   const size_t n = s.segment_lengths_mm.size();
   o.require(n >= 1 && n <= static_cast<size_t>(kMaxJointsPerSpine), "segment_lengths_mm",
             "must have 1.." + std::to_string(kMaxJointsPerSpine) + " segments");
-  for (size_t i = 0; i < n; ++i)
+  for (size_t i = 0; i < n; ++i) {
     checkedElement(o, "segment_lengths_mm", i, s.segment_lengths_mm[i],
                    s.segment_lengths_mm[i] > 0, "must be > 0");
+    checkedElement(o, "segment_lengths_mm", i, s.segment_lengths_mm[i],
+                   s.segment_lengths_mm[i] <= kMaxBrushMm, "must be <= 1000 mm (the limit)");
+  }
   s.stiffness_nmm_per_rad = positiveArray(o, "stiffness_nmm_per_rad", n, false);
   s.damping_nmm = o.has("damping_nmm") ? positiveArray(o, "damping_nmm", n, true)
                                        : std::vector<double>(n, 0.0);
@@ -86,6 +95,8 @@ void parseSurface(const JsonObject& o, const std::vector<SpineSpec>& spines, Sur
                 pi, v, "must be [x, y, z] in mm");
     const Eigen::Vector3d p(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
     o.requireAt(p.allFinite(), pi, v, "must be finite");
+    o.requireAt(p.cwiseAbs().maxCoeff() <= kMaxBrushMm, pi, v,
+                "must be within +-1000 mm (the limit)");
     sf.cage_mm.push_back(p);
   }
   const int nv = static_cast<int>(sf.cage_mm.size());

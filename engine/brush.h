@@ -12,6 +12,10 @@ namespace bristle {
 
 // Limits that keep a brush file from asking for absurd work.
 inline constexpr int kMaxSpines = 64;
+// Lengths in a brush (root positions, segment lengths, widths, cage vertices)
+// are within +-1000 mm: the library's brushes are 20-60 mm long and a house
+// painter's brush 150 mm, while a hair of 1e308 mm would overflow the geometry.
+inline constexpr double kMaxBrushMm = 1000;
 inline constexpr int kMaxJointsPerSpine = 16;
 
 struct SpineSpec {

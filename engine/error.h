@@ -20,10 +20,30 @@ enum class ExitCode : int {
   kIoError = 74,       // I/O error while writing
 };
 
+// A message as one printable line: control characters from the input (a NUL
+// would cut the message short at what(), a newline would split it) are shown
+// as \u00XX.
+inline std::string oneLine(const std::string& message) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(message.size());
+  for (const char c : message) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      out += "\\u00";
+      out += kHex[u >> 4];
+      out += kHex[u & 0xf];
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 class Error : public std::runtime_error {
  public:
   Error(ExitCode code, const std::string& message)
-      : std::runtime_error(message), code_(code) {}
+      : std::runtime_error(oneLine(message)), code_(code) {}
   ExitCode code() const { return code_; }
 
  private:

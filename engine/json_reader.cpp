@@ -57,6 +57,45 @@ size_t findNumberLiteral(const std::string& text, const std::string& token) {
   return std::string::npos;
 }
 
+// Thrown by the parser callback when arrays and objects nest too deep.
+struct TooDeep {};
+
+// Offset of the bracket that opens the (limit + 1)-th level of nesting, or npos.
+// Only used after the parser stopped there, so the text before it is valid JSON
+// and brackets inside strings are skipped as the parser skipped them.
+size_t offsetBeyondDepth(const std::string& text, int limit) {
+  int depth = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > limit) return i;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return std::string::npos;
+}
+
+// nlohmann's parser is iterative, but what walks the document afterwards (copies,
+// dump(), the readers) recurses: refuse the nesting before it is built.
+nlohmann::json parseDepthLimited(const std::string& text) {
+  return nlohmann::json::parse(
+      text, [](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+        // depth counts the containers around the one that starts here.
+        if ((event == nlohmann::json::parse_event_t::object_start ||
+             event == nlohmann::json::parse_event_t::array_start) &&
+            depth >= kMaxJsonDepth)
+          throw TooDeep{};
+        return true;
+      });
+}
+
 std::string shortDump(const nlohmann::json& value) {
   std::string s = value.dump();
   if (s.size() > 40) s = s.substr(0, 37) + "...";
@@ -67,7 +106,12 @@ std::string shortDump(const nlohmann::json& value) {
 
 nlohmann::json parseJsonText(const std::string& text, const std::string& path) {
   try {
-    return nlohmann::json::parse(text);
+    return parseDepthLimited(text);
+  } catch (const TooDeep&) {
+    const size_t at = offsetBeyondDepth(text, kMaxJsonDepth);
+    throw dataError(path, at == std::string::npos ? std::string("JSON") : lineColumnOf(text, at),
+                    "arrays and objects nest deeper than the limit of " +
+                        std::to_string(kMaxJsonDepth) + " levels");
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is 1-based and points just past the offending character.
     const size_t offset = e.byte > 0 ? e.byte - 1 : 0;
@@ -89,6 +133,15 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& path) {
     throw dataError(path, lineColumnOf(text, at),
                     "number " + token + " is out of range (must be finite)");
   }
+}
+
+nlohmann::json parseJsonOrDiscarded(const std::string& text) {
+  try {
+    return parseDepthLimited(text);
+  } catch (const TooDeep&) {
+  } catch (const nlohmann::json::exception&) {
+  }
+  return nlohmann::json(nlohmann::json::value_t::discarded);
 }
 
 JsonObject::JsonObject(const nlohmann::json& node, std::string pointer, std::string file)

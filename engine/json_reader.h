@@ -12,8 +12,18 @@
 
 namespace bristle {
 
-// Parses text as JSON; malformed JSON throws kDataError naming line and column.
+// The deepest nesting of arrays and objects in a JSON input. The formats nest
+// 5 levels at most (a brush's /surface/skin/0/0/0, a scene's
+// /strokes/0/placement/offset_mm); 64 leaves room for any future format while
+// every recursive walk of a document stays far inside the stack.
+constexpr int kMaxJsonDepth = 64;
+
+// Parses text as JSON; malformed JSON, and arrays and objects nested deeper
+// than kMaxJsonDepth, throw kDataError naming line and column.
 nlohmann::json parseJsonText(const std::string& text, const std::string& path);
+
+// As parseJsonText, but a document it would refuse is returned as discarded.
+nlohmann::json parseJsonOrDiscarded(const std::string& text);
 
 class JsonObject {
  public:

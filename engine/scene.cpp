@@ -1,5 +1,7 @@
 #include "engine/scene.h"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -48,17 +50,14 @@ std::string resolve(const std::string& base_dir, const std::string& p) {
   return (fs::path(base_dir) / path).lexically_normal().string();
 }
 
-// A referenced file must be readable; else 66 naming the scene field.
+// A referenced file must be a readable regular file; else 66 naming the scene field.
 void requireReadable(const std::string& scene, const std::string& pointer,
                      const std::string& resolved) {
-  std::error_code ec;
   std::string why;
-  if (fs::is_directory(resolved, ec)) {
-    why = "is a directory";
-  } else {
-    std::ifstream in(resolved, std::ios::binary);
-    if (in) return;
-    why = std::strerror(errno);
+  const int fd = openInputFile(resolved, &why);
+  if (fd >= 0) {
+    ::close(fd);
+    return;
   }
   throw Error(ExitCode::kNoInput,
               scene + ": " + pointer + ": cannot read '" + resolved + "': " + why);
@@ -68,6 +67,9 @@ void parsePlacement(const JsonObject& o, Placement* out) {
   if (o.has("offset_mm")) {
     const std::vector<double> off = o.numbers("offset_mm");
     o.require(off.size() == 2, "offset_mm", "must be [x, y] in mm");
+    for (size_t i = 0; i < 2; ++i)
+      checkedElement(o, "offset_mm", i, off[i], std::fabs(off[i]) <= kMaxPositionMm,
+                     "must be within +-100000 mm (the limit)");
     out->offset_x_mm = off[0];
     out->offset_y_mm = off[1];
   }
@@ -265,7 +267,7 @@ bool isKnownPigment(const std::string& name) { return findPigment(name) != nullp
 std::string knownPigmentList() { return pigmentNames(); }
 
 bool looksLikeScene(const std::string& text) {
-  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json j = parseJsonOrDiscarded(text);
   if (!j.is_object()) return false;
   auto it = j.find("format");
   return it != j.end() && it->is_string() &&

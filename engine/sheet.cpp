@@ -168,7 +168,7 @@ Trajectory Sheet::cellTrajectory(size_t b, size_t t) const {
 }
 
 bool looksLikeSheet(const std::string& text) {
-  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json j = parseJsonOrDiscarded(text);
   if (!j.is_object()) return false;
   auto it = j.find("format");
   return it != j.end() && it->is_string() &&

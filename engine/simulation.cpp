@@ -545,7 +545,14 @@ std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,
                                   const SimOptions& options) {
   double root_radius = 0;
   for (const SpineSpec& s : brush.spines) root_radius = std::max(root_radius, s.root_mm.norm());
+  auto count = [](double v) {
+    std::ostringstream ss;
+    ss.precision(v < 1e15 ? 15 : 3);
+    ss << v;
+    return ss.str();
+  };
   std::vector<double> times{traj.samples.front().t_s};
+  double planned = 1;
   for (size_t k = 0; k + 1 < traj.samples.size(); ++k) {
     const TrajectorySample& a = traj.samples[k];
     const TrajectorySample& b = traj.samples[k + 1];
@@ -554,6 +561,20 @@ std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,
                          rotationAngleRad(a.pose.rotation, b.pose.rotation) * root_radius;
     const double n = std::max({1.0, std::ceil(moved / options.max_step_mm),
                                std::ceil(dt * options.min_rate_hz - 1e-9)});
+    // Checked as doubles, before any becomes an integer or a step time.
+    const std::string where = "line " + std::to_string(b.line) + ", column " +
+                              std::to_string(traj.t_column) + " (t_s)";
+    if (!std::isfinite(n) || (n > 1 && n > kMaxStepsPerSecond * dt))
+      throw dataError(traj.path, where,
+                      "the " + count(dt) + " s since the previous sample plan " + count(n) +
+                          " simulation steps, over the limit of 1000000 steps per second of "
+                          "gesture (the handle moves " + count(moved) + " mm)");
+    planned += n;
+    if (planned > kMaxPlannedSteps)
+      throw dataError(traj.path, where,
+                      "the trajectory plans " + count(planned) +
+                          " simulation steps up to here, over the limit of 10000000 per "
+                          "trajectory");
     const int steps = static_cast<int>(n);
     for (int i = 1; i < steps; ++i) times.push_back(a.t_s + dt * i / steps);
     times.push_back(b.t_s);

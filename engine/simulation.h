@@ -158,9 +158,18 @@ std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
                                               const std::vector<Eigen::Matrix3d>& rest,
                                               const std::vector<Eigen::Matrix3d>& rot);
 
+// The most simulation steps one trajectory may plan: about 3 hours of solving
+// at 1 ms a step, 80 MB of step times.
+inline constexpr double kMaxPlannedSteps = 1e7;
+// The most steps a segment may plan per second of gesture: a handle moving
+// 250 m/s at the default 0.25 mm per step, 10 m/s at the finest 0.01 mm.
+inline constexpr double kMaxStepsPerSecond = 1e6;
+
 // Times of the simulation steps for a trajectory: every sample time, subdivided
 // so that no spine root moves more than max_step_mm per step (bounded by
-// |dp| + angle * |root|) and steps are at most 1 / min_rate_hz apart.
+// |dp| + angle * |root|) and steps are at most 1 / min_rate_hz apart. Throws
+// kDataError naming the sample's line when the plan passes kMaxPlannedSteps or
+// kMaxStepsPerSecond, before the steps are allocated.
 std::vector<double> planStepTimes(const Trajectory& trajectory, const Brush& brush,
                                   const SimOptions& options);
 

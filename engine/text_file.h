@@ -1,12 +1,27 @@
 #pragma once
-// Whole-file reading with the CLI's error conventions.
+// Whole-file reading with the CLI's error conventions, and the rule every input
+// follows: it is a regular file no larger than kMaxInputBytes (docs/errors.md).
 
+#include <cstdint>
 #include <string>
 
 namespace bristle {
 
+// The largest input file read (256 MiB): a trajectory of about two million rows,
+// a session of six hours at 100 rows/s. Larger files are refused (kDataError)
+// before they are read, and a file that grows while read is cut off at this
+// size plus one byte and refused too.
+constexpr std::uint64_t kMaxInputBytes = std::uint64_t{256} << 20;
+
+// Opens an input for reading without blocking (a FIFO with no writer would
+// block open() for ever) and checks that it is a regular file. Returns the
+// descriptor, or -1 with *why set to the reason ("No such file or directory",
+// "is a FIFO; an input must be a regular file").
+int openInputFile(const std::string& path, std::string* why);
+
 // Reads a file into memory; throws bristle::Error(kNoInput) naming the file and
-// the system's reason when it is missing or unreadable.
+// the system's reason when it is missing, unreadable or not a regular file, and
+// kDataError when it is larger than kMaxInputBytes.
 std::string readTextFile(const std::string& path);
 
 // "line L, column C" of a byte offset in text (1-based), for parse errors.

@@ -141,12 +141,25 @@ Trajectory parseTrajectory(const std::string& text, const std::string& path) {
                         "'" + s + "' is not a number");
       if (!std::isfinite(value))
         throw dataError(path, where(static_cast<int>(c) + 1, name), "must be finite");
+      if (id == 0 && std::fabs(value) > kMaxTimeS)
+        throw dataError(path, where(static_cast<int>(c) + 1, name),
+                        "t_s = " + s + " is outside the limit of +-1e9 s");
+      if (id >= 1 && id <= 3 && std::fabs(value) > kMaxPositionMm)
+        throw dataError(path, where(static_cast<int>(c) + 1, name),
+                        name + " = " + s + " is outside the limit of +-100000 mm");
+      if (id >= 4 && id <= 7 && std::fabs(value) > kMaxQuaternionComponent)
+        throw dataError(path, where(static_cast<int>(c) + 1, name),
+                        name + " = " + s + " is outside the limit of +-1e6 (quaternions are "
+                        "normalised on read)");
       if (id == 8 && (value < 0 || value != std::floor(value) || value > 65535))
         throw dataError(path, where(static_cast<int>(c) + 1, name),
                         "must be a non-negative integer bitmask");
       v[id] = value;
       present[id] = true;
-      if (id == 0) t_column = c;
+      if (id == 0) {
+        t_column = c;
+        traj.t_column = static_cast<int>(c) + 1;
+      }
     }
     TrajectorySample s;
     s.line = line_no;

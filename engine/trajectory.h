@@ -10,6 +10,17 @@
 
 namespace bristle {
 
+// Limits on what a trajectory may say (docs/errors.md, "Limits"), checked as it
+// is read. Positions: a canvas is at most 16384 px a side, 32.8 m at the
+// coarsest 0.5 px/mm, so a handle 100 m from the origin can never be drawn,
+// while squared distances (1e10 mm^2) keep full double precision.
+inline constexpr double kMaxPositionMm = 1e5;
+// Times: 31 years; a millisecond still has 7 significant digits to spare.
+inline constexpr double kMaxTimeS = 1e9;
+// Quaternion components: normalised on read, so any scale is the same rotation,
+// but the norm must not overflow (1e200) or vanish.
+inline constexpr double kMaxQuaternionComponent = 1e6;
+
 struct TrajectorySample {
   double t_s = 0;
   Pose pose;
@@ -20,6 +31,7 @@ struct TrajectorySample {
 
 struct Trajectory {
   std::string path;  // for messages
+  int t_column = 1;  // 1-based column of t_s in the file, for messages
   std::vector<TrajectorySample> samples;
 
   double startTime() const { return samples.front().t_s; }

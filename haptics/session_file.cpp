@@ -8,6 +8,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/text_file.h"
 
@@ -46,6 +47,7 @@ std::string brushFileHash(const std::string& brush_path) {
 }
 
 std::FILE* SessionWriter::open(const std::string& path) {
+  outputTarget(path);  // a regular file or a new one, never a device or FIFO
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr)
     throw Error(ExitCode::kCantCreate, path + ": cannot create: " + std::strerror(errno));
@@ -55,6 +57,10 @@ std::FILE* SessionWriter::open(const std::string& path) {
 SessionWriter::SessionWriter(const std::string& session_path, const std::string& forces_path,
                              const SessionHeader& h)
     : session_path_(session_path), forces_path_(forces_path) {
+  // Every output can be created before the session file is opened (and an
+  // existing one truncated).
+  outputTarget(session_path);
+  if (!forces_path.empty()) checkCanCreate(forces_path);
   session_ = open(session_path);
   setvbuf(session_, nullptr, _IOLBF, 1 << 16);  // line-buffered
   if (!forces_path.empty()) forces_ = open(forces_path);

@@ -7,6 +7,7 @@
 
 #include <png.h>
 #include <zlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <bit>
@@ -19,7 +20,10 @@
 #include <string>
 #include <vector>
 
+#include "engine/atomic_output.h"
+#include "engine/canvas.h"
 #include "engine/error.h"
+#include "engine/text_file.h"
 
 namespace bristle::render {
 
@@ -153,7 +157,10 @@ void writePngRows(const std::string& path, int width, int height, int channels,
   }
 
   // Write beside the target and rename, so readers never see a partial file.
-  const std::string temp_path = path + ".tmp-" + std::to_string(::getpid());
+  // Through a symbolic link the link's target is replaced; a device, FIFO or
+  // directory is refused, never replaced (engine/atomic_output.h).
+  const std::string target = outputTarget(path);
+  const std::string temp_path = target + ".tmp-" + std::to_string(::getpid());
   std::FILE* file = std::fopen(temp_path.c_str(), "wb");
   if (file == nullptr) {
     throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
@@ -179,7 +186,7 @@ void writePngRows(const std::string& path, int width, int height, int channels,
     }
     throw Error(ExitCode::kIoError, path + ": write failed: " + reason);
   }
-  if (std::rename(temp_path.c_str(), path.c_str()) != 0) {
+  if (std::rename(temp_path.c_str(), target.c_str()) != 0) {
     const int rename_errno = errno;
     std::remove(temp_path.c_str());
     throw Error(ExitCode::kCantCreate,
@@ -187,17 +194,33 @@ void writePngRows(const std::string& path, int width, int height, int channels,
   }
 }
 
-// Refuse images whose RGBA8 decode would need more than 1 GiB: a corrupt or
-// hostile header should give an error, not an allocation failure.
-constexpr std::uint64_t kMaxReadPixels = std::uint64_t{1} << 28;
+// Refuse images larger than any canvas bristle writes (64 Mpx, engine/canvas.h):
+// their 16-bit RGBA decode needs at most 512 MiB, and a small file whose header
+// claims 16384 x 16384 px (a decompression bomb) is an error before anything
+// is allocated for it, not 2 GiB per image and an allocation failure.
+constexpr auto kMaxReadPixels = static_cast<std::uint64_t>(kMaxCanvasPixels);
 
 constexpr std::size_t kSignatureBytes = 8;
 
 // Opens a PNG and consumes its signature. Throws kNoInput / kDataError.
 std::FILE* openPng(const std::string& path) {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
+  // A regular file (a FIFO or a device is refused, and never blocks), no larger
+  // than any input may be.
+  std::string why;
+  const int fd = openInputFile(path, &why);
+  if (fd < 0) throw Error(ExitCode::kNoInput, path + ": cannot read: " + why);
+  struct stat st {};
+  if (::fstat(fd, &st) == 0 && static_cast<std::uint64_t>(st.st_size) > kMaxInputBytes) {
+    ::close(fd);
+    throw Error(ExitCode::kDataError, path + ": size: " + std::to_string(st.st_size) +
+                                          " bytes is over the input limit of " +
+                                          std::to_string(kMaxInputBytes) + " bytes (256 MiB)");
+  }
+  std::FILE* file = ::fdopen(fd, "rb");
   if (file == nullptr) {
-    throw Error(ExitCode::kNoInput, path + ": cannot read: " + describeErrno(errno));
+    const int open_errno = errno;
+    ::close(fd);
+    throw Error(ExitCode::kNoInput, path + ": cannot read: " + describeErrno(open_errno));
   }
   png_byte signature[kSignatureBytes] = {};
   const std::size_t got = std::fread(signature, 1, kSignatureBytes, file);
@@ -295,8 +318,10 @@ void decodePng(const std::string& path, Decode to, Decoder* d, Decoded* image) {
   const std::uint64_t height = png_get_image_height(d->png, d->info);
   const std::size_t row_bytes = png_get_rowbytes(d->png, d->info);
   if (width * height > kMaxReadPixels) {
-    throw Error(ExitCode::kDataError, path + ": " + std::to_string(width) + "x" +
-                                          std::to_string(height) + " px is too large");
+    throw Error(ExitCode::kDataError,
+                path + ": IHDR: " + std::to_string(width) + " x " + std::to_string(height) +
+                    " px is over the limit of " + std::to_string(kMaxReadPixels) +
+                    " px (64 Mpx, the largest canvas bristle writes)");
   }
   if (image == nullptr) {
     std::vector<png_byte> scratch(row_bytes);

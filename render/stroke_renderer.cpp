@@ -2,10 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "engine/error.h"
 
 namespace bristle::render {
+
+namespace {
+
+// A pixel count for a message; beyond a long (a far-off handle) in e notation.
+std::string pixels(double v) {
+  if (std::fabs(v) < 1e15) return std::to_string(static_cast<long>(v));
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+}  // namespace
 
 CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
                            const StrokeOptions& options) {
@@ -25,8 +39,7 @@ CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
   const double h = std::ceil((hi.y() + pad - g.y0_mm) * g.px_per_mm);
   if (w > kMaxCanvasSidePx || h > kMaxCanvasSidePx || w * h > double(kMaxCanvasPixels))
     throw dataError(trajectory.path, "extent",
-                    "the stroke needs a " + std::to_string(long(w)) + " x " +
-                        std::to_string(long(h)) +
+                    "the stroke needs a " + pixels(w) + " x " + pixels(h) +
                         " px canvas, above the limit of 16384 px a side and 64 Mpx; lower "
                         "--px-per-mm");
   g.width_px = static_cast<int>(w);

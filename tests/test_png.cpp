@@ -3,8 +3,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -50,6 +52,7 @@ struct TempDir {
     for (const auto& entry : fs::directory_iterator(path)) {
       names.push_back(entry.path().filename().string());
     }
+    std::sort(names.begin(), names.end());
     return names;
   }
 };
@@ -266,4 +269,37 @@ TEST_CASE("png: an image that does not match its size is a programming error", "
                            {{"", "empty key"}}),
                   std::invalid_argument);
   CHECK(dir.listing().empty());
+}
+
+TEST_CASE("png: through a symbolic link the target is replaced and the link kept", "[png]") {
+  TempDir dir;
+  const fs::path target = dir.path / "target.png", link = dir.path / "link.png";
+  writePng(target.string(), patternImage8(2, 2, 4));
+  fs::create_symlink("target.png", link);
+  const Image8 second = patternImage8(3, 2, 4);
+  writePng(link.string(), second);
+  CHECK(fs::is_symlink(link));
+  CHECK(fs::read_symlink(link) == "target.png");
+  CHECK(readPngRgba8(target.string()).pixels == second.pixels);
+  CHECK(dir.listing() == std::vector<std::string>{"link.png", "target.png"});
+}
+
+TEST_CASE("png: a FIFO or a device as the target is kCantCreate and is not replaced",
+          "[png]") {
+  TempDir dir;
+  const std::string fifo = (dir.path / "fifo.png").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  Error e = expectError([&] { writePng(fifo, patternImage8(2, 2, 4)); });
+  CHECK(e.code() == ExitCode::kCantCreate);
+  CHECK(std::string(e.what()) ==
+        fifo + ": cannot create output: is a FIFO; an output must be a regular file");
+  CHECK(fs::is_fifo(fifo));
+  // Behind a link too: the link is neither followed nor replaced.
+  const fs::path link = dir.path / "null.png";
+  fs::create_symlink("/dev/null", link);
+  e = expectError([&] { writePng(link.string(), patternImage8(2, 2, 4)); });
+  CHECK(e.code() == ExitCode::kCantCreate);
+  CHECK(fs::is_symlink(link));
+  CHECK(fs::is_character_file("/dev/null"));
+  CHECK(dir.listing() == std::vector<std::string>{"fifo.png", "null.png"});
 }

@@ -1,0 +1,881 @@
+#!/usr/bin/env python3
+"""The catalogue of hostile and absurd inputs (docs/errors.md).
+
+Each case builds its inputs in a fresh folder, runs the built bristle there on
+them (so messages name short relative paths), and checks:
+  - the exit code;
+  - stderr is exactly one line, the catalogue's message (which names the file,
+    the field and the rule);
+  - the folder holds exactly what it held before, byte for byte: no output, no
+    temporary file, and every input and pre-existing output unchanged.
+
+  catalogue.py --list                  the case ids (CMake registers one ctest test each)
+  catalogue.py --bristle BIN ID...     runs cases
+  catalogue.py --markdown              the table of docs/errors.md
+  catalogue.py --check-doc FILE        FILE's table is the catalogue's
+"""
+
+import argparse
+import json
+import os
+import shutil
+import stat
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parents[2]
+ROUND = SRC / "scenes/brushes/round.json"
+S_CURVE = SRC / "scenes/trajectories/s-curve.csv"
+HEADER = "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz"
+# A hang is a failure, not a measurement: no case comes near this.
+HANG_GUARD_S = 120
+
+CASES = []
+
+
+def case(cid, what, args, code, message, setup=None):
+    """Registers a case: `bristle ARGS` in a folder set up by setup(dir) exits
+    with `code` and prints `bristle: message` alone on stderr."""
+    assert not any(c.id == cid for c in CASES), cid
+    CASES.append(argparse.Namespace(id=cid, what=what, args=args, code=code,
+                                    message=message, setup=setup or (lambda d: None)))
+
+
+# ---- inputs ---------------------------------------------------------------
+
+def write(d, name, text):
+    (d / name).write_text(text)
+
+
+def brush_doc():
+    return json.loads(ROUND.read_text())
+
+
+def brush(name="b.json", edit=None, text=None):
+    """A setup step: the round brush, edited by edit(doc), or raw text."""
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+            return
+        doc = brush_doc()
+        if edit:
+            edit(doc)
+        write(d, name, json.dumps(doc, indent=1))
+    return step
+
+
+def trajectory(name="t.csv", rows=None, text=None):
+    """A setup step: the S-curve, or rows (lists of 8 values) after the header."""
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+        elif rows is None:
+            shutil.copy(S_CURVE, d / name)
+        else:
+            write(d, name, "# bristle-trajectory/1\n" + HEADER + "\n" +
+                  "".join(",".join(str(v) for v in r) + "\n" for r in rows))
+    return step
+
+
+def fnv1a64(data):
+    h = 0xcbf29ce484222325
+    for c in data:
+        h = ((h ^ c) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+    return f"{h:016x}"
+
+
+def session(name="r.csv", rows=()):
+    """A setup step: a recorded session of b.json (written first) with rows."""
+    def step(d):
+        write(d, name, "# bristle-trajectory/1\n# bristle record: a live session\n"
+              f"# brush_fnv1a64: {fnv1a64((d / 'b.json').read_bytes())}\n" + HEADER + "\n" +
+              "".join(",".join(str(v) for v in r) + "\n" for r in rows))
+    return step
+
+
+def scene(name="s.json", edit=None, text=None):
+    """A setup step: a one-stroke scene of b.json along t.csv."""
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+            return
+        doc = {"format": "bristle-scene/1", "name": "hostile",
+               "canvas": {"size_mm": [120, 90], "px_per_mm": 4},
+               "strokes": [{"brush": "b.json", "trajectory": "t.csv",
+                            "paint": {"paints": ["sumi-ink"]}}]}
+        if edit:
+            edit(doc)
+        write(d, name, json.dumps(doc, indent=1))
+    return step
+
+
+def sheet(name="sh.json", edit=None, text=None):
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+            return
+        doc = {"format": "bristle-sheet/1", "name": "hostile", "brushes": ["b.json"],
+               "trajectories": ["t.csv"]}
+        if edit:
+            edit(doc)
+        write(d, name, json.dumps(doc, indent=1))
+    return step
+
+
+def manifest(name="m.json", edit=None, text=None):
+    def step(d):
+        if text is not None:
+            write(d, name, text)
+            return
+        doc = {"format": "bristle-batch/1",
+               "jobs": [{"id": "one", "brush": "b.json", "trajectory": "t.csv"}]}
+        if edit:
+            edit(doc)
+        write(d, name, json.dumps(doc, indent=1))
+    return step
+
+
+def fifo(name):
+    return lambda d: os.mkfifo(d / name)
+
+
+def folder(name):
+    return lambda d: (d / name).mkdir()
+
+
+def symlink(name, target):
+    return lambda d: os.symlink(target, d / name)
+
+
+def sparse(name, size):
+    """A file of `size` bytes that occupies no disk blocks."""
+    def step(d):
+        with open(d / name, "wb") as f:
+            f.truncate(size)
+    return step
+
+
+def copy(src, name):
+    return lambda d: shutil.copy(SRC / src, d / name)
+
+
+def png_header(name, width, height):
+    """A setup step: a small PNG whose header claims width x height RGB pixels (a
+    decompression bomb's header, with one tiny IDAT)."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data +
+                struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff))
+
+    def step(d):
+        ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+        (d / name).write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) +
+                               chunk(b"IDAT", zlib.compress(b"\0" * 64)) + chunk(b"IEND", b""))
+    return step
+
+
+def truncated(src, name, keep):
+    def step(d):
+        (d / name).write_bytes((SRC / src).read_bytes()[:keep])
+    return step
+
+
+def all_of(*steps):
+    def step(d):
+        for s in steps:
+            s(d)
+    return step
+
+
+STROKE = all_of(brush(), trajectory())
+
+
+def deep(n, inner="1"):
+    return "[" * n + inner + "]" * n
+
+
+def render(brush_path="b.json", traj="t.csv", out="o.png", *more):
+    return ["render", "--brush", brush_path, "--trajectory", traj, "-o", out, *more]
+
+
+# ---- running ---------------------------------------------------------------
+
+def snapshot(d):
+    """Every entry under d: its kind and, for a regular file, its bytes."""
+    state = {}
+    for root, dirs, files in os.walk(d):
+        for name in dirs + files:
+            p = Path(root) / name
+            rel = str(p.relative_to(d))
+            st = os.lstat(p)
+            if stat.S_ISLNK(st.st_mode):
+                state[rel] = ("symlink", os.readlink(p))
+            elif stat.S_ISREG(st.st_mode) and st.st_size > (16 << 20):
+                # Sparse stand-ins for huge files: unchanged when their size,
+                # inode and modification time are.
+                state[rel] = ("file", (st.st_size, st.st_ino, st.st_mtime_ns))
+            elif stat.S_ISREG(st.st_mode):
+                state[rel] = ("file", p.read_bytes())
+            elif stat.S_ISDIR(st.st_mode):
+                state[rel] = ("dir", None)
+            else:
+                state[rel] = ("special", stat.S_IFMT(st.st_mode))
+    return state
+
+
+def run_case(bristle, c):
+    problems = []
+    with tempfile.TemporaryDirectory(prefix="bristle-hostile-") as tmp:
+        d = Path(tmp)
+        c.setup(d)
+        before = snapshot(d)
+        env = dict(os.environ)
+        env.pop("GALLIUM_DRIVER", None)
+        try:
+            r = subprocess.run([bristle, *c.args], cwd=d, env=env, stdin=subprocess.DEVNULL,
+                               capture_output=True, timeout=HANG_GUARD_S)
+        except subprocess.TimeoutExpired:
+            return [f"still running after {HANG_GUARD_S} s (a hang)"]
+        err = r.stderr.decode(errors="replace")
+        if os.environ.get("HOSTILE_SHOW"):
+            print(f"  [{r.returncode}] {err!r}")
+        expected = "bristle: " + c.message + "\n"
+        if r.returncode != c.code:
+            problems.append(f"exit code {r.returncode}, expected {c.code}")
+        if err != expected:
+            problems.append(f"stderr was\n  {err!r}\nexpected\n  {expected!r}")
+        after = snapshot(d)
+        for name in sorted(set(before) | set(after)):
+            if name not in after:
+                problems.append(f"{name} was removed")
+            elif name not in before:
+                problems.append(f"{name} was left behind")
+            elif before[name] != after[name]:
+                problems.append(f"{name} was changed")
+    return problems
+
+
+def markdown():
+    def cell(s):
+        return s.replace("|", "\\|")
+    lines = ["| case | input | command | exit | message (after `bristle: `) |",
+             "|---|---|---|---|---|"]
+    for c in CASES:
+        lines.append(f"| `{c.id}` | {cell(c.what)} | `bristle {cell(' '.join(c.args))}` | "
+                     f"{c.code} | `{cell(c.message)}` |")
+    return "\n".join(lines) + "\n"
+
+
+BEGIN, END = "<!-- catalogue: begin -->\n", "<!-- catalogue: end -->\n"
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--list", action="store_true")
+    ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("--check-doc")
+    ap.add_argument("--bristle")
+    ap.add_argument("ids", nargs="*")
+    a = ap.parse_args()
+    if a.list:
+        print(";".join(c.id for c in CASES))
+        return 0
+    if a.markdown:
+        sys.stdout.write(markdown())
+        return 0
+    if a.check_doc:
+        text = Path(a.check_doc).read_text()
+        if BEGIN not in text or END not in text:
+            print(f"{a.check_doc}: no catalogue markers")
+            return 1
+        table = text[text.index(BEGIN) + len(BEGIN):text.index(END)]
+        if table != markdown():
+            print(f"{a.check_doc}: the table is not the catalogue's; regenerate it with "
+                  "tests/hostile/catalogue.py --markdown")
+            return 1
+        return 0
+    by_id = {c.id: c for c in CASES}
+    failed = 0
+    for cid in a.ids or list(by_id):
+        problems = run_case(a.bristle, by_id[cid])
+        print(f"{cid}: {'ok' if not problems else 'FAIL'}")
+        for p in problems:
+            print("  " + p)
+        failed += bool(problems)
+    return 1 if failed else 0
+
+
+# ---- the catalogue ---------------------------------------------------------
+# Cases are grouped as docs/errors.md is. Each message is the whole line.
+
+
+# -- deep nesting: refused while parsing, before anything walks the document --
+DEEP = 100000
+
+
+def deep_brush_name(d):
+    doc = json.dumps(brush_doc(), indent=1).replace('"name": "round"', '"name": ' + deep(DEEP), 1)
+    write(d, "b.json", doc)
+
+
+def deep_key(file_step, key, text_of):
+    """file_step's document with key's value replaced by 100,000 nested arrays."""
+    def step(d):
+        file_step(d)
+        name = text_of
+        doc = json.loads((d / name).read_text())
+        doc[key] = "@@DEEP@@"
+        write(d, name, json.dumps(doc).replace('"@@DEEP@@"', deep(DEEP)))
+    return step
+
+
+DEEP_MSG = "arrays and objects nest deeper than the limit of 64 levels"
+case("deep-brush-name-validate", "a brush whose `name` is 100,000 nested arrays",
+     ["validate", "b.json"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     deep_brush_name)
+case("deep-brush-name-render", "the same brush, rendered", render(), 65,
+     "b.json: line 3, column 73: " + DEEP_MSG, all_of(deep_brush_name, trajectory()))
+case("deep-brush-objects", "a brush that is 100,000 nested objects",
+     ["validate", "b.json"], 65, "b.json: line 1, column 321: " + DEEP_MSG,
+     brush(text='{"a":' * DEEP + "1" + "}" * DEEP))
+case("deep-brush-65-levels", "a brush nested 65 levels deep (one more than the limit)",
+     ["validate", "b.json"], 65, "b.json: line 1, column 65: " + DEEP_MSG,
+     brush(text=deep(65)))
+case("deep-brush-64-levels", "a brush nested 64 levels deep: within the limit, refused for "
+     "what it is", ["validate", "b.json"], 65, "b.json: /: must be a JSON object",
+     brush(text=deep(64)))
+case("deep-brackets-in-strings", "a brush with a key whose value is a string of 100,000 `[`: "
+     "not nesting", ["validate", "b.json"], 65, "b.json: /x: unknown key 'x'",
+     brush(edit=lambda b: b.update(x="[" * DEEP)))
+case("deep-scene-name", "a scene whose `name` is 100,000 nested arrays",
+     ["validate", "s.json"], 65, "s.json: line 1, column 102: " + DEEP_MSG,
+     all_of(STROKE, deep_key(scene(), "name", "s.json")))
+case("deep-scene-render", "the same scene, rendered", ["render", "s.json", "-o", "o.png"], 65,
+     "s.json: line 1, column 102: " + DEEP_MSG,
+     all_of(STROKE, deep_key(scene(), "name", "s.json")))
+case("deep-sheet-name", "a sheet whose `name` is 100,000 nested arrays",
+     ["sheet", "sh.json", "-o", "o.png"], 65, "sh.json: line 1, column 102: " + DEEP_MSG,
+     all_of(STROKE, deep_key(sheet(), "name", "sh.json")))
+case("deep-manifest-format", "a batch manifest whose `format` is 100,000 nested arrays",
+     ["batch", "m.json", "--out", "out"], 65, "m.json: line 1, column 75: " + DEEP_MSG,
+     all_of(STROKE, folder("out"), deep_key(manifest(), "format", "m.json")))
+case("deep-manifest-validate-trailing", "a brush of 100,000 `[` never closed",
+     ["validate", "b.json"], 65, "b.json: line 1, column 65: " + DEEP_MSG,
+     brush(text="[" * DEEP))
+
+# -- inputs are regular files, no larger than 256 MiB --------------------------
+NOT_REG = "; an input must be a regular file"
+case("fifo-brush", "a FIFO with no writer as the brush", render(), 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, all_of(fifo("b.json"), trajectory()))
+case("fifo-trajectory", "a FIFO as the trajectory", render(), 66,
+     "t.csv: cannot read: is a FIFO" + NOT_REG, all_of(brush(), fifo("t.csv")))
+case("fifo-validate-brush", "a FIFO given to validate", ["validate", "b.json"], 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, fifo("b.json"))
+case("fifo-validate-csv", "a FIFO given to validate as a trajectory", ["validate", "t.csv"],
+     66, "t.csv: cannot read: is a FIFO" + NOT_REG, fifo("t.csv"))
+case("fifo-scene", "a FIFO as the scene", ["render", "s.json", "-o", "o.png"], 66,
+     "s.json: cannot read: is a FIFO" + NOT_REG, fifo("s.json"))
+case("fifo-scene-stroke-brush", "a scene stroke whose brush is a FIFO",
+     ["render", "s.json", "-o", "o.png"], 66,
+     "s.json: /strokes/0/brush: cannot read 'b.json': is a FIFO" + NOT_REG,
+     all_of(fifo("b.json"), trajectory(), scene()))
+case("fifo-scene-stroke-trajectory", "a scene stroke whose trajectory is a FIFO",
+     ["validate", "s.json"], 66,
+     "s.json: /strokes/0/trajectory: cannot read 't.csv': is a FIFO" + NOT_REG,
+     all_of(brush(), fifo("t.csv"), scene()))
+case("fifo-sheet", "a FIFO as the sheet", ["sheet", "sh.json", "-o", "o.png"], 66,
+     "sh.json: cannot read: is a FIFO" + NOT_REG, fifo("sh.json"))
+case("fifo-sheet-trajectory", "a sheet listing a FIFO as a trajectory",
+     ["sheet", "sh.json", "-o", "o.png"], 66,
+     "sh.json: /trajectories/0: cannot read 't.csv': is a FIFO" + NOT_REG,
+     all_of(brush(), fifo("t.csv"), sheet()))
+case("fifo-manifest", "a FIFO as the batch manifest", ["batch", "m.json", "--out", "out"], 66,
+     "m.json: cannot read: is a FIFO" + NOT_REG, all_of(folder("out"), fifo("m.json")))
+case("fifo-session", "a FIFO as the session to replay",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 66,
+     "r.csv: cannot read: is a FIFO" + NOT_REG, all_of(brush(), fifo("r.csv")))
+case("fifo-record-trajectory", "a FIFO as the trajectory `record --device none` plays",
+     ["record", "--device", "none", "--brush", "b.json", "--trajectory", "t.csv", "-o", "r.csv"],
+     66, "t.csv: cannot read: is a FIFO" + NOT_REG, all_of(brush(), fifo("t.csv")))
+case("fifo-png", "a FIFO as an image to compare", ["compare", "a.png", "b.png"], 66,
+     "a.png: cannot read: is a FIFO" + NOT_REG,
+     all_of(fifo("a.png"), copy("golden/round-s-curve.png", "b.png")))
+case("devzero-brush", "/dev/zero as the brush", render("/dev/zero"), 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG, trajectory())
+case("devzero-trajectory", "/dev/zero as the trajectory", render("b.json", "/dev/zero"), 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG, brush())
+case("devzero-png", "/dev/zero as an image to compare", ["compare", "/dev/zero", "b.png"], 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG,
+     copy("golden/round-s-curve.png", "b.png"))
+case("devnull-validate", "/dev/null given to validate", ["validate", "/dev/null"], 66,
+     "/dev/null: cannot read: is a character device" + NOT_REG)
+case("symlink-to-devzero", "a symlink to /dev/zero as the brush", render("z.json"), 66,
+     "z.json: cannot read: is a character device" + NOT_REG,
+     all_of(symlink("z.json", "/dev/zero"), trajectory()))
+case("dir-brush", "a directory as the brush", render("d.json"), 66,
+     "d.json: cannot read: is a directory", all_of(folder("d.json"), trajectory()))
+case("dir-trajectory", "a directory as the trajectory", render("b.json", "d.csv"), 66,
+     "d.csv: cannot read: is a directory", all_of(brush(), folder("d.csv")))
+case("dir-png", "a directory as an image to compare", ["compare", "d.png", "b.png"], 66,
+     "d.png: cannot read: is a directory",
+     all_of(folder("d.png"), copy("golden/round-s-curve.png", "b.png")))
+case("dir-manifest", "a directory as the batch manifest", ["batch", "m", "--out", "out"], 66,
+     "m: cannot read: is a directory", all_of(folder("m"), folder("out")))
+case("missing-brush", "a brush that does not exist", render("none.json"), 66,
+     "none.json: cannot read: No such file or directory", trajectory())
+SIZE = "bytes is over the input limit of 268435456 bytes (256 MiB)"
+case("huge-brush", "a sparse brush of 256 MiB + 1 byte", ["validate", "b.json"], 65,
+     "b.json: size: 268435457 " + SIZE, sparse("b.json", (256 << 20) + 1))
+case("huge-trajectory", "a sparse trajectory of 1 TiB", render(), 65,
+     "t.csv: size: 1099511627776 " + SIZE, all_of(brush(), sparse("t.csv", 1 << 40)))
+case("huge-scene", "a sparse scene of 300 MB", ["render", "s.json", "-o", "o.png"], 65,
+     "s.json: size: 300000000 " + SIZE, sparse("s.json", 300_000_000))
+case("huge-session", "a sparse session of 1 GB",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 65,
+     "r.csv: size: 1000000000 " + SIZE, all_of(brush(), sparse("r.csv", 1_000_000_000)))
+case("huge-png", "a sparse PNG of 1 GB", ["compare", "a.png", "b.png"], 65,
+     "a.png: size: 1000000000 " + SIZE,
+     all_of(sparse("a.png", 1_000_000_000), copy("golden/round-s-curve.png", "b.png")))
+case("empty-brush", "an empty brush file", ["validate", "b.json"], 65,
+     "b.json: line 1, column 1: malformed JSON (syntax error while parsing value - unexpected "
+     "end of input; expected '[', '{', or a literal)", brush(text=""))
+
+# -- absurd but finite values: limits checked before anything is allocated ----
+REST = [0.976296, -0.169359, 0.134772, 0.0]   # the S-curve's first attitude
+
+
+def rows(*positions, t=None, q=REST):
+    """Trajectory rows at (x, y, z) positions, 1 s apart unless t lists the times."""
+    t = t or list(range(len(positions)))
+    return [[t[i], *p, *q] for i, p in enumerate(positions)]
+
+
+HIGH = (15, 40, 25)
+case("traj-x-1e308", "a trajectory with x = 1e308", render(), 65,
+     "t.csv: line 3, column 2 (x_mm): x_mm = 1e+308 is outside the limit of +-100000 mm",
+     all_of(brush(), trajectory(rows=[[0, 1e308, 40, 25, *REST], [1, 15, 40, 25, *REST]])))
+case("traj-y-minus-1e6", "a trajectory with y = -1e6", ["validate", "t.csv"], 65,
+     "t.csv: line 4, column 3 (y_mm): y_mm = -1000000.0 is outside the limit of +-100000 mm",
+     trajectory(rows=[[0, 15, 40, 25, *REST], [1, 15, -1e6, 25, *REST]]))
+case("traj-z-just-over", "a trajectory with z = 100000.001", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 4 (z_mm): z_mm = 100000.001 is outside the limit of +-100000 mm",
+     trajectory(rows=[[0, 15, 40, 100000.001, *REST], [1, 15, 40, 25, *REST]]))
+case("traj-x-at-limit", "a trajectory reaching x = 100000 mm, the limit: too large a canvas",
+     render(), 65,
+     "t.csv: extent: the stroke needs a 800308 x 428 px canvas, above the limit of 16384 px "
+     "a side and 64 Mpx; lower --px-per-mm",
+     all_of(brush(), trajectory(rows=rows(HIGH, (100000, 40, 25)))))
+case("traj-quaternion-1e200", "a quaternion of 1e200", render(), 65,
+     "t.csv: line 4, column 5 (qw): qw = 1e+200 is outside the limit of +-1e6 (quaternions are "
+     "normalised on read)",
+     all_of(brush(), trajectory(rows=[[0, *HIGH, *REST], [1, *HIGH, 1e200, 1e200, 0, 0]])))
+case("traj-quaternion-minus-1e7", "a quaternion component of -1e7", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 8 (qz): qz = -10000000.0 is outside the limit of +-1e6 (quaternions "
+     "are normalised on read)",
+     trajectory(rows=[[0, *HIGH, 1, 0, 0, -1e7], [1, *HIGH, *REST]]))
+case("traj-quaternion-tiny", "a quaternion of norm 1e-200", ["validate", "t.csv"], 65,
+     "t.csv: line 3: quaternion (qw,qx,qy,qz) has near-zero norm",
+     trajectory(rows=[[0, *HIGH, 1e-200, 0, 0, 0], [1, *HIGH, *REST]]))
+case("traj-time-1e300", "a sample at t = 1e300 s", render(), 65,
+     "t.csv: line 4, column 1 (t_s): t_s = 1e300 is outside the limit of +-1e9 s",
+     all_of(brush(), trajectory(rows=rows(HIGH, HIGH, t=[0, "1e300"]))))
+case("traj-span-1e7", "two samples 1e7 s apart: 1.2 billion steps at 120 Hz", render(), 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(rows=rows(HIGH, HIGH, t=[0, 10000000]))))
+case("traj-span-2e9", "two samples 2e9 s apart (the whole time range)", render(), 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 240000000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(rows=rows(HIGH, HIGH, t=[-1000000000, 1000000000]))))
+case("traj-span-over-many-rows", "a day of gesture in 25 one-hour spans: the limit is for the "
+     "whole trajectory", render(), 65,
+     "t.csv: line 6, column 1 (t_s): the trajectory plans 10368001 simulation steps up to here, "
+     "over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(rows=rows(*[HIGH] * 25, t=[3600 * 8 * i for i in range(25)]))))
+case("traj-teleport", "the handle jumps 1 m in a microsecond", render(), 65,
+     "t.csv: line 4, column 1 (t_s): the 1e-06 s since the previous sample plan 4000 simulation "
+     "steps, over the limit of 1000000 steps per second of gesture (the handle moves 1000 mm)",
+     all_of(brush(), trajectory(rows=rows(HIGH, (1015, 40, 25), t=[0, "0.000001"]))))
+case("traj-t-column-named", "a long span when t_s is not the first column", render(), 65,
+     "t.csv: line 4, column 3 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(text="# bristle-trajectory/1\nx_mm,y_mm,t_s,z_mm,qw,qx,qy,qz\n"
+                                "15,40,0,25,1,0,0,0\n15,40,1e7,25,1,0,0,0\n")))
+case("scene-span-1e7", "a scene stroke whose trajectory spans 1e7 s",
+     ["render", "s.json", "-o", "o.png"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), trajectory(rows=rows(HIGH, (15, 40, 9), t=[0, 10000000])), scene(
+         edit=lambda s: s.update(sim={"rate_hz": 120}))))
+case("replay-span-1e7", "a session spanning 1e7 s, replayed",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 65,
+     "r.csv: line 6, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(brush(), session("r.csv", rows=rows(HIGH, HIGH, t=[0, 10000000]))))
+
+
+def set_spine(key, index, value):
+    def edit(b):
+        b["spines"][0][key][index] = value
+    return edit
+
+
+def set_cage(vertex, axis, value):
+    def edit(b):
+        b["surface"]["cage_vertices_mm"][vertex][axis] = value
+    return edit
+
+
+LIMIT_MM = "(the limit)"
+case("brush-width-1e308", "a brush width of 1e308 mm", ["validate", "b.json"], 65,
+     "b.json: /spines/0/width_mm/1 = 1e+308: must be <= 1000 mm " + LIMIT_MM,
+     brush(edit=set_spine("width_mm", 1, 1e308)))
+case("brush-width-render", "the same brush, rendered", render(), 65,
+     "b.json: /spines/0/width_mm/1 = 1e+308: must be <= 1000 mm " + LIMIT_MM,
+     all_of(brush(edit=set_spine("width_mm", 1, 1e308)), trajectory()))
+case("brush-segment-1e308", "a segment 1e308 mm long", ["validate", "b.json"], 65,
+     "b.json: /spines/0/segment_lengths_mm/0 = 1e+308: must be <= 1000 mm " + LIMIT_MM,
+     brush(edit=set_spine("segment_lengths_mm", 0, 1e308)))
+case("brush-root-x-1e308", "a spine root at x = 1e308 mm", ["validate", "b.json"], 65,
+     "b.json: /spines/0/root_mm/0 = 1e+308: must be within +-1000 mm " + LIMIT_MM,
+     brush(edit=set_spine("root_mm", 0, 1e308)))
+case("brush-root-z-minus-2000", "a spine root 2 m below the handle", ["validate", "b.json"], 65,
+     "b.json: /spines/0/root_mm/2 = -2000.0: must be within +-1000 mm " + LIMIT_MM,
+     brush(edit=set_spine("root_mm", 2, -2000)))
+case("brush-cage-1e308", "a cage vertex at y = 1e308 mm", ["validate", "b.json"], 65,
+     "b.json: /surface/cage_vertices_mm/3 = [-0.7829,1e+308,0.0]: must be within +-1000 mm "
+     + LIMIT_MM, brush(edit=set_cage(3, 1, 1e308)))
+case("brush-cage-render", "the same brush, rendered", render(), 65,
+     "b.json: /surface/cage_vertices_mm/3 = [-0.7829,1e+308,0.0]: must be within +-1000 mm "
+     + LIMIT_MM, all_of(brush(edit=set_cage(3, 1, 1e308)), trajectory()))
+case("scene-offset-1e308", "a scene placement offset of 1e308 mm", ["validate", "s.json"], 65,
+     "s.json: /strokes/0/placement/offset_mm/0 = 1e+308: must be within +-100000 mm (the limit)",
+     all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update(
+         placement={"offset_mm": [1e308, 0]}))))
+case("scene-canvas-1e308", "a scene canvas 1e308 mm wide", ["validate", "s.json"], 65,
+     "s.json: /canvas/size_mm: 1e+308 x 90 mm at 4 px/mm is inf x 360 px: larger than the limit of "
+     "16384 px a side and 67108864 px in all",
+     all_of(STROKE, scene(edit=lambda s: s["canvas"].update(size_mm=[1e308, 90]))))
+case("render-offset-1e308", "`--offset-mm 1e308 0 0`", render("b.json", "t.csv", "o.png",
+     "--offset-mm", "1e308", "0", "0"), 64, "--offset-mm: must be within +-100000 mm (the limit)",
+     STROKE)
+
+# -- outputs never overwrite inputs, never replace a device or a FIFO ---------
+OVER = "; an output must not overwrite an input"
+NOT_REG_OUT = "; an output must be a regular file"
+PNG = copy("golden/round-s-curve.png", "a.png")
+case("out-is-brush", "`-o` is the brush", render(out="b.json"), 64,
+     "b.json: -o: is the same file as the input b.json (--brush)" + OVER, STROKE)
+case("out-is-trajectory", "`-o` is the trajectory", render(out="t.csv"), 64,
+     "t.csv: -o: is the same file as the input t.csv (--trajectory)" + OVER, STROKE)
+case("trace-is-trajectory", "`--trace` is the trajectory", render("b.json", "t.csv", "o.png",
+     "--trace", "t.csv"), 64,
+     "t.csv: --trace: is the same file as the input t.csv (--trajectory)" + OVER, STROKE)
+case("forces-is-brush", "`--forces` is the brush", render("b.json", "t.csv", "o.png",
+     "--forces", "./b.json"), 64,
+     "./b.json: --forces: is the same file as the input b.json (--brush)" + OVER, STROKE)
+case("trace-is-output", "`--trace` is the `-o` PNG", render("b.json", "t.csv", "o.png",
+     "--trace", "o.png"), 64,
+     "o.png: --trace: is the same file as the output o.png (-o); give each output its own file",
+     STROKE)
+case("out-symlink-to-brush", "`-o` is a symbolic link to the brush", render(out="l.png"), 64,
+     "l.png: -o: is the same file as the input b.json (--brush)" + OVER,
+     all_of(STROKE, symlink("l.png", "b.json")))
+case("out-hardlink-to-trajectory", "`-o` is a hard link to the trajectory",
+     render(out="h.png"), 64,
+     "h.png: -o: is the same file as the input t.csv (--trajectory)" + OVER,
+     all_of(STROKE, lambda d: os.link(d / "t.csv", d / "h.png")))
+case("out-is-devnull", "`-o /dev/null`", render(out="/dev/null"), 73,
+     "/dev/null: cannot create output: is a character device" + NOT_REG_OUT, STROKE)
+case("out-is-devfull", "`-o /dev/full`", render(out="/dev/full"), 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT, STROKE)
+case("trace-is-devstdout", "`--trace /dev/stdout` (a pipe)", render("b.json", "t.csv", "o.png",
+     "--trace", "/dev/stdout"), 73,
+     "/dev/stdout: cannot create output: is a FIFO" + NOT_REG_OUT, STROKE)
+case("out-is-fifo", "`-o` is a FIFO", render(out="f.png"), 73,
+     "f.png: cannot create output: is a FIFO" + NOT_REG_OUT, all_of(STROKE, fifo("f.png")))
+case("out-is-directory", "`-o` is a directory", render(out="d.png"), 73,
+     "d.png: cannot create output: is a directory" + NOT_REG_OUT, all_of(STROKE, folder("d.png")))
+case("out-symlink-to-devnull", "`-o` is a symbolic link to /dev/null", render(out="n.png"), 73,
+     "n.png: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(STROKE, symlink("n.png", "/dev/null")))
+case("scene-out-is-scene", "a scene rendered onto itself", ["render", "s.json", "-o", "s.json"],
+     64, "s.json: -o: is the same file as the input s.json (scene)" + OVER, all_of(STROKE, scene()))
+case("scene-out-is-brush", "a scene rendered onto its stroke's brush",
+     ["render", "s.json", "-o", "b.json"], 64,
+     "b.json: -o: is the same file as the input b.json (s.json: /strokes/0/brush)" + OVER,
+     all_of(STROKE, scene()))
+case("scene-trace-is-trajectory", "a scene's `--trace` onto its stroke's trajectory",
+     ["render", "s.json", "-o", "o.png", "--trace", "t.csv"], 64,
+     "t.csv: --trace: is the same file as the input t.csv (s.json: /strokes/0/trajectory)" + OVER,
+     all_of(STROKE, scene()))
+case("sheet-out-is-sheet", "a sheet rendered onto itself", ["sheet", "sh.json", "-o", "sh.json"],
+     64, "sh.json: -o: is the same file as the input sh.json (sheet)" + OVER,
+     all_of(STROKE, sheet()))
+case("sheet-out-is-trajectory", "a sheet rendered onto a trajectory it lists",
+     ["sheet", "sh.json", "-o", "t.csv"], 64,
+     "t.csv: -o: is the same file as the input t.csv (sh.json: /trajectories/0)" + OVER,
+     all_of(STROKE, sheet()))
+case("preview-out-is-brush", "`preview` onto its brush", ["preview", "b.json", "-o", "b.json"],
+     64, "b.json: -o: is the same file as the input b.json (brush)" + OVER, brush())
+RECORD = ["record", "--device", "none", "--brush", "b.json", "--trajectory", "t.csv"]
+case("record-out-is-trajectory", "`record -o` is the `--trajectory` it plays",
+     RECORD + ["-o", "t.csv"], 64,
+     "t.csv: -o: is the same file as the input t.csv (--trajectory)" + OVER, STROKE)
+case("record-forces-is-brush", "`record --forces` is the brush",
+     RECORD + ["-o", "r.csv", "--forces", "b.json"], 64,
+     "b.json: --forces: is the same file as the input b.json (--brush)" + OVER, STROKE)
+case("record-png-is-session", "`record --png` is the session `-o`",
+     RECORD + ["-o", "r.csv", "--png", "r.csv"], 64,
+     "r.csv: --png: is the same file as the output r.csv (-o); give each output its own file",
+     STROKE)
+case("record-forces-missing-folder", "`record --forces` in a missing folder, over an existing "
+     "session: the session is not truncated", RECORD + ["-o", "r.csv", "--forces", "no/f.csv"],
+     73, "no/f.csv: cannot create output: No such file or directory",
+     all_of(STROKE, trajectory("r.csv")))
+case("record-out-is-devfull", "`record -o /dev/full`", RECORD + ["-o", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT, STROKE)
+case("replay-out-is-session", "`replay -o` is the session",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "r.csv"], 64,
+     "r.csv: -o: is the same file as the input r.csv (session)" + OVER,
+     all_of(brush(), trajectory("r.csv")))
+case("compare-diff-is-reference", "`compare --diff` is the reference image",
+     ["compare", "a.png", "b.png", "--diff", "a.png"], 64,
+     "a.png: --diff: is the same file as the input a.png (a)" + OVER,
+     all_of(PNG, copy("golden/round-s-curve.png", "b.png")))
+case("compare-diff-is-second", "`compare --diff` is the second image, through `./`",
+     ["compare", "a.png", "b.png", "--diff", "./b.png"], 64,
+     "./b.png: --diff: is the same file as the input b.png (b)" + OVER,
+     all_of(PNG, copy("golden/round-s-curve.png", "b.png")))
+case("compare-diff-is-devfull", "`compare --diff /dev/full`",
+     ["compare", "a.png", "b.png", "--diff", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(PNG, copy("golden/round-s-curve.png", "b.png")))
+case("batch-log-is-manifest", "`batch --log` is the manifest",
+     ["batch", "m.json", "--out", "out", "--log", "m.json"], 64,
+     "m.json: --log: is the same file as the input m.json (manifest)" + OVER,
+     all_of(STROKE, folder("out"), manifest()))
+case("batch-log-is-brush", "`batch --log` is a job's brush",
+     ["batch", "m.json", "--out", "out", "--log", "b.json"], 64,
+     "b.json: --log: is the same file as the input b.json (m.json: /jobs/0/brush)" + OVER,
+     all_of(STROKE, folder("out"), manifest()))
+
+# -- more of the same, through every command that reads the file -------------
+case("deep-sheet-validate", "a sheet whose `title` is 100,000 nested arrays, validated",
+     ["validate", "sh.json"], 65, "sh.json: line 1, column 172: " + DEEP_MSG,
+     all_of(STROKE, deep_key(sheet(), "title", "sh.json")))
+case("deep-scene-stroke-brush", "a scene whose stroke's brush is nested 100,000 deep",
+     ["render", "s.json", "-o", "o.png"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     all_of(deep_brush_name, trajectory(), scene()))
+case("deep-sheet-brush", "a sheet whose brush is nested 100,000 deep",
+     ["sheet", "sh.json", "-o", "o.png"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     all_of(deep_brush_name, trajectory(), sheet()))
+case("deep-preview-brush", "`preview` of a brush nested 100,000 deep",
+     ["preview", "b.json", "-o", "o.png"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     deep_brush_name)
+case("deep-replay-brush", "`replay` with a brush nested 100,000 deep",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 65,
+     "b.json: line 3, column 73: " + DEEP_MSG, all_of(deep_brush_name, trajectory("r.csv")))
+case("deep-record-brush", "`record` with a brush nested 100,000 deep",
+     RECORD + ["-o", "r.csv"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
+     all_of(deep_brush_name, trajectory()))
+case("fifo-preview-brush", "`preview` of a FIFO", ["preview", "b.json", "-o", "o.png"], 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, fifo("b.json"))
+case("fifo-preview-trajectory", "`preview --trajectory` a FIFO",
+     ["preview", "b.json", "--trajectory", "t.csv", "-o", "o.png"], 66,
+     "t.csv: cannot read: is a FIFO" + NOT_REG, all_of(brush(), fifo("t.csv")))
+case("fifo-replay-brush", "`replay --brush` a FIFO",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, all_of(fifo("b.json"), trajectory("r.csv")))
+case("fifo-record-brush", "`record --brush` a FIFO", RECORD + ["-o", "r.csv"], 66,
+     "b.json: cannot read: is a FIFO" + NOT_REG, all_of(fifo("b.json"), trajectory()))
+case("fifo-sheet-brush", "a sheet listing a FIFO as a brush", ["validate", "sh.json"], 66,
+     "sh.json: /brushes/0: cannot read 'b.json': is a FIFO" + NOT_REG,
+     all_of(fifo("b.json"), trajectory(), sheet()))
+case("fifo-manifest-brush", "a batch job whose brush is a FIFO (`--dry-run`)",
+     ["batch", "m.json", "--out", "out", "--dry-run", "-q"], 66,
+     "job 'one' failed (66): m.json: /jobs/0/brush: b.json: cannot read: is a FIFO" + NOT_REG,
+     all_of(fifo("b.json"), trajectory(), folder("out"), manifest()))
+case("devzero-scene", "/dev/zero as the scene", ["render", "/dev/zero", "-o", "o.png"], 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG)
+case("devzero-session", "/dev/zero as the session",
+     ["replay", "/dev/zero", "--brush", "b.json", "-o", "o.png"], 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG, brush())
+case("devzero-manifest", "/dev/zero as the batch manifest",
+     ["batch", "/dev/zero", "--out", "out"], 66,
+     "/dev/zero: cannot read: is a character device" + NOT_REG, folder("out"))
+case("devzero-scene-stroke", "a scene stroke whose trajectory is /dev/zero",
+     ["validate", "s.json"], 66,
+     "s.json: /strokes/0/trajectory: cannot read '/dev/zero': is a character device" + NOT_REG,
+     all_of(brush(), scene(edit=lambda s: s["strokes"][0].update(trajectory="/dev/zero"))))
+case("dir-scene-stroke-brush", "a scene stroke whose brush is a directory",
+     ["validate", "s.json"], 66, "s.json: /strokes/0/brush: cannot read 'b.json': is a directory",
+     all_of(folder("b.json"), trajectory(), scene()))
+case("huge-scene-stroke-brush", "a scene stroke whose brush is a sparse 512 MiB file",
+     ["validate", "s.json"], 65, "b.json: size: 536870912 " + SIZE,
+     all_of(sparse("b.json", 512 << 20), trajectory(), scene()))
+case("huge-manifest", "a sparse batch manifest of 2 GiB", ["batch", "m.json", "--out", "out"],
+     65, "m.json: size: 2147483648 " + SIZE, all_of(folder("out"), sparse("m.json", 2 << 30)))
+case("traj-x-nan", "a trajectory with x = nan", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 2 (x_mm): must be finite",
+     trajectory(rows=[[0, "nan", 40, 25, *REST], [1, *HIGH, *REST]]))
+case("traj-t-1e999", "a time of 1e999 (beyond a double)", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 1 (t_s): '1e999' is outside the range of a double",
+     trajectory(rows=[["1e999", *HIGH, *REST], [1, *HIGH, *REST]]))
+case("brush-number-1e999", "a brush number of 1e999 (beyond a double)", ["validate", "b.json"],
+     65, "b.json: line 1, column 8: number 1e999 is out of range (must be finite)",
+     brush(text='{"mu": 1e999}'))
+
+# -- control characters in the input never break the one-line message ---------
+case("nul-in-csv-cell", "a NUL byte inside a trajectory number", ["validate", "t.csv"], 65,
+     "t.csv: line 3, column 2 (x_mm): '1\\u00002' is not a number",
+     trajectory(text="# bristle-trajectory/1\n" + HEADER + "\n0,1\x002,40,25,1,0,0,0\n"))
+case("nul-in-csv-header", "a NUL byte inside a trajectory's header", ["validate", "t.csv"], 65,
+     "t.csv: line 2, column 2 (x_\\u0000mm): unknown column 'x_\\u0000mm'",
+     trajectory(text="# bristle-trajectory/1\nt_s,x_\x00mm,y_mm,z_mm,qw,qx,qy,qz\n"))
+case("tab-in-format-line", "control characters in a trajectory's format line",
+     ["validate", "t.csv"], 65,
+     "t.csv: line 1: unknown format version 'bristle-trajectory/1\\u0007\\u001b[2J' (expected "
+     "bristle-trajectory/1)",
+     trajectory(text="# bristle-trajectory/1\x07\x1b[2J\n" + HEADER + "\n"))
+case("escaped-controls-in-paint-name", "a scene's paint name holding an escaped newline and NUL",
+     ["validate", "s.json"], 65,
+     "s.json: /strokes/0/paint/paints/0: unknown pigment 'ink\\u000a\\u0000' (known: "
+     "ultramarine, cadmium-yellow, cadmium-red, quinacridone-rose, indian-red, burnt-umber, "
+     "hookers-green, phthalo-green, cerulean-blue, hansa-yellow, brilliant-orange, "
+     "titanium-white, ivory-black, yellow-ochre, burnt-sienna, phthalo-blue, alizarin-crimson, "
+     "viridian, sumi-ink; or a colour \"#rrggbb\")",
+     all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update(paint={"paints": ["ink\n\x00"]}))))
+
+# -- PNG inputs: bombs and broken files ---------------------------------------
+GOLD = "golden/round-s-curve.png"
+PNG_LIMIT = "px is over the limit of 67108864 px (64 Mpx, the largest canvas bristle writes)"
+case("png-bomb-16384", "a 100-byte PNG claiming 16384 x 16384 px (a decompression bomb)",
+     ["compare", "a.png", "b.png"], 65, "a.png: IHDR: 16384 x 16384 " + PNG_LIMIT,
+     all_of(png_header("a.png", 16384, 16384), copy(GOLD, "b.png")))
+case("png-bomb-wide", "a PNG claiming 1,000,000 x 100 px", ["compare", "a.png", "b.png"], 65,
+     "b.png: IHDR: 1000000 x 100 " + PNG_LIMIT,
+     all_of(copy(GOLD, "a.png"), png_header("b.png", 1000000, 100)))
+case("png-bomb-diff", "a bomb as the second image, with `--diff`",
+     ["compare", "a.png", "b.png", "--diff", "d.png"], 65,
+     "b.png: IHDR: 8193 x 8193 " + PNG_LIMIT,
+     all_of(copy(GOLD, "a.png"), png_header("b.png", 8193, 8193)))
+case("png-truncated", "a PNG cut off half way", ["compare", "a.png", "b.png"], 65,
+     "b.png: corrupt or truncated PNG: Read Error",
+     all_of(copy(GOLD, "a.png"), truncated(GOLD, "b.png", 3000)))
+case("png-signature-only", "a PNG of its 8-byte signature alone", ["compare", "a.png", "b.png"],
+     65, "a.png: corrupt or truncated PNG: Read Error",
+     all_of(truncated(GOLD, "a.png", 8), copy(GOLD, "b.png")))
+case("png-text", "a text file named .png", ["compare", "a.png", "b.png"], 65,
+     "a.png: not a PNG file", all_of(lambda d: write(d, "a.png", "hello\n"), copy(GOLD, "b.png")))
+case("png-empty", "an empty file named .png", ["compare", "a.png", "b.png"], 65,
+     "a.png: not a PNG file", all_of(lambda d: write(d, "a.png", ""), copy(GOLD, "b.png")))
+
+# -- more outputs, through every command that writes -------------------------
+case("preview-out-devnull", "`preview -o /dev/null`", ["preview", "b.json", "-o", "/dev/null"],
+     73, "/dev/null: cannot create output: is a character device" + NOT_REG_OUT, brush())
+case("replay-out-devfull", "`replay -o /dev/full`",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(brush(), trajectory("r.csv")))
+case("sheet-out-directory", "`sheet -o` a directory", ["sheet", "sh.json", "-o", "d.png"], 73,
+     "d.png: cannot create output: is a directory" + NOT_REG_OUT,
+     all_of(STROKE, sheet(), folder("d.png")))
+case("scene-out-fifo", "a scene rendered to a FIFO", ["render", "s.json", "-o", "f.png"], 73,
+     "f.png: cannot create output: is a FIFO" + NOT_REG_OUT, all_of(STROKE, scene(), fifo("f.png")))
+case("scene-trace-devfull", "a scene's `--trace /dev/full`",
+     ["render", "s.json", "-o", "o.png", "--trace", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(STROKE, scene()))
+case("forces-is-directory", "`--forces` a directory", render("b.json", "t.csv", "o.png",
+     "--forces", "d.csv"), 73, "d.csv: cannot create output: is a directory" + NOT_REG_OUT,
+     all_of(STROKE, folder("d.csv")))
+case("forces-is-trace", "`--forces` and `--trace` the same file", render("b.json", "t.csv",
+     "o.png", "--trace", "x.jsonl", "--forces", "x.jsonl"), 64,
+     "x.jsonl: --forces: is the same file as the output x.jsonl (--trace); give each output its "
+     "own file", STROKE)
+case("record-forces-devnull", "`record --forces /dev/null`",
+     RECORD + ["-o", "r.csv", "--forces", "/dev/null"], 73,
+     "/dev/null: cannot create output: is a character device" + NOT_REG_OUT, STROKE)
+case("record-png-directory", "`record --png` a directory, over an existing session",
+     RECORD + ["-o", "r.csv", "--png", "d.png"], 73,
+     "d.png: cannot create output: is a directory" + NOT_REG_OUT,
+     all_of(STROKE, trajectory("r.csv"), folder("d.png")))
+case("batch-log-devfull", "`batch --log /dev/full`",
+     ["batch", "m.json", "--out", "out", "--log", "/dev/full"], 73,
+     "/dev/full: cannot create output: is a character device" + NOT_REG_OUT,
+     all_of(STROKE, folder("out"), manifest()))
+case("compare-diff-missing-folder", "`compare --diff` into a missing folder",
+     ["compare", "a.png", "b.png", "--diff", "no/d.png"], 73,
+     "no/d.png: cannot create output: No such file or directory",
+     all_of(PNG, truncated(GOLD, "b.png", 10 ** 9)))
+case("dangling-brush", "a brush that is a dangling symbolic link", render("l.json"), 66,
+     "l.json: cannot read: No such file or directory",
+     all_of(symlink("l.json", "gone.json"), trajectory()))
+
+# -- the limits through every command that reads the file --------------------
+FAR = all_of(brush(), trajectory(rows=[[0, 1e308, 40, 25, *REST], [1, *HIGH, *REST]]))
+LONG = all_of(brush(), trajectory(rows=rows(HIGH, (15, 40, 9), t=[0, 10000000])))
+case("sheet-traj-x-1e308", "a sheet listing a trajectory with x = 1e308",
+     ["sheet", "sh.json", "-o", "o.png"], 65,
+     "t.csv: line 3, column 2 (x_mm): x_mm = 1e+308 is outside the limit of "
+     "+-100000 mm", all_of(FAR, sheet()))
+case("scene-traj-quaternion-1e200", "a scene stroke along a quaternion of 1e200",
+     ["validate", "s.json"], 65,
+     "t.csv: line 4, column 5 (qw): qw = 1e+200 is outside the limit of "
+     "+-1e6 (quaternions are normalised on read)",
+     all_of(brush(), trajectory(rows=[[0, *HIGH, *REST], [1, *HIGH, 1e200, 0, 0, 0]]), scene()))
+case("record-traj-x-1e308", "`record --device none` playing x = 1e308",
+     RECORD + ["-o", "r.csv"], 65,
+     "t.csv: line 3, column 2 (x_mm): x_mm = 1e+308 is outside the limit of "
+     "+-100000 mm", FAR)
+case("replay-session-quaternion-1e200", "a session with a quaternion of 1e200, replayed",
+     ["replay", "r.csv", "--brush", "b.json", "-o", "o.png"], 65,
+     "r.csv: line 6, column 5 (qw): qw = 1e+200 is outside the limit of "
+     "+-1e6 (quaternions are normalised on read)",
+     all_of(brush(), session("r.csv", rows=[[0, *HIGH, *REST], [1, *HIGH, 1e200, 0, 0, 0]])))
+case("preview-offset-1e308", "`preview --offset-mm 1e308 0 0`",
+     ["preview", "b.json", "--trajectory", "t.csv", "--offset-mm", "1e308", "0", "0", "-o",
+      "o.png"], 64, "--offset-mm: must be within +-100000 mm (the limit)", STROKE)
+case("preview-span-1e7", "`preview` along two samples 1e7 s apart",
+     ["preview", "b.json", "--trajectory", "t.csv", "--at", "1", "-o", "o.png"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 "
+     "simulation steps up to here, over the limit of 10000000 per trajectory", LONG)
+case("sheet-span-1e7", "a sheet whose trajectory spans 1e7 s",
+     ["sheet", "sh.json", "-o", "o.png"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 "
+     "simulation steps up to here, over the limit of 10000000 per trajectory",
+     all_of(LONG, sheet()))
+case("session-buttons-1e308", "a session whose buttons are 1e308",
+     ["validate", "r.csv"], 65, "r.csv: line 3, column 9 (buttons): must be a non-negative integer "
+     "bitmask",
+     trajectory("r.csv", text="# bristle-trajectory/1\n" + HEADER + ",buttons\n"
+                "0,15,40,25,1,0,0,0,1e308\n1,15,40,25,1,0,0,0,0\n"))
+case("scene-rotate-1e308", "a scene stroke rotated by 1e308 degrees", ["validate", "s.json"],
+     65, "s.json: /strokes/0/placement/rotate_deg = 1e+308: must be within "
+     "+-3600 degrees", all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update(
+         placement={"rotate_deg": 1e308}))))
+case("scene-px-per-mm-1e308", "a scene canvas at 1e308 px/mm", ["validate", "s.json"], 65,
+     "s.json: /canvas/px_per_mm = 1e+308: must be in (0, 100]",
+     all_of(STROKE, scene(edit=lambda s: s["canvas"].update(px_per_mm=1e308))))
+case("scene-rate-1e308", "a scene simulated at 1e308 Hz", ["validate", "s.json"], 65,
+     "s.json: /sim/rate_hz = 1e+308: must be in [1, 10000] steps per second",
+     all_of(STROKE, scene(edit=lambda s: s.update(sim={"rate_hz": 1e308}))))
+case("sheet-px-per-mm-1e308", "a sheet at 1e308 px/mm", ["validate", "sh.json"], 65,
+     "sh.json: /px_per_mm = 1e+308: must be in (0, 100]",
+     all_of(STROKE, sheet(edit=lambda s: s.update(px_per_mm=1e308))))
+
+case("fifo-in-brush-library", "a FIFO among the brushes of `brushes --library`",
+     ["brushes", "--library", "lib"], 66,
+     "lib/zz.json: cannot read: is a FIFO" + NOT_REG,
+     all_of(folder("lib"), copy("scenes/brushes/round.json", "lib/round.json"),
+            fifo("lib/zz.json")))
+
+CASES_END = None  # the cases are appended above this line
+
+if __name__ == "__main__":
+    sys.exit(main())
