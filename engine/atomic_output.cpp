@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "engine/error.h"
+#include "engine/text_file.h"
 
 namespace bristle {
 
@@ -18,15 +19,6 @@ namespace fs = std::filesystem;
 
 std::string tempNameFor(const std::string& path) {
   return path + ".tmp-" + std::to_string(::getpid());
-}
-
-const char* kindOf(mode_t mode) {
-  if (S_ISDIR(mode)) return "is a directory";
-  if (S_ISFIFO(mode)) return "is a FIFO";
-  if (S_ISCHR(mode)) return "is a character device";
-  if (S_ISBLK(mode)) return "is a block device";
-  if (S_ISSOCK(mode)) return "is a socket";
-  return "is not a regular file";
 }
 
 // The same file: device and inode of two existing files (links followed).
@@ -64,7 +56,7 @@ std::string outputTarget(const std::string& path) {
     }
   }
   if (!S_ISREG(st.st_mode))
-    throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + kindOf(st.st_mode) +
+    throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + fileKindOf(st.st_mode) +
                                            "; an output must be a regular file");
   return path;
 }

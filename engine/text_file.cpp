@@ -13,15 +13,6 @@
 namespace bristle {
 namespace {
 
-const char* kindOf(mode_t mode) {
-  if (S_ISDIR(mode)) return "is a directory";
-  if (S_ISFIFO(mode)) return "is a FIFO";
-  if (S_ISCHR(mode)) return "is a character device";
-  if (S_ISBLK(mode)) return "is a block device";
-  if (S_ISSOCK(mode)) return "is a socket";
-  return "is not a regular file";
-}
-
 void closeQuietly(int fd) {
   const int saved = errno;
   ::close(fd);
@@ -37,6 +28,16 @@ Error tooLarge(const std::string& path, std::uint64_t bytes, bool at_least) {
 
 }  // namespace
 
+const char* fileKindOf(mode_t mode) {
+  if (S_ISDIR(mode)) return "is a directory";
+  if (S_ISFIFO(mode)) return "is a FIFO";
+  if (S_ISCHR(mode)) return "is a character device";
+  if (S_ISBLK(mode)) return "is a block device";
+  if (S_ISSOCK(mode)) return "is a socket";
+  return "is not a regular file";
+}
+
+
 int openInputFile(const std::string& path, std::string* why) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
@@ -50,7 +51,7 @@ int openInputFile(const std::string& path, std::string* why) {
     return -1;
   }
   if (!S_ISREG(st.st_mode)) {
-    *why = kindOf(st.st_mode);
+    *why = fileKindOf(st.st_mode);
     // A directory keeps its short, familiar reason; anything else says the rule.
     if (!S_ISDIR(st.st_mode)) *why += "; an input must be a regular file";
     closeQuietly(fd);

@@ -2,6 +2,8 @@
 // Whole-file reading with the CLI's error conventions, and the rule every input
 // follows: it is a regular file no larger than kMaxInputBytes (docs/errors.md).
 
+#include <sys/types.h>
+
 #include <cstdint>
 #include <string>
 
@@ -23,6 +25,10 @@ int openInputFile(const std::string& path, std::string* why);
 // the system's reason when it is missing, unreadable or not a regular file, and
 // kDataError when it is larger than kMaxInputBytes.
 std::string readTextFile(const std::string& path);
+
+// What a file of this st_mode is, when not a regular file: "is a directory",
+// "is a FIFO", ... (for messages about inputs and outputs alike).
+const char* fileKindOf(mode_t mode);
 
 // "line L, column C" of a byte offset in text (1-based), for parse errors.
 std::string lineColumnOf(const std::string& text, size_t byte_offset);
