@@ -474,8 +474,10 @@ bool Simulation::relaxInAir(int s, const Pose& handle) {
   const SpineSpec& spec = brush_.spines[s];
   SpineProblem& p = problems_[s];
   std::vector<Eigen::Matrix3d> relaxed = relaxedRotations(spec, rest_rot_[s], p.base);
-  spineForwardKinematics(spec, handle, relaxed.data(), state_.spines[s].solution.q.data(), 0,
-                         &fk_);
+  // The relaxed rotations are the new base, so the pose to check is at q = 0
+  // (the previous solution's angles are increments from the old base).
+  const std::vector<double> zero(p.vars(), 0.0);
+  spineForwardKinematics(spec, handle, relaxed.data(), zero.data(), 0, &fk_);
   for (int j = 1; j <= spec.jointCount(); ++j)
     if (fk_.x[j].z() <= 0) return false;  // springing back would hit the canvas: solve
   p.base = std::move(relaxed);
