@@ -480,6 +480,26 @@ bool Simulation::relaxInAir(int s, const Pose& handle) {
   spineForwardKinematics(spec, handle, relaxed.data(), zero.data(), 0, &fk_);
   for (int j = 1; j <= spec.jointCount(); ++j)
     if (fk_.x[j].z() <= 0) return false;  // springing back would hit the canvas: solve
+  // The closed form knows nothing of hair volume: where the relaxed spine would
+  // crowd a neighbour (or leave it beyond the cohesion limit), the neighbours
+  // hold it and it is solved with them. (Relaxed regardless, such a spine
+  // sprang back into its neighbour, was pushed out by the next step's solve,
+  // sprang back again, and so on every step.)
+  if (!volume_pairs_.empty()) {
+    const std::vector<Eigen::Vector3d> mine(fk_.x.begin(), fk_.x.end());
+    for (const VolumePair& vp : volume_pairs_) {
+      if (vp.s != s && vp.t != s) continue;
+      const int other = vp.s == s ? vp.t : vp.s;
+      const SpineProblem& po = problems_[other];
+      const std::vector<double> carried(po.vars(), 0.0);  // moved rigidly with the handle
+      spineForwardKinematics(brush_.spines[other], handle, po.baseData(), carried.data(), 0, &fk_);
+      for (int j = 1; j <= static_cast<int>(vp.rest_mm.size()); ++j) {
+        const VolumeLimits lim = volumeLimits(vp, j);
+        const double r = (mine[j] - fk_.x[j]).norm();
+        if (r < lim.min_mm || (lim.max_mm > 0 && r > lim.max_mm)) return false;
+      }
+    }
+  }
   p.base = std::move(relaxed);
   std::fill(state_.spines[s].solution.q.begin(), state_.spines[s].solution.q.end(), 0.0);
   ++stats_.relaxed_spines;

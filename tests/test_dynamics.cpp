@@ -303,7 +303,7 @@ TEST_CASE("a failed step is retried in halves and counted once", "[dynamics][spl
   CHECK(st.longest_failed_run >= 1);
 }
 
-TEST_CASE("a spine that springs back in the air never ends below the canvas",
+TEST_CASE("a spine that springs back in the air never ends below the canvas or in a neighbour",
           "[dynamics][volume]") {
   // The badger (hair volume on) along the start of the S-curve, held 5 mm up as
   // the library sheet holds it. Neighbours push some spines up off the paper;
@@ -326,17 +326,31 @@ TEST_CASE("a spine that springs back in the air never ends below the canvas",
   sim.reset(poseOf(times.front()), times.front());
   // As in "no joint ends a step below the canvas": Ipopt's constraint accuracy.
   constexpr double kPenetrationTolMm = 1e-6;
+  // Steps move every spine root by 0.25 mm at most (planStepTimes); a joint
+  // near the paper that jumps four times that in one step is chattering
+  // between two poses. Springing back regardless of the neighbours' hair
+  // volume, spines did so 45 times in this 0.6 s; now 2 (a hair slipping or
+  // buckling jumps once). The bound of 5 separates the two.
+  constexpr double kJumpMm = 1.0, kNearPaperMm = 2.0;
   double lowest = 1e9;
-  int relaxed_below = 0;
+  int relaxed_below = 0, jumps = 0;
+  BrushState before = sim.state();
   for (size_t i = 1; i < times.size() && times[i] <= 0.6; ++i) {
     const BrushState& st = sim.step(poseOf(times[i]), times[i]);
-    for (const SpineState& s : st.spines)
-      for (const Eigen::Vector3d& x : s.joints_mm) {
+    for (size_t s = 0; s < st.spines.size(); ++s) {
+      const SpineState& sp = st.spines[s];
+      for (size_t j = 0; j < sp.joints_mm.size(); ++j) {
+        const Eigen::Vector3d& x = sp.joints_mm[j];
+        const Eigen::Vector3d& x0 = before.spines[s].joints_mm[j];
         lowest = std::min(lowest, x.z());
-        if (s.summary.status == SolveStatus::kFree && x.z() < -kPenetrationTolMm) ++relaxed_below;
+        if (sp.summary.status == SolveStatus::kFree && x.z() < -kPenetrationTolMm) ++relaxed_below;
+        if (std::min(x.z(), x0.z()) < kNearPaperMm && (x - x0).head<2>().norm() > kJumpMm) ++jumps;
       }
+    }
+    before = st;
   }
   CHECK(relaxed_below == 0);
+  CHECK(jumps <= 5);
   CHECK(lowest >= -kPenetrationTolMm);
   CHECK(sim.stats().relaxed_spines > 0);  // the case does spring spines back
 }
