@@ -23,6 +23,7 @@
 #include "engine/atomic_output.h"
 #include "engine/canvas.h"
 #include "engine/error.h"
+#include "engine/temp_files.h"
 #include "engine/text_file.h"
 
 namespace bristle::render {
@@ -161,6 +162,7 @@ void writePngRows(const std::string& path, int width, int height, int channels,
   // directory is refused, never replaced (engine/atomic_output.h).
   const std::string target = outputTarget(path);
   const std::string temp_path = target + ".tmp-" + std::to_string(::getpid());
+  const TempFileRegistration registration(temp_path);  // removed if a signal stops us
   std::FILE* file = std::fopen(temp_path.c_str(), "wb");
   if (file == nullptr) {
     throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
