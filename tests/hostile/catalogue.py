@@ -993,6 +993,25 @@ case("nul-in-png-name", "an image whose name holds a newline", ["compare", "a\nb
      66, "a\\u000ab.png: cannot read: No such file or directory",
      all_of(PNG, truncated(GOLD, "b.png", 10 ** 9)))
 
+# -- JSON values: counted while parsing, before the document is built ----------
+def many_values(name, n, key="description"):
+    def step(d):
+        fmt = "bristle-batch/1" if key == "jobs" else "bristle-brush/1"
+        write(d, name, '{"format": "' + fmt + '", "' + key + '": [' + "0," * (n - 1) + "0]}")
+    return step
+
+
+case("json-values-over-limit", "a brush whose description lists 1,000,000 numbers (1,000,002 "
+     "values in all)", ["validate", "b.json"], 65,
+     "b.json: JSON: holds more than 1000000 values (numbers, strings, arrays, objects ...), "
+     "over the limit", many_values("b.json", 1000000))
+case("json-values-at-limit", "a manifest of exactly 1,000,000 values: parsed, and refused for "
+     "what it is", BATCH_DRY, 65, "m.json: /jobs/0: must be a JSON object",
+     all_of(folder("out"), many_values("m.json", 999997, "jobs")))
+case("json-values-manifest", "a batch manifest of 2,000,000 numbers", BATCH_DRY, 65,
+     "m.json: JSON: holds more than 1000000 values (numbers, strings, arrays, objects ...), "
+     "over the limit", all_of(folder("out"), many_values("m.json", 2000000, "jobs")))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
