@@ -768,7 +768,8 @@ case("png-bomb-diff", "a bomb as the second image, with `--diff`",
      "b.png: IHDR: 8193 x 8193 " + PNG_LIMIT,
      all_of(copy(GOLD, "a.png"), png_header("b.png", 8193, 8193)))
 case("png-truncated", "a PNG cut off half way", ["compare", "a.png", "b.png"], 65,
-     "b.png: corrupt or truncated PNG: Read Error",
+     "b.png: IDAT: a chunk of 7905 bytes is longer than the 2653 bytes left in the file "
+     "(corrupt or truncated PNG)",
      all_of(copy(GOLD, "a.png"), truncated(GOLD, "b.png", 3000)))
 case("png-signature-only", "a PNG of its 8-byte signature alone", ["compare", "a.png", "b.png"],
      65, "a.png: corrupt or truncated PNG: Read Error",
@@ -1011,6 +1012,19 @@ case("json-values-at-limit", "a manifest of exactly 1,000,000 values: parsed, an
 case("json-values-manifest", "a batch manifest of 2,000,000 numbers", BATCH_DRY, 65,
      "m.json: JSON: holds more than 1000000 values (numbers, strings, arrays, objects ...), "
      "over the limit", all_of(folder("out"), many_values("m.json", 2000000, "jobs")))
+
+# -- PNG chunks longer than the file: refused before libpng allocates them -----
+def text_chunk_bomb(name):
+    """A 1x1 PNG whose tEXt chunk claims 1.7 GB (found by fuzz/png.cpp)."""
+    def step(d):
+        (d / name).write_bytes((SRC / "fuzz/regressions/png/text-chunk-claims-1.7GB").read_bytes())
+    return step
+
+
+case("png-text-chunk-bomb", "a 106-byte PNG whose tEXt chunk claims 1.7 GB",
+     ["compare", "a.png", "a.png"], 65,
+     "a.png: tEXt: a chunk of 1778384896 bytes is longer than the 65 bytes left in the file "
+     "(corrupt or truncated PNG)", text_chunk_bomb("a.png"))
 
 CASES_END = None  # the cases are appended above this line
 
