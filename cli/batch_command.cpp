@@ -178,6 +178,7 @@ class BatchRun {
       const BatchJob& job = manifest_.jobs[k];
       const auto t0 = Clock::now();
       try {
+        checkBeneath(args_.out_dir, job.output);  // a link out of --out fails the job
         const std::vector<std::string> inputs = batchJobInputs(job, manifest_.path);
         const std::string key = hex64(batchJobKey(job, inputs));
         if (!args_.overwrite && upToDate(outputPath(job), key)) {
@@ -289,12 +290,9 @@ class BatchRun {
     Outcome o;
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
       try {
-        const std::string out = outputPath(job);
-        std::error_code ec;
-        fs::create_directories(fs::path(out).parent_path(), ec);
-        AtomicOutput file(out);
-        file.stream() << render::withPngText(readBytes(r.png), kKeyText, r.pending.key);
-        file.commit();
+        // Beneath --out, never through a symbolic link out of it.
+        writeFileBeneath(args_.out_dir, job.output,
+                         render::withPngText(readBytes(r.png), kKeyText, r.pending.key));
         o.status = Status::kRendered;
       } catch (const Error& e) {
         o.code = static_cast<int>(e.code());

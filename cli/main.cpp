@@ -8,6 +8,7 @@
 #include "bristle/version.h"
 #include "cli/commands.h"
 #include "engine/error.h"
+#include "engine/temp_files.h"
 
 namespace {
 
@@ -308,6 +309,9 @@ int main(int argc, char** argv) {
     return static_cast<int>(bristle::ExitCode::kUsage);
   }
 
+  // SIGINT and SIGTERM remove the temporary files of unfinished outputs, then
+  // end the process as they would have (`batch` and `record` stop more gently).
+  bristle::installTempFileCleanup();
   try {
     if (render->parsed()) {
       for (const CLI::Option* o : render->get_options())

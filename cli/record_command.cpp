@@ -12,6 +12,7 @@
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/error.h"
+#include "engine/temp_files.h"
 #include "engine/trajectory.h"
 #include "haptics/hdapi.h"
 #include "haptics/live_session.h"
@@ -114,7 +115,14 @@ int runRecord(const RecordArgs& args) {
 
   bool is_none = false;
   std::unique_ptr<haptics::Device> device = openDevice(args, &is_none);
-  if (is_none) validateTrajectoryForBrush(loadTrajectory(args.trajectory), brush);
+  if (is_none) {
+    // The played trajectory is planned as its replay will be, before the session
+    // is opened: one over the step limits (docs/errors.md) would record for
+    // days a session that no replay could render.
+    const Trajectory played = loadTrajectory(args.trajectory);
+    validateTrajectoryForBrush(played, brush);
+    planStepTimes(played, brush, SimOptions{});
+  }
 
   haptics::SessionHeader header;
   header.device_model = device->model();
@@ -134,8 +142,7 @@ int runRecord(const RecordArgs& args) {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   const haptics::LiveResult r = haptics::runLiveSession(brush, device.get(), &writer, live);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  installTempFileCleanup();  // the --png render's temporary file
 
   if (!args.quiet)
     std::fprintf(stderr,

@@ -1,14 +1,12 @@
 // `bristle render --brush B.json --trajectory T.csv -o out.png`
 
-#include <unistd.h>
-
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/progress.h"
 #include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
@@ -23,28 +21,6 @@
 #include "render/stroke_renderer.h"
 
 namespace bristle::cli {
-namespace {
-
-// Progress on stderr, only when it is a terminal, at most every 0.2 s.
-class Progress {
- public:
-  explicit Progress(bool enabled) : enabled_(enabled && ::isatty(2)) {}
-  void update(int step, int steps) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (step + 1 < steps && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
-    std::fprintf(stderr, "\rbristle: step %d/%d (%3.0f%%)", step + 1, steps,
-                 100.0 * (step + 1) / steps);
-    if (step + 1 == steps) std::fprintf(stderr, "\n");
-  }
-
- private:
-  bool enabled_;
-  std::chrono::steady_clock::time_point last_{};
-};
-
-}  // namespace
 
 // World placement of the image, so that pixels can be mapped back to canvas mm.
 std::string canvasText(const CanvasGrid& g) {
@@ -109,7 +85,7 @@ int runRender(const RenderArgs& args) {
     forces->stream().precision(9);
   }
 
-  Progress progress(!args.quiet);
+  PartProgress progress(!args.quiet, nullptr);
   int failed_reported = 0;
   constexpr int kMaxFailureLines = 5;  // then only the summary
   auto on_step = [&](const BrushState& st, int step, int steps) {
@@ -123,7 +99,7 @@ int runRender(const RenderArgs& args) {
                    std::to_string(st.t_s) + " s): spine " + std::to_string(s) +
                    " solve failed (" + st.spines[s].summary.message +
                    "); continuing from its last good state");
-    progress.update(step, steps);
+    progress.update(0, 1, step, steps);
   };
   const StrokePngResult png_result =
       renderStrokePng(brush, trajectory, png, args.output, on_step);

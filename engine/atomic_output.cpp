@@ -1,5 +1,6 @@
 #include "engine/atomic_output.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -63,6 +64,7 @@ std::string outputTarget(const std::string& path) {
 
 AtomicOutput::AtomicOutput(const std::string& path)
     : path_(path), target_(outputTarget(path)), tmp_(tempNameFor(target_)) {
+  registration_.emplace(tmp_);
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
   if (!out_)
     throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
@@ -91,14 +93,123 @@ void AtomicOutput::commit() {
     throw Error(ExitCode::kCantCreate, path_ + ": cannot create output: " + why);
   }
   committed_ = true;
+  registration_.reset();
 }
 
 void checkCanCreate(const std::string& path) {
   const std::string probe = tempNameFor(outputTarget(path)) + "-probe";
+  const TempFileRegistration registration(probe);
   std::FILE* f = std::fopen(probe.c_str(), "wb");
   if (!f) throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
   std::fclose(f);
   std::remove(probe.c_str());
+}
+
+namespace {
+
+// An open folder descriptor, closed on scope exit.
+class Folder {
+ public:
+  explicit Folder(int fd) : fd_(fd) {}
+  ~Folder() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  Folder(const Folder&) = delete;
+  Folder& operator=(const Folder&) = delete;
+  void reset(int fd) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = fd;
+  }
+  int fd() const { return fd_; }
+  int release() {
+    const int fd = fd_;
+    fd_ = -1;
+    return fd;
+  }
+
+ private:
+  int fd_;
+};
+
+// Walks root/relative's folders without following links; returns the
+// descriptor of the last folder (-1 when `create` is false and one is missing)
+// and sets *name to the file's name. Throws kCantCreate.
+int openParentBeneath(const std::string& root, const std::string& relative, bool create,
+                      std::string* name) {
+  const std::string shown = (fs::path(root) / relative).string();
+  auto refuse = [&](const std::string& why) {
+    return Error(ExitCode::kCantCreate, shown + ": cannot create output: " + why);
+  };
+  const fs::path rel = fs::path(relative).lexically_normal();
+  if (rel.is_absolute() || !rel.has_filename() || *rel.begin() == "..")
+    throw refuse("not a relative path beneath " + root);
+  Folder dir(::open(root.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+  if (dir.fd() < 0) throw refuse(root + ": " + std::strerror(errno));
+  fs::path walked = root;
+  for (const fs::path& part : rel.parent_path()) {
+    walked /= part;
+    if (part == "." || part.empty()) continue;
+    if (part == "..") throw refuse("not a relative path beneath " + root);
+    if (create && ::mkdirat(dir.fd(), part.c_str(), 0777) != 0 && errno != EEXIST)
+      throw refuse(walked.string() + ": " + std::strerror(errno));
+    const int next = ::openat(dir.fd(), part.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (next < 0) {
+      const int open_errno = errno;
+      struct stat st {};
+      if (::fstatat(dir.fd(), part.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISLNK(st.st_mode))
+        throw refuse(walked.string() + " is a symbolic link; a batch writes only beneath --out");
+      if (open_errno == ENOENT && !create) return -1;
+      throw refuse(walked.string() + ": " + std::strerror(open_errno));
+    }
+    dir.reset(next);
+  }
+  *name = rel.filename().string();
+  struct stat st {};
+  if (::fstatat(dir.fd(), name->c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
+    if (S_ISLNK(st.st_mode))
+      throw refuse("is a symbolic link; a batch writes only beneath --out");
+    if (!S_ISREG(st.st_mode))
+      throw refuse(std::string(fileKindOf(st.st_mode)) + "; an output must be a regular file");
+  }
+  return dir.release();
+}
+
+}  // namespace
+
+void checkBeneath(const std::string& root, const std::string& relative) {
+  std::string name;
+  const int fd = openParentBeneath(root, relative, false, &name);
+  if (fd >= 0) ::close(fd);
+}
+
+void writeFileBeneath(const std::string& root, const std::string& relative,
+                      const std::string& bytes) {
+  std::string name;
+  const Folder dir(openParentBeneath(root, relative, true, &name));
+  const std::string shown = (fs::path(root) / relative).string();
+  const std::string tmp = name + ".tmp-" + std::to_string(::getpid());
+  const TempFileRegistration registration(shown + ".tmp-" + std::to_string(::getpid()));
+  const int fd = ::openat(dir.fd(), tmp.c_str(),
+                          O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (fd < 0) throw Error(ExitCode::kCantCreate, shown + ": cannot create output: " + std::strerror(errno));
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<size_t>(n);
+  }
+  const int write_errno = errno;
+  const bool closed = ::close(fd) == 0;
+  if (done != bytes.size() || !closed) {
+    ::unlinkat(dir.fd(), tmp.c_str(), 0);
+    throw Error(ExitCode::kIoError, shown + ": write failed: " + std::strerror(write_errno));
+  }
+  if (::renameat(dir.fd(), tmp.c_str(), dir.fd(), name.c_str()) != 0) {
+    const int rename_errno = errno;
+    ::unlinkat(dir.fd(), tmp.c_str(), 0);
+    throw Error(ExitCode::kCantCreate, shown + ": cannot create output: " + std::strerror(rename_errno));
+  }
 }
 
 void checkOutputs(const std::vector<NamedFile>& outputs, const std::vector<NamedFile>& inputs) {

@@ -1,7 +1,8 @@
 #pragma once
 // An output file that appears only when complete: it is written to a temporary
 // file beside the target and renamed into place on commit(). A run that fails
-// (or throws) before commit() leaves no partial file (ARCHITECTURE.md).
+// (or throws) before commit() leaves no partial file (ARCHITECTURE.md), and
+// neither does SIGINT or SIGTERM (engine/temp_files.h).
 //
 // An output is a new file or an existing regular file. Through a symbolic link
 // to a regular file the link's target is replaced and the link kept; a
@@ -9,8 +10,11 @@
 // replaced by a regular file.
 
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "engine/temp_files.h"
 
 namespace bristle {
 
@@ -30,6 +34,8 @@ class AtomicOutput {
 
  private:
   std::string path_, target_, tmp_;
+  // Removes tmp_ when a signal stops the process (engine/temp_files.h).
+  std::optional<TempFileRegistration> registration_;
   std::ofstream out_;
   bool committed_ = false;
 };
@@ -42,6 +48,17 @@ std::string outputTarget(const std::string& path);
 // Throws kCantCreate when a file could not be created at path (checked by
 // creating and removing a probe beside it), so long runs fail before they start.
 void checkCanCreate(const std::string& path);
+
+// Writes bytes to root/relative and never through a symbolic link, so a
+// relative path stays beneath root (a batch's --out): every folder of
+// `relative` is opened with O_NOFOLLOW beneath the one before (and created
+// when missing), the file must be new or a regular file (not a link), and it
+// is written to a temporary file beside it and renamed into place. Throws
+// kCantCreate naming root/relative and the link; kIoError when writing fails.
+void writeFileBeneath(const std::string& root, const std::string& relative,
+                      const std::string& bytes);
+// writeFileBeneath's checks, creating nothing (a missing folder is fine).
+void checkBeneath(const std::string& root, const std::string& relative);
 
 // A file on the command line and the option that names it ("-o", "--brush").
 struct NamedFile {

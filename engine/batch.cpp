@@ -1,5 +1,6 @@
 #include "engine/batch.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -43,6 +44,84 @@ bool isSafeOutput(const std::string& out) {
   return p.lexically_normal().string().rfind("..", 0) != 0;
 }
 
+// What a job's option holds. Each becomes argv words of a known shape, so no
+// value from a manifest can become an option of its own (docs/batch.md).
+enum class OptionType {
+  kFlag,     // true (the flag) or false (left out)
+  kNumber,   // a JSON number: one word
+  kString,   // a word that does not start with '-' and holds no control character
+  kNumbers3, // a list of three numbers (--offset-mm X Y Z)
+  kStrings,  // a string, or a non-empty list of them (repeatable NAME=VALUE)
+};
+
+// The options of `render` and `sheet` (cli/main.cpp) a job may set, with their
+// types. Whether the job's command accepts an option (a scene sets its own
+// paint) is the command's to say: the job then fails with its usage error.
+const std::map<std::string, OptionType>& knownOptions() {
+  static const std::map<std::string, OptionType> kOptions = {
+      {"amount", OptionType::kNumber},          {"background", OptionType::kString},
+      {"bits", OptionType::kNumber},            {"color", OptionType::kString},
+      {"colour", OptionType::kString},          {"contact-band-mm", OptionType::kNumber},
+      {"impasto", OptionType::kFlag},           {"ipopt-option", OptionType::kStrings},
+      {"load", OptionType::kString},            {"max-step-mm", OptionType::kNumber},
+      {"min-rate-hz", OptionType::kNumber},     {"mix", OptionType::kString},
+      {"offset-mm", OptionType::kNumbers3},     {"paint", OptionType::kString},
+      {"paper-scale", OptionType::kNumber},     {"paper-seed", OptionType::kNumber},
+      {"paper-tooth", OptionType::kNumber},     {"px-per-mm", OptionType::kNumber},
+      {"solver", OptionType::kString},          {"solver-max-iterations", OptionType::kNumber},
+      {"tip-length", OptionType::kNumber},
+  };
+  return kOptions;
+}
+
+std::string knownOptionList() {
+  std::string list;
+  for (const auto& [name, type] : knownOptions()) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
+
+bool hasControlCharacter(const std::string& s) {
+  return std::any_of(s.begin(), s.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+}
+
+// A string value is one argv word that cannot be read as an option.
+bool isWord(const nlohmann::json& v) {
+  if (!v.is_string()) return false;
+  const std::string& s = v.get_ref<const std::string&>();
+  return !s.empty() && s[0] != '-' && !hasControlCharacter(s);
+}
+
+const char* typeRule(OptionType type) {
+  switch (type) {
+    case OptionType::kFlag: return "must be true or false (a flag)";
+    case OptionType::kNumber: return "must be a number";
+    case OptionType::kString:
+      return "must be a non-empty string that does not start with '-' and holds no control "
+             "character";
+    case OptionType::kNumbers3: return "must be a list of three numbers";
+    case OptionType::kStrings:
+      return "must be a string, or a non-empty list of strings, none starting with '-' or "
+             "holding a control character";
+  }
+  return "?";
+}
+
+bool hasType(const nlohmann::json& v, OptionType type) {
+  switch (type) {
+    case OptionType::kFlag: return v.is_boolean();
+    case OptionType::kNumber: return v.is_number();
+    case OptionType::kString: return isWord(v);
+    case OptionType::kNumbers3:
+      return v.is_array() && v.size() == 3 &&
+             std::all_of(v.begin(), v.end(), [](const nlohmann::json& x) { return x.is_number(); });
+    case OptionType::kStrings:
+      return isWord(v) || (v.is_array() && !v.empty() && std::all_of(v.begin(), v.end(), isWord));
+  }
+  return false;
+}
+
 void checkOptions(const JsonObject& owner, const std::string& key, const nlohmann::json& options) {
   const std::string pointer = owner.childPointer(key);
   if (!options.is_object())
@@ -55,15 +134,11 @@ void checkOptions(const JsonObject& owner, const std::string& key, const nlohman
     if (kReservedOptions.count(name))
       owner.fail(where, "a batch job cannot set --" + name +
                             " (the batch chooses the output and writes only PNGs)");
-    const bool scalar = value.is_boolean() || value.is_number() || value.is_string();
-    bool ok = scalar;
-    if (value.is_array()) {
-      ok = !value.empty();
-      for (const nlohmann::json& v : value) ok = ok && (v.is_number() || v.is_string());
-    }
-    if (!ok)
-      owner.fail(where + " = " + value.dump(),
-                 "must be true/false, a number, a string or a non-empty list of them");
+    const auto known = knownOptions().find(name);
+    if (known == knownOptions().end())
+      owner.fail(where, "unknown option '" + name + "' (known: " + knownOptionList() + ")");
+    if (!hasType(value, known->second))
+      owner.requireAt(false, where, value, typeRule(known->second));
   }
 }
 
@@ -136,6 +211,8 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
     job.output = o.string("output", "");
     if (job.id.empty() && job.output.empty())
       o.fail(o.pointer(), "a job needs an \"id\" or an \"output\"");
+    o.require(!hasControlCharacter(job.id), "id", "must hold no control character");
+    o.require(!hasControlCharacter(job.output), "output", "must hold no control character");
     if (job.output.empty()) job.output = job.id + ".png";
     if (job.id.empty()) job.id = fs::path(job.output).stem().string();
     o.require(isSafeOutput(job.output), "output",

@@ -82,16 +82,22 @@ size_t offsetBeyondDepth(const std::string& text, int limit) {
   return std::string::npos;
 }
 
+// Thrown by the parser callback when a document holds too many values.
+struct TooMany {};
+
 // nlohmann's parser is iterative, but what walks the document afterwards (copies,
-// dump(), the readers) recurses: refuse the nesting before it is built.
+// dump(), the readers) recurses: refuse the nesting before it is built. And
+// each value costs 16 bytes and more in the document: refuse the count before
+// 256 MiB of "0," becomes 6 GB of values.
 nlohmann::json parseDepthLimited(const std::string& text) {
+  long values = 0;
   return nlohmann::json::parse(
-      text, [](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+      text, [&values](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+        using Event = nlohmann::json::parse_event_t;
+        const bool starts = event == Event::object_start || event == Event::array_start;
         // depth counts the containers around the one that starts here.
-        if ((event == nlohmann::json::parse_event_t::object_start ||
-             event == nlohmann::json::parse_event_t::array_start) &&
-            depth >= kMaxJsonDepth)
-          throw TooDeep{};
+        if (starts && depth >= kMaxJsonDepth) throw TooDeep{};
+        if ((starts || event == Event::value) && ++values > kMaxJsonValues) throw TooMany{};
         return true;
       });
 }
@@ -112,6 +118,10 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& path) {
     throw dataError(path, at == std::string::npos ? std::string("JSON") : lineColumnOf(text, at),
                     "arrays and objects nest deeper than the limit of " +
                         std::to_string(kMaxJsonDepth) + " levels");
+  } catch (const TooMany&) {
+    throw dataError(path, "JSON",
+                    "holds more than " + std::to_string(kMaxJsonValues) +
+                        " values (numbers, strings, arrays, objects ...), over the limit");
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is 1-based and points just past the offending character.
     const size_t offset = e.byte > 0 ? e.byte - 1 : 0;
@@ -139,6 +149,7 @@ nlohmann::json parseJsonOrDiscarded(const std::string& text) {
   try {
     return parseDepthLimited(text);
   } catch (const TooDeep&) {
+  } catch (const TooMany&) {
   } catch (const nlohmann::json::exception&) {
   }
   return nlohmann::json(nlohmann::json::value_t::discarded);

@@ -204,7 +204,8 @@ void appendFerrule(const Ferrule& f, Mesh* mesh) {
     const auto [h1, s1] = profile[s + 1];
     for (int k = 0; k < kFerruleSegments; ++k) {
       // Each band keeps its own normals: crisp edges, as on turned metal.
-      const auto normal = [&](int kk) {
+      // Init-captures: clang 14 (scripts/fuzz) cannot capture structured bindings.
+      const auto normal = [&, h0 = h0, h1 = h1, s0 = s0, s1 = s1](int kk) {
         return Eigen::Vector3d((radial(kk) * (h1 - h0) - f.axis * (s1 - s0) * mean_r).normalized());
       };
       pushQuad(mesh, {rim(k, s0, h0), rim(k + 1, s0, h0), rim(k + 1, s1, h1), rim(k, s1, h1)},

@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 
+#include "engine/atomic_output.h"
 #include "engine/batch.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
@@ -114,7 +115,23 @@ TEST_CASE("batch manifest: every broken rule is a data error naming its field", 
       {R"({"id": "a", "scene": "s.json", "options": {"--bits": 16}})", "/jobs/0/options/--bits",
        "without '--'"},
       {R"({"id": "a", "scene": "s.json", "options": {"paint": {"x": 1}}})", "/jobs/0/options/paint",
-       "must be true/false"},
+       "must be a non-empty string"},
+      // Options are typed: nothing from a manifest becomes an option of its own.
+      {R"({"id": "a", "scene": "s.json", "options": {"offset-mm": [1, "--trace", "/x"]}})",
+       "/jobs/0/options/offset-mm", "must be a list of three numbers"},
+      {R"({"id": "a", "scene": "s.json", "options": {"paint": "--trace=/x"}})",
+       "/jobs/0/options/paint", "does not start with '-'"},
+      {R"({"id": "a", "scene": "s.json", "options": {"ipopt-option": ["tol=1", "-o"]}})",
+       "/jobs/0/options/ipopt-option", "none starting with '-'"},
+      {R"({"id": "a", "scene": "s.json", "options": {"paint": "red\nbristle: fake"}})",
+       "/jobs/0/options/paint", "no control character"},
+      {R"({"id": "a", "scene": "s.json", "options": {"impasto": 1}})", "/jobs/0/options/impasto",
+       "must be true or false"},
+      {R"({"id": "a", "scene": "s.json", "options": {"bits": "16"}})", "/jobs/0/options/bits",
+       "must be a number"},
+      {R"({"id": "a", "scene": "s.json", "options": {"frobnicate": 1}})",
+       "/jobs/0/options/frobnicate", "unknown option 'frobnicate' (known: amount, "},
+      {R"({"id": "a\u0007", "scene": "s.json"})", "/jobs/0/id", "no control character"},
       {R"({"id": "a", "scene": "s.json", "colour": "red"})", "/jobs/0/colour", "unknown"},
   };
   for (const Case& c : cases) {
@@ -209,13 +226,18 @@ TEST_CASE("batch job command lines: sorted options, flags, lists", "[batch]") {
   const BatchManifest m = parse(R"({"format": "bristle-batch/1", "jobs": [
       {"id": "a", "brush": "b.json", "trajectory": "t.csv",
        "options": {"solver": "slsqp", "impasto": true, "offset-mm": [1, 2.5, 0], "bits": 16,
-                   "quiet-paper": false}},
+                   "ipopt-option": ["tol=1e-8", "mu_strategy=monotone"]}},
+      {"id": "c", "sheet": "sh.json", "options": {"impasto": false, "ipopt-option": "tol=1"}},
       {"id": "b", "scene": "s.json"}]})");
   CHECK(batchJobArguments(m.jobs[0]) ==
         std::vector<std::string>{"render", "--brush", "/data/batch/b.json", "--trajectory",
-                                 "/data/batch/t.csv", "--bits", "16", "--impasto", "--offset-mm",
-                                 "1", "2.5", "0", "--solver", "slsqp"});
-  CHECK(batchJobArguments(m.jobs[1]) == std::vector<std::string>{"render", "/data/batch/s.json"});
+                                 "/data/batch/t.csv", "--bits", "16", "--impasto",
+                                 "--ipopt-option", "tol=1e-8", "mu_strategy=monotone",
+                                 "--offset-mm", "1", "2.5", "0", "--solver", "slsqp"});
+  CHECK(batchJobArguments(m.jobs[2]) == std::vector<std::string>{"render", "/data/batch/s.json"});
+  // false leaves a flag out; a string is one word.
+  CHECK(batchJobArguments(m.jobs[1]) ==
+        std::vector<std::string>{"sheet", "/data/batch/sh.json", "--ipopt-option", "tol=1"});
 }
 
 TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]") {
@@ -252,4 +274,40 @@ TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]
     CHECK(e.code() == ExitCode::kNoInput);
     CHECK_THAT(e.what(), Contains("m.json: /jobs/0/brush: "));
   }
+}
+
+TEST_CASE("batch outputs are written beneath --out, never through a symbolic link", "[batch][errors]") {
+  Scratch s;
+  const std::string out = (s.dir / "out").string();
+  fs::create_directories(s.dir / "out");
+  fs::create_directories(s.dir / "elsewhere");
+  // New folders are created beneath --out and the file renamed into place.
+  writeFileBeneath(out, "a/b/x.png", "bytes");
+  CHECK(fs::is_regular_file(s.dir / "out/a/b/x.png"));
+  writeFileBeneath(out, "a/b/x.png", "again");
+  std::ifstream in(s.dir / "out/a/b/x.png");
+  std::string text;
+  in >> text;
+  CHECK(text == "again");
+
+  // A link to a folder outside, at any depth, or as the file itself: refused
+  // (73), here where the write happens as well as in the check before a run,
+  // so a link made between the two does not let a job out either.
+  fs::create_directory_symlink("../../elsewhere", s.dir / "out/a/link");
+  fs::create_symlink("../elsewhere/victim.png", s.dir / "out/file.png");
+  for (const std::string rel : {"a/link/x.png", "a/link/new/x.png", "file.png"}) {
+    INFO(rel);
+    const testing::Caught write = testing::catchError([&] { writeFileBeneath(out, rel, "x"); });
+    CHECK(write.code == 73);
+    CHECK_THAT(write.message, Contains("is a symbolic link; a batch writes only beneath --out"));
+    CHECK(testing::catchError([&] { checkBeneath(out, rel); }).code == 73);
+  }
+  CHECK(fs::is_empty(s.dir / "elsewhere"));
+  CHECK(!fs::exists(s.dir / "elsewhere/victim.png"));
+  // Nothing is left beside the files: no temporary file.
+  for (const auto& e : fs::recursive_directory_iterator(s.dir / "out"))
+    CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
+  // A folder not yet made is fine for the check; a file in the way is not.
+  CHECK_FALSE(testing::catchError([&] { checkBeneath(out, "new/x.png"); }).thrown);
+  CHECK(testing::catchError([&] { checkBeneath(out, "a/b/x.png/y.png"); }).code == 73);
 }

@@ -35,12 +35,14 @@ HANG_GUARD_S = 120
 CASES = []
 
 
-def case(cid, what, args, code, message, setup=None):
+def case(cid, what, args, code, message, setup=None, logs=None):
     """Registers a case: `bristle ARGS` in a folder set up by setup(dir) exits
-    with `code` and prints `bristle: message` alone on stderr."""
+    with `code` and prints `bristle: message` alone on stderr. `logs` names the
+    one folder the run may add files to (a batch's job log, OUT/logs)."""
     assert not any(c.id == cid for c in CASES), cid
     CASES.append(argparse.Namespace(id=cid, what=what, args=args, code=code,
-                                    message=message, setup=setup or (lambda d: None)))
+                                    message=message, setup=setup or (lambda d: None),
+                                    logs=logs))
 
 
 # ---- inputs ---------------------------------------------------------------
@@ -253,7 +255,8 @@ def run_case(bristle, c):
             if name not in after:
                 problems.append(f"{name} was removed")
             elif name not in before:
-                problems.append(f"{name} was left behind")
+                if not (c.logs and (name == c.logs or name.startswith(c.logs + "/"))):
+                    problems.append(f"{name} was left behind")
             elif before[name] != after[name]:
                 problems.append(f"{name} was changed")
     return problems
@@ -765,7 +768,8 @@ case("png-bomb-diff", "a bomb as the second image, with `--diff`",
      "b.png: IHDR: 8193 x 8193 " + PNG_LIMIT,
      all_of(copy(GOLD, "a.png"), png_header("b.png", 8193, 8193)))
 case("png-truncated", "a PNG cut off half way", ["compare", "a.png", "b.png"], 65,
-     "b.png: corrupt or truncated PNG: Read Error",
+     "b.png: IDAT: a chunk of 7905 bytes is longer than the 2653 bytes left in the file "
+     "(corrupt or truncated PNG)",
      all_of(copy(GOLD, "a.png"), truncated(GOLD, "b.png", 3000)))
 case("png-signature-only", "a PNG of its 8-byte signature alone", ["compare", "a.png", "b.png"],
      65, "a.png: corrupt or truncated PNG: Read Error",
@@ -874,6 +878,153 @@ case("fifo-in-brush-library", "a FIFO among the brushes of `brushes --library`",
      "lib/zz.json: cannot read: is a FIFO" + NOT_REG,
      all_of(folder("lib"), copy("scenes/brushes/round.json", "lib/round.json"),
             fifo("lib/zz.json")))
+
+# -- batch manifests: outputs stay beneath --out, options are typed -----------
+BATCH_DRY = ["batch", "m.json", "--out", "out", "--dry-run", "-q"]
+BATCH_RUN = ["batch", "m.json", "--out", "out", "-q"]
+BENEATH = "; a batch writes only beneath --out"
+
+
+def job_edit(**keys):
+    return lambda m: m["jobs"][0].update(keys)
+
+
+def job_options(options):
+    return manifest(edit=job_edit(options=options))
+
+
+case("batch-out-symlink-folder", "a job's output through a symbolic link in `--out` to a folder "
+     "outside it", BATCH_DRY, 73,
+     "job 'one' failed (73): out/sub/x.png: cannot create output: out/sub is a symbolic link"
+     + BENEATH,
+     all_of(STROKE, folder("out"), folder("elsewhere"), symlink("out/sub", "../elsewhere"),
+            manifest(edit=job_edit(output="sub/x.png"))))
+case("batch-out-symlink-folder-render", "the same, rendered: nothing is written outside `--out`",
+     BATCH_RUN, 73,
+     "job 'one' failed (73): out/sub/x.png: cannot create output: out/sub is a symbolic link"
+     + BENEATH,
+     all_of(STROKE, folder("out"), folder("elsewhere"), symlink("out/sub", "../elsewhere"),
+            manifest(edit=job_edit(output="sub/x.png"))), logs="out/logs")
+case("batch-out-symlink-deep", "a symbolic link two folders down in `--out`",
+     BATCH_RUN, 73,
+     "job 'one' failed (73): out/a/b/x.png: cannot create output: out/a/b is a symbolic link"
+     + BENEATH,
+     all_of(STROKE, folder("out"), folder("out/a"), folder("elsewhere"),
+            symlink("out/a/b", "../../elsewhere"), manifest(edit=job_edit(output="a/b/x.png"))),
+     logs="out/logs")
+case("batch-out-symlink-file", "a job's output is a symbolic link to a file outside `--out`",
+     BATCH_RUN, 73,
+     "job 'one' failed (73): out/x.png: cannot create output: is a symbolic link" + BENEATH,
+     all_of(STROKE, folder("out"), copy("fuzz/seeds/png/rgb8.png", "victim.png"),
+            symlink("out/x.png", "../victim.png"), manifest(edit=job_edit(output="x.png"))),
+     logs="out/logs")
+case("batch-option-smuggles-trace", "an option's list smuggling `--trace` into the job",
+     BATCH_DRY, 65,
+     'm.json: /jobs/0/options/offset-mm = [1,"--trace","/tmp/elsewhere.jsonl"]: must be a list '
+     "of three numbers", all_of(STROKE, folder("out"),
+                                job_options({"offset-mm": [1, "--trace", "/tmp/elsewhere.jsonl"]})))
+case("batch-option-string-is-flag", "a string option's value that reads as an option",
+     BATCH_DRY, 65,
+     'm.json: /jobs/0/options/paint = "--trace=/x": must be a non-empty string that does not '
+     "start with '-' and holds no control character",
+     all_of(STROKE, folder("out"), job_options({"paint": "--trace=/x"})))
+case("batch-option-newline", "an option's value holding a newline and a fake message",
+     BATCH_DRY, 65,
+     'm.json: /jobs/0/options/paint = "red\\nbristle: fake": must be a non-empty string that '
+     "does not start with '-' and holds no control character",
+     all_of(STROKE, folder("out"), job_options({"paint": "red\nbristle: fake"})))
+case("batch-option-unknown", "an option no job command has", BATCH_DRY, 65,
+     "m.json: /jobs/0/options/frobnicate: unknown option 'frobnicate' (known: amount, "
+     "background, bits, color, colour, contact-band-mm, impasto, ipopt-option, load, "
+     "max-step-mm, min-rate-hz, mix, offset-mm, paint, paper-scale, paper-seed, paper-tooth, "
+     "px-per-mm, solver, solver-max-iterations, tip-length)",
+     all_of(STROKE, folder("out"), job_options({"frobnicate": 1})))
+case("batch-defaults-option-unknown", "an unknown option in the manifest's defaults",
+     BATCH_DRY, 65,
+     "m.json: /defaults/options/quiet-paper: unknown option 'quiet-paper' (known: amount, "
+     "background, bits, color, colour, contact-band-mm, impasto, ipopt-option, load, "
+     "max-step-mm, min-rate-hz, mix, offset-mm, paint, paper-scale, paper-seed, paper-tooth, "
+     "px-per-mm, solver, solver-max-iterations, tip-length)",
+     all_of(STROKE, folder("out"),
+            manifest(edit=lambda m: m.update(defaults={"options": {"quiet-paper": False}}))))
+case("batch-option-flag-not-bool", "a flag given a number", BATCH_DRY, 65,
+     "m.json: /jobs/0/options/impasto = 1: must be true or false (a flag)",
+     all_of(STROKE, folder("out"), job_options({"impasto": 1})))
+case("batch-option-number-as-string", "a number option given a string", BATCH_DRY, 65,
+     'm.json: /jobs/0/options/px-per-mm = "8": must be a number',
+     all_of(STROKE, folder("out"), job_options({"px-per-mm": "8"})))
+case("batch-option-reserved", "`trace` set as a job option", BATCH_DRY, 65,
+     "m.json: /jobs/0/options/trace: a batch job cannot set --trace (the batch chooses the "
+     "output and writes only PNGs)",
+     all_of(STROKE, folder("out"), job_options({"trace": "t.jsonl"})))
+case("batch-id-control", "a job id holding an escape sequence", BATCH_DRY, 65,
+     'm.json: /jobs/0/id = "one\\u001b[2J": must hold no control character',
+     all_of(STROKE, folder("out"), manifest(edit=job_edit(id="one\x1b[2J"))))
+
+# -- record --device none plans the trajectory it plays ------------------------
+case("record-span-1e7", "`record --device none` playing two samples 1e7 s apart",
+     RECORD + ["-o", "r.csv"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 "
+     "simulation steps up to here, over the limit of 10000000 per trajectory", LONG)
+case("record-teleport", "`record --device none` playing a jump of 1 m in a microsecond",
+     RECORD + ["-o", "r.csv", "--png", "o.png"], 65,
+     "t.csv: line 4, column 1 (t_s): the 1e-06 s since the previous sample plan 4000 "
+     "simulation steps, over the limit of 1000000 steps per second of gesture (the handle "
+     "moves 1000 mm)",
+     all_of(brush(), trajectory(rows=[[0, *HIGH, *REST], [1e-6, 1015, 40, 25, *REST]])))
+
+# -- NUL bytes and control characters are shown, never cut the line -----------
+case("nul-raw-in-brush", "a raw NUL byte inside a brush's JSON string", ["validate", "b.json"],
+     65, "b.json: line 1, column 13: malformed JSON (syntax error while parsing value - invalid "
+     "string: control character U+0000 (NUL) must be escaped to \\u0000; last read: "
+     "'\"ro<U+0000>')", brush(text='{"name": "ro\0und"}'))
+case("nul-raw-in-manifest", "a raw NUL byte inside a manifest's literal", BATCH_DRY, 65,
+     "m.json: line 1, column 8: malformed JSON (syntax error while parsing value - invalid "
+     "literal; last read: '\"a\": t<U+0000>')",
+     all_of(STROKE, folder("out"), manifest(text='{"a": t\0rue}')))
+case("nul-escaped-in-brush-key", "a brush key holding an escaped NUL", ["validate", "b.json"],
+     65, "b.json: /na\\u0000me: unknown key 'na\\u0000me'",
+     brush(edit=lambda b: b.update({"na\0me": 1})))
+case("nul-in-session-header", "a NUL byte in a session's column header", ["replay", "r.csv",
+     "--brush", "b.json", "-o", "o.png"], 65,
+     "r.csv: line 2, column 1 (t\\u0000s): unknown column 't\\u0000s'",
+     all_of(brush(), trajectory("r.csv", text="# bristle-trajectory/1\nt\0s,x_mm,y_mm,z_mm,"
+                                "qw,qx,qy,qz\n0,15,40,25,1,0,0,0\n")))
+case("nul-in-png-name", "an image whose name holds a newline", ["compare", "a\nb.png", "b.png"],
+     66, "a\\u000ab.png: cannot read: No such file or directory",
+     all_of(PNG, truncated(GOLD, "b.png", 10 ** 9)))
+
+# -- JSON values: counted while parsing, before the document is built ----------
+def many_values(name, n, key="description"):
+    def step(d):
+        fmt = "bristle-batch/1" if key == "jobs" else "bristle-brush/1"
+        write(d, name, '{"format": "' + fmt + '", "' + key + '": [' + "0," * (n - 1) + "0]}")
+    return step
+
+
+case("json-values-over-limit", "a brush whose description lists 1,000,000 numbers (1,000,002 "
+     "values in all)", ["validate", "b.json"], 65,
+     "b.json: JSON: holds more than 1000000 values (numbers, strings, arrays, objects ...), "
+     "over the limit", many_values("b.json", 1000000))
+case("json-values-at-limit", "a manifest of exactly 1,000,000 values: parsed, and refused for "
+     "what it is", BATCH_DRY, 65, "m.json: /jobs/0: must be a JSON object",
+     all_of(folder("out"), many_values("m.json", 999997, "jobs")))
+case("json-values-manifest", "a batch manifest of 2,000,000 numbers", BATCH_DRY, 65,
+     "m.json: JSON: holds more than 1000000 values (numbers, strings, arrays, objects ...), "
+     "over the limit", all_of(folder("out"), many_values("m.json", 2000000, "jobs")))
+
+# -- PNG chunks longer than the file: refused before libpng allocates them -----
+def text_chunk_bomb(name):
+    """A 1x1 PNG whose tEXt chunk claims 1.7 GB (found by fuzz/png.cpp)."""
+    def step(d):
+        (d / name).write_bytes((SRC / "fuzz/regressions/png/text-chunk-claims-1.7GB").read_bytes())
+    return step
+
+
+case("png-text-chunk-bomb", "a 106-byte PNG whose tEXt chunk claims 1.7 GB",
+     ["compare", "a.png", "a.png"], 65,
+     "a.png: tEXt: a chunk of 1778384896 bytes is longer than the 65 bytes left in the file "
+     "(corrupt or truncated PNG)", text_chunk_bomb("a.png"))
 
 CASES_END = None  # the cases are appended above this line
 

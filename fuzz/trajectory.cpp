@@ -1,0 +1,24 @@
+// Fuzz target: the trajectory reader (bristle-trajectory/1 CSV), then what
+// render does with a trajectory before it allocates the simulation: the check
+// against a brush and the plan of its steps (limited per trajectory and per
+// second of gesture).
+
+#include "engine/brush.h"
+#include "engine/simulation.h"
+#include "engine/trajectory.h"
+#include "engine/text_file.h"
+#include "fuzz/fuzz_input.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const bristle::Brush round =
+      bristle::loadBrush(BRISTLE_SOURCE_DIR "/scenes/brushes/round.json");
+  try {
+    const bristle::Trajectory t = bristle::parseTrajectory(bristle::fuzz::text(data, size), "t.csv");
+    bristle::validateTrajectoryForBrush(t, round);
+    const std::vector<double> steps = bristle::planStepTimes(t, round, bristle::SimOptions{});
+    if (steps.size() > static_cast<std::size_t>(bristle::kMaxPlannedSteps) + 1) std::abort();
+  } catch (const bristle::Error& e) {
+    bristle::fuzz::checkRefusal(e);
+  }
+  return 0;
+}
