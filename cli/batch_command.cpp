@@ -42,6 +42,16 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+// The batch's own folders beneath --out (the job log's, the children's private
+// one) are never reached through a symbolic link: like the outputs
+// (engine/atomic_output.h), nothing the batch writes may land outside --out.
+void refuseSymlinkFolder(const std::string& dir) {
+  std::error_code ec;
+  if (fs::is_symlink(dir, ec))
+    throw Error(ExitCode::kCantCreate,
+                dir + ": cannot create: is a symbolic link; a batch writes only beneath --out");
+}
+
 // The PNG text key that carries a job's up-to-date key.
 constexpr const char* kKeyText = "bristle:batch-key";
 // How often the run loop looks at its children and at the stop flag. Short
@@ -196,7 +206,8 @@ class BatchRun {
 
     std::error_code ec;
     if (!queue.empty()) {
-      fs::create_directories(private_dir_ = privateDir(), ec);
+      refuseSymlinkFolder(private_dir_ = privateDir());
+      fs::create_directories(private_dir_, ec);
       if (ec) throw Error(ExitCode::kCantCreate, private_dir_ + ": cannot create: " + ec.message());
     }
     size_t next = 0;
@@ -414,6 +425,7 @@ int runBatch(const BatchArgs& args) {
     if (!args.dry_run) {
       if (log_path.empty()) {
         const fs::path dir = fs::path(args.out_dir) / "logs";
+        refuseSymlinkFolder(dir.string());
         fs::create_directories(dir, ec);
         log_path = (dir / ("batch-" + utcStamp() + "-" + hostName() + "-" +
                            std::to_string(::getpid()) + "-shard-" + std::to_string(shard.index) +

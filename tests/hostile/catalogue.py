@@ -936,6 +936,11 @@ case("batch-out-symlink-file", "a job's output is a symbolic link to a file outs
      all_of(STROKE, folder("out"), copy("fuzz/seeds/png/rgb8.png", "victim.png"),
             symlink("out/x.png", "../victim.png"), manifest(edit=job_edit(output="x.png"))),
      logs="out/logs")
+case("batch-logs-symlink", "`--out`'s job-log folder is a symbolic link to a folder outside it",
+     BATCH_RUN, 73,
+     "out/logs: cannot create: is a symbolic link" + BENEATH,
+     all_of(STROKE, folder("out"), folder("elsewhere"), symlink("out/logs", "../elsewhere"),
+            manifest()))
 case("batch-option-smuggles-trace", "an option's list smuggling `--trace` into the job",
      BATCH_DRY, 65,
      'm.json: /jobs/0/options/offset-mm = [1,"--trace","/tmp/elsewhere.jsonl"]: must be a list '
