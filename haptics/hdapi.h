@@ -1,6 +1,6 @@
 #pragma once
-// The part of the OpenHaptics HDAPI C ABI that bristle uses, written from
-// /work/shared/design/openhaptics-hdapi.md (types, constants, signatures).
+// The part of the OpenHaptics HDAPI C ABI that bristle uses (types, constants,
+// signatures; docs/haptics.md, "The HDAPI subset").
 // Nothing here links against libHD: HdApi::load() opens it with dlopen and
 // resolves each function with dlsym. The library is never dlclose'd (vendor
 // drivers break when reloaded).
