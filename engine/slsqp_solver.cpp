@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <nlopt.hpp>
 #include <string>
@@ -336,7 +337,13 @@ class SlsqpSolver : public SpineSolver {
       }
       if (!feasible) {
         o.status = SolveStatus::kFailed;
-        o.message += finite ? ": below the canvas" : ": not finite";
+        if (finite) {
+          char depth[64];
+          std::snprintf(depth, sizeof depth, ": %.3g mm below the canvas", -lowest);
+          o.message += depth;
+        } else {
+          o.message += ": not finite";
+        }
         return o;
       }
       out->normal_force_n = canvasForces(p, q, settings_.active_mm, &fk_);

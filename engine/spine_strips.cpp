@@ -1,9 +1,22 @@
 #include "engine/spine_strips.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 namespace bristle {
+
+double bundleSpread(double radius_mm, double reach_mm) {
+  const double r = radius_mm;
+  if (!(r > 0) || reach_mm >= r) return 1;
+  const double h = std::max(reach_mm, 0.0);
+  // The circular segment beyond the canvas, r^2 acos(h/r) - h sqrt(r^2 - h^2),
+  // is pressed aside: widening by f restores the area on the near side,
+  // f (pi r^2 - segment) = pi r^2.
+  const double area = std::numbers::pi * r * r;
+  const double segment = r * r * std::acos(h / r) - h * std::sqrt(r * r - h * h);
+  return area / (area - segment);
+}
 
 void buildSpineGeometry(const Brush& brush, const BrushState& state,
                         std::vector<BrushVertex>* triangles) {
@@ -34,10 +47,14 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
       side.normalize();
       Eigen::Vector3d down = t.cross(side);
       if (down.z() > 0) down = -down;
+      // The bundle flattens on the paper (see bundleSpread): the distance to
+      // the canvas is measured along `down`, the direction the tube reaches it.
       const double r = 0.5 * spec.width_mm[j];
+      const double reach = down.z() < -1e-9 ? x[j].z() / -down.z() : r;
+      const double spread = bundleSpread(r, reach);
       for (int k = 0; k <= F; ++k) {
         const double a = std::numbers::pi * k / F;
-        ring[j * (F + 1) + k] = x[j] + r * (std::cos(a) * side + std::sin(a) * down);
+        ring[j * (F + 1) + k] = x[j] + r * (spread * std::cos(a) * side + std::sin(a) * down);
       }
     }
     auto vtx = [&](int j, int k) {
@@ -52,12 +69,14 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
     for (int j = 1; j <= n; ++j) {
       const double r = 0.5 * spec.width_mm[j];
       if (r <= 0) continue;
+      const double spread = bundleSpread(r, x[j].z());
       auto cap = [&](int lat, int lon) {  // lat 0 = lowest point .. kCapRings = equator
         const double polar = 0.5 * std::numbers::pi * lat / kCapRings;
         const double az = 2 * std::numbers::pi * lon / (2 * F);
         const Eigen::Vector3d p =
-            x[j] + r * Eigen::Vector3d(std::sin(polar) * std::cos(az),
-                                       std::sin(polar) * std::sin(az), -std::cos(polar));
+            x[j] + r * Eigen::Vector3d(spread * std::sin(polar) * std::cos(az),
+                                       spread * std::sin(polar) * std::sin(az),
+                                       -std::cos(polar));
         return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
                            static_cast<float>(p.z()), static_cast<float>((s + 0.5) / ns),
                            static_cast<float>(double(j) / n)};

@@ -208,7 +208,8 @@ TEST_CASE("a fixed cell smaller than a stroke shows its middle and says so", "[s
   CHECK(s.layout.cell_width_px == 120);  // 30 mm at 4 px/mm
   CHECK(s.layout.cell_height_px == 80);
   for (const SheetCell& c : s.cells) {
-    INFO("trajectory " << c.trajectory);
+    INFO("trajectory " << c.trajectory << ", brush " << c.brush << ": ink " << c.ink.width << " x "
+                       << c.ink.height << " px");
     CHECK(c.clipped == (c.trajectory == 0));
     CHECK(c.window.width == 120);
   }

@@ -6,9 +6,11 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "engine/bristle_strips.h"
+#include "engine/spine_strips.h"
 #include "engine/spine_solver.h"
 #include "engine/trajectory.h"
 #include "test_helpers.h"
@@ -416,4 +418,73 @@ TEST_CASE("the fan's hairs reach the paper wherever their spine tips do", "[stri
   // All of them are in the band; 0.95 leaves room only for the float rounding
   // of strips whose tip sits right at the band's edge.
   CHECK(double(touching) / eligible >= 0.95);
+}
+
+// ---- The spines' own bundles flatten and spread on the paper (engine/spine_strips.h) ----
+
+TEST_CASE("a bundle pressed onto the paper keeps its area and spreads sideways", "[strips]") {
+  const double r = 1.3;
+  CHECK(bundleSpread(r, r) == 1.0);
+  CHECK(bundleSpread(r, 5.0) == 1.0);
+  CHECK(bundleSpread(r, 0.0) == Approx(2.0).epsilon(1e-12));  // half the circle is pressed aside
+  CHECK(bundleSpread(r, -0.2) == Approx(2.0).epsilon(1e-12));  // the spine itself is held at z >= 0
+  CHECK(bundleSpread(0.0, 0.0) == 1.0);
+  // Area on the brush's side of the paper, integrated slice by slice (not
+  // from the closed form): the widened section cut at the paper has the whole
+  // round bundle's area pi r^2. The midpoint rule's error on this integrand,
+  // whose derivative is unbounded only at the top and bottom of the circle,
+  // is below 1e-5 relative with 200,000 slices; the tolerance is 1e-4.
+  constexpr double kAreaRelTol = 1e-4;
+  constexpr int kSlices = 200000;
+  double previous = 2.0 + 1e-12;
+  for (double h : {0.0, 0.1, 0.4, 0.65, 0.9, 1.2, 1.29}) {
+    const double f = bundleSpread(r, h);
+    CHECK(f < previous);  // less pressed, less spread
+    CHECK(f >= 1.0);
+    previous = f;
+    double area = 0;
+    const double dz = (r + h) / kSlices;  // from the paper (z = -h) to the top (z = r)
+    for (int i = 0; i < kSlices; ++i) {
+      const double z = -h + (i + 0.5) * dz;
+      area += 2 * f * std::sqrt(std::max(r * r - z * z, 0.0)) * dz;
+    }
+    CHECK(area == Approx(std::numbers::pi * r * r).epsilon(kAreaRelTol));
+  }
+}
+
+TEST_CASE("a spine lying on the paper dresses in a bundle twice as wide", "[strips]") {
+  // One straight spine along +x with width w at every joint; only its half
+  // tube and joint caps are built, in world mm.
+  const double w = 2.4;
+  std::vector<SpineSpec> spines = {makeSpine({5, 5, 5}, {8, 6, 4}, 0.005, Eigen::Vector3d::Zero())};
+  spines[0].width_mm.assign(4, w);
+  const Brush b = makeBrush(spines, 0.4, 0.3);
+  auto lateralSpanAt = [&](double height_mm) {
+    BrushState st = restState(b, poseAt(0, 0, 20));
+    std::vector<Eigen::Vector3d>& x = st.spines[0].joints_mm;
+    for (int k = 0; k <= 3; ++k) x[k] = Eigen::Vector3d(5.0 * k, 0, height_mm);
+    std::vector<BrushVertex> tris;
+    buildSpineGeometry(b, st, &tris);
+    double lo = 1e9, hi = -1e9, zmin = 1e9;
+    for (const BrushVertex& v : tris) {
+      if (std::fabs(v.x_mm - 7.5) > 2.5) continue;  // the middle segment
+      lo = std::min(lo, double(v.y_mm));
+      hi = std::max(hi, double(v.y_mm));
+      zmin = std::min(zmin, double(v.z_mm));
+    }
+    return std::pair<double, double>{hi - lo, zmin};
+  };
+  // Float vertices of ~10 mm carry ~1e-6 mm; the cap's polygon reaches the
+  // full radius at its equator, so the span is exact up to that.
+  constexpr double kSpanTolMm = 1e-5;
+  const auto [lying, lying_z] = lateralSpanAt(0.0);
+  CHECK(lying == Approx(2 * w).margin(kSpanTolMm));
+  CHECK(lying_z == Approx(-w / 2).margin(kSpanTolMm));  // depth still says how hard it presses
+  const auto [clear, clear_z] = lateralSpanAt(w);  // the bundle is clear of the paper
+  CHECK(clear == Approx(w).margin(kSpanTolMm));
+  CHECK(clear_z == Approx(w / 2).margin(kSpanTolMm));
+  const auto [half, half_z] = lateralSpanAt(w / 4);  // half-way: in between
+  CHECK(half > w + 0.1);
+  CHECK(half < 2 * w - 0.1);
+  CHECK(half == Approx(w * bundleSpread(w / 2, w / 4)).margin(kSpanTolMm));
 }
