@@ -50,6 +50,9 @@ int runPreview(const PreviewArgs& args);
 // Lists the brushes (*.json) of a library folder.
 int runBrushes(const std::string& library_dir);
 
+// Lists the pigment table; swatches: auto (on a terminal), always, never.
+int runPigments(const std::string& swatches);
+
 // `bristle record`: a live session with a haptic device (or a played
 // trajectory), written as it goes; `bristle replay`: its render.
 struct RecordArgs : PaintOptions {  // of the --png render

@@ -6,6 +6,7 @@
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "cli/progress.h"
 #include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
@@ -57,13 +58,15 @@ int runRender(const RenderArgs& args) {
   png.max_step_mm = args.max_step_mm;
   png.min_rate_hz = args.min_rate_hz;
   static_cast<PaintOptions&>(png) = args;
-  png.inputs = {args.brush, args.trajectory};
+  const std::string brush_file = findBrushFile(args.brush, "--brush");
+  png.inputs = {brush_file, args.trajectory};
   checkStrokePngOptions(png);
-  checkOutputs({{"-o", args.output}, {"--trace", args.trace}, {"--forces", args.forces}},
-               {{"--brush", args.brush}, {"--trajectory", args.trajectory}});
+  checkCliFiles({{"-o", args.output}, {"--trace", args.trace}, {"--forces", args.forces}},
+                {{"--brush", brush_file}, {"--trajectory", args.trajectory}}, {"-o"},
+                {"--trajectory"});
 
-  const Brush brush = loadBrush(args.brush);
-  Trajectory trajectory = loadTrajectory(args.trajectory);
+  const Brush brush = loadBrush(brush_file);
+  Trajectory trajectory = loadTrajectoryArg(args.trajectory);
   if (args.offset_mm.size() == 3) {
     const Eigen::Vector3d offset(args.offset_mm[0], args.offset_mm[1], args.offset_mm[2]);
     if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");
@@ -76,7 +79,7 @@ int runRender(const RenderArgs& args) {
 
   // Fail before the long run if an output cannot be created; each output is
   // written to a temporary file and renamed only when everything succeeded.
-  checkCanCreate(args.output);
+  checkCanCreateArg(args.output);
   std::unique_ptr<AtomicOutput> trace, forces;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
   if (!args.forces.empty()) {
@@ -108,7 +111,8 @@ int runRender(const RenderArgs& args) {
   if (forces) forces->commit();
 
   if (!result.touched)
-    printError("warning: the brush never touched the canvas (" + args.trajectory +
+    printError("warning: the brush never touched the canvas (" +
+               (isStdio(args.trajectory) ? std::string(kStdinName) : args.trajectory) +
                "): the image is blank");
   warnFailedSolves(result.stats);
   if (!args.quiet) {
@@ -122,7 +126,7 @@ int runRender(const RenderArgs& args) {
                  "left on the brush\n",
                  result.deposited_mm3, result.picked_up_mm3, png_result.left_on_brush_mm3,
                  png_result.loaded_mm3);
-    std::cout << args.output << "\n";
+    if (!isStdio(args.output)) std::cout << args.output << "\n";
   }
   return 0;
 }

@@ -10,6 +10,7 @@
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "cli/progress.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
@@ -51,18 +52,19 @@ void checkSceneOptions(const RenderArgs& args) {
 int runRenderScene(const RenderArgs& args) {
   checkSceneOptions(args);
   if (args.output.empty()) throw Error(ExitCode::kUsage, "render: -o/--output is required");
-  checkOutputs({{"-o", args.output}, {"--trace", args.trace}}, {{"scene", args.scene}});
+  checkCliFiles({{"-o", args.output}, {"--trace", args.trace}}, {{"scene", args.scene}}, {"-o"},
+                {});
   const Scene scene = loadScene(args.scene);
   std::vector<NamedFile> inputs;
   for (const SceneStroke& st : scene.strokes) {
     inputs.push_back({args.scene + ": " + st.pointer + "/brush", st.brush_path});
     inputs.push_back({args.scene + ": " + st.pointer + "/trajectory", st.trajectory_path});
   }
-  checkOutputs({{"-o", args.output}, {"--trace", args.trace}}, inputs);
+  checkCliFiles({{"-o", args.output}, {"--trace", args.trace}}, inputs, {"-o"}, {});
   const std::vector<std::string> warnings = sceneWarnings(scene);
   for (const std::string& w : warnings) printError("warning: " + w);
 
-  checkCanCreate(args.output);
+  checkCanCreateArg(args.output);
   std::unique_ptr<AtomicOutput> trace;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
 
@@ -104,7 +106,7 @@ int runRenderScene(const RenderArgs& args) {
                  st.iterations);
     std::fprintf(stderr, "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up\n",
                  result.deposited_mm3, result.picked_up_mm3);
-    std::cout << args.output << "\n";
+    if (!isStdio(args.output)) std::cout << args.output << "\n";
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "engine/canvas.h"
 #include "engine/error.h"
 #include "engine/paint.h"
@@ -131,7 +132,7 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
 
   render::ComposeOptions compose;
   compose.impasto = o.impasto;
-  render::PngText text = render::provenanceText(o.inputs);
+  render::PngText text = render::provenanceText(inputsHash(o.inputs));
   text.push_back({"bristle:brush", brush.name});
   text.push_back({"bristle:canvas", canvasText(grid)});
   text.push_back({"bristle:paint", o.paint + " load=" + o.load + " mix=" + o.mix});

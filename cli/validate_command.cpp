@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
@@ -45,9 +46,10 @@ void validateSheet(const std::string& f) {
 
 int runValidate(const std::vector<std::string>& files) {
   int code = 0;
-  for (const std::string& f : files) {
+  for (const std::string& arg : files) {
     try {
-      const bool csv = f.size() >= 4 && f.compare(f.size() - 4, 4, ".csv") == 0;
+      const bool csv = arg.size() >= 4 && arg.compare(arg.size() - 4, 4, ".csv") == 0;
+      const std::string f = csv ? arg : findBrushFile(arg, "");  // a library name is a brush
       const std::string text = csv ? std::string() : readTextFile(f);
       if (!csv && looksLikeScene(text)) {
         validateScene(f);

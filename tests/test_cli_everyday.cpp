@@ -1,0 +1,215 @@
+// The command line as a Unix tool's user expects it (issue 20): brushes by
+// library name, `bristle pigments`, "-" for standard input and output, and
+// `replay` taking its brush from the session's header.
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_runner.h"
+#include "engine/pigments.h"
+#include "render/png_io.h"
+
+using namespace bristle;
+using namespace bristle::testing;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBin = BRISTLE_BIN;
+const std::string kRound = sourcePath("scenes/brushes/round.json");
+
+// Runs a shell command line (pipes and redirections allowed, stdin /dev/null
+// unless it redirects it) in `dir`, capturing stdout and stderr.
+RunResult runShell(const TempDir& dir, const std::string& command) {
+  std::ofstream(dir.file(".command.sh")) << "cd '" << dir.path().string() << "' || exit 99\n{\n"
+                                         << command << "\n} </dev/null\n";
+  return runCaptured("env -u GALLIUM_DRIVER sh '" + dir.file(".command.sh") + "'",
+                     dir.file(".stdout"), dir.file(".stderr"));
+}
+
+// The first 60 lines of the straight pull: a short stroke (about a second to render).
+std::string shortTrajectory(const TempDir& dir) {
+  std::ifstream in(sourcePath("scenes/trajectories/straight-pull.csv"));
+  std::ofstream out(dir.file("short.csv"));
+  std::string line;
+  for (int i = 0; i < 60 && std::getline(in, line); ++i) out << line << "\n";
+  return dir.file("short.csv");
+}
+
+std::string bytesOf(const std::string& path) { return readAll(path); }
+
+}  // namespace
+
+TEST_CASE("a brush by library name is the library's file", "[cli][names]") {
+  TempDir d;
+  shortTrajectory(d);
+  const std::string b = "'" + kBin + "'";
+  const RunResult by_name = runShell(d, b + " render -q --brush round --trajectory short.csv -o n.png");
+  REQUIRE(by_name.code == 0);
+  const RunResult by_path =
+      runShell(d, b + " render -q --brush '" + kRound + "' --trajectory short.csv -o p.png");
+  REQUIRE(by_path.code == 0);
+  // The same pixels and the same provenance (the inputs' hash): byte for byte.
+  CHECK(bytesOf(d.file("n.png")) == bytesOf(d.file("p.png")));
+
+  const RunResult v = runShell(d, b + " validate round");
+  CHECK(v.code == 0);
+  CHECK(v.out == kRound + ": ok (brush 'round', 7 spines, surface)\n");
+
+  // A path is used as given, never looked up: round.json here does not exist.
+  const RunResult rel = runShell(d, b + " validate round.json");
+  CHECK(rel.code == 66);
+  CHECK(rel.err == "bristle: round.json: cannot read: No such file or directory\n");
+}
+
+TEST_CASE("brush names: BRISTLE_BRUSH_PATH and the install's share folder", "[cli][names]") {
+  TempDir d;
+  fs::create_directories(d.path() / "mine");
+  fs::copy_file(kRound, d.path() / "mine/house.json");
+  const std::string b = "'" + kBin + "'";
+  // Empty entries and missing folders are skipped; the first hit wins.
+  const RunResult env = runShell(d, "BRISTLE_BRUSH_PATH=:nowhere:mine " + b + " validate house");
+  CHECK(env.code == 0);
+  CHECK(env.out == "mine/house.json: ok (brush 'round', 7 spines, surface)\n");
+  const RunResult unset = runShell(d, "env -u BRISTLE_BRUSH_PATH " + b + " validate house");
+  CHECK(unset.code == 66);
+  CHECK_THAT(unset.err, Contains("no brush named 'house'") &&
+                            Contains("BRISTLE_BRUSH_PATH is not set"));
+
+  // A copy of the executable in PREFIX/bin finds PREFIX/share/bristle/brushes.
+  fs::create_directories(d.path() / "prefix/bin");
+  fs::create_directories(d.path() / "prefix/share/bristle/brushes");
+  fs::copy_file(kBin, d.path() / "prefix/bin/bristle");
+  fs::copy_file(kRound, d.path() / "prefix/share/bristle/brushes/shared.json");
+  const RunResult share = runShell(d, "env -u BRISTLE_BRUSH_PATH prefix/bin/bristle validate shared");
+  CHECK(runShell(d, "prefix/bin/bristle validate nope").err.find(sourcePath("scenes")) ==
+        std::string::npos);
+  CHECK(share.code == 0);
+  CHECK(share.out == (d.path() / "prefix/share/bristle/brushes/shared.json").string() +
+                         ": ok (brush 'round', 7 spines, surface)\n");
+  // The build's own executable looks in the source tree first; a copy elsewhere
+  // (an install) never does: its `round` is its share folder's.
+  fs::copy_file(kRound, d.path() / "prefix/share/bristle/brushes/round.json");
+  const RunResult copy = runShell(d, "prefix/bin/bristle validate round");
+  CHECK(copy.out == (d.path() / "prefix/share/bristle/brushes/round.json").string() +
+                        ": ok (brush 'round', 7 spines, surface)\n");
+  const RunResult build = runShell(d, b + " validate round");
+  CHECK(build.out == kRound + ": ok (brush 'round', 7 spines, surface)\n");
+}
+
+TEST_CASE("pigments: the table, with swatches only on a terminal", "[cli][pigments]") {
+  TempDir d;
+  const std::string b = "'" + kBin + "'";
+  const RunResult plain = runShell(d, b + " pigments");
+  REQUIRE(plain.code == 0);
+  CHECK(plain.out.find('\x1b') == std::string::npos);  // a pipe: no escapes
+  size_t lines = 0;
+  for (char c : plain.out) lines += c == '\n';
+  CHECK(lines == pigmentTable().size());
+  for (const Pigment& p : pigmentTable()) CHECK_THAT(plain.out, Contains("\n" + p.name + " ") || StartsWith(p.name + " "));
+  // Titanium white shows light, ivory black dark.
+  auto colour = [&](const std::string& name) {
+    const size_t at = plain.out.find(name + " ");
+    REQUIRE(at != std::string::npos);
+    const size_t hash = plain.out.find('#', at);
+    return std::stoi(plain.out.substr(hash + 1, 2), nullptr, 16);
+  };
+  CHECK(colour("titanium-white") > 0xd0);
+  CHECK(colour("ivory-black") < 0x40);
+
+  const RunResult always = runShell(d, b + " pigments --swatches always");
+  CHECK_THAT(always.out, StartsWith("\x1b[48;2;"));
+  size_t swatches = 0;
+  for (size_t at = 0; (at = always.out.find("\x1b[48;2;", at)) != std::string::npos; ++at)
+    ++swatches;
+  CHECK(swatches == pigmentTable().size());
+  // On a terminal (script(1) gives the command one) the default shows swatches.
+  const RunResult tty = runShell(d, "script -qec \"" + kBin + " pigments\" /dev/null");
+  CHECK_THAT(tty.out, Contains("\x1b[48;2;"));
+  CHECK(runShell(d, "script -qec \"" + kBin + " pigments --swatches never\" /dev/null")
+            .out.find("\x1b[48;2;") == std::string::npos);
+}
+
+TEST_CASE("'-': a trajectory from stdin, the PNG to stdout", "[cli][stdio]") {
+  TempDir d;
+  shortTrajectory(d);
+  const std::string b = "'" + kBin + "'";
+  REQUIRE(runShell(d, b + " render -q --brush round --trajectory short.csv -o file.png").code == 0);
+  // Progress and the summary stay on stderr: stdout is the PNG alone.
+  const RunResult piped =
+      runShell(d, "cat short.csv | " + b + " render --brush round --trajectory - -o - > piped.png");
+  REQUIRE(piped.code == 0);
+  CHECK(piped.out.empty());
+  CHECK_THAT(piped.err, Contains("steps ("));
+  CHECK(bytesOf(d.file("piped.png")) == bytesOf(d.file("file.png")));
+  CHECK_FALSE(fs::exists(d.path() / "-"));
+  // ... and straight into compare, which reads "-" from stdin.
+  const RunResult cmp = runShell(d, b + " render -q --brush round --trajectory - -o - < short.csv | " +
+                                        b + " compare file.png -");
+  CHECK(cmp.code == 0);
+  CHECK_THAT(cmp.out, Contains("file.png and -: identical pixels"));
+  const RunResult cmp_bad = runShell(d, "echo not a png | " + b + " compare file.png -");
+  CHECK(cmp_bad.code == 65);
+  CHECK(cmp_bad.err == "bristle: stdin: not a PNG file\n");
+
+  // A bad trajectory on stdin: the error names stdin, and stdout stays empty.
+  std::ofstream(d.file("bad.csv")) << "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+                                      "0,nan,0,20,1,0,0,0\n1,0,0,20,1,0,0,0\n";
+  const RunResult bad = runShell(d, b + " render --brush round --trajectory - -o - < bad.csv > out.png");
+  CHECK(bad.code == 65);
+  CHECK(bad.err == "bristle: stdin: line 3, column 2 (x_mm): must be finite\n");
+  CHECK(bytesOf(d.file("out.png")).empty());
+
+  // preview and sheet write to stdout too.
+  const RunResult pv = runShell(d, b + " preview round -o - > pv.png");
+  CHECK(pv.code == 0);
+  CHECK(render::readPngRgba8(d.file("pv.png")).width == 800);
+  CHECK_FALSE(fs::exists(d.path() / "-"));
+}
+
+TEST_CASE("replay takes the brush from the session's header", "[cli][replay]") {
+  TempDir d;
+  shortTrajectory(d);
+  fs::copy_file(kRound, d.path() / "mine.json");
+  const std::string b = "'" + kBin + "'";
+  // Recorded by name and by path, each replayed without --brush: the live --png's pixels.
+  for (const std::string& brush : {std::string("round"), std::string("mine.json")}) {
+    INFO(brush);
+    const RunResult rec = runShell(d, b + " record -q --device none --brush " + brush +
+                                          " --trajectory short.csv -o s.csv --png live.png");
+    REQUIRE(rec.code == 0);
+    const std::string header = readAll(d.file("s.csv"));
+    CHECK_THAT(header, Contains("# brush: " + (brush == "round"
+                                                   ? brush
+                                                   : (d.path() / "mine.json").string()) + "\n"));
+    fs::create_directories(d.path() / "elsewhere");
+    const RunResult rep = runShell(d, "cd elsewhere && " + b + " replay ../s.csv -o r.png");
+    REQUIRE(rep.code == 0);
+    CHECK(rep.err.empty());
+    CHECK(runShell(d, b + " compare live.png elsewhere/r.png").code == 0);
+  }
+  // The recorded file changed: refused; --brush overrides it with a warning.
+  std::ofstream(d.file("mine.json"), std::ios::app) << "\n";
+  const RunResult changed = runShell(d, b + " replay s.csv -o r2.png");
+  CHECK(changed.code == 65);
+  CHECK_THAT(changed.err, Contains("it changed since the recording; give --brush"));
+  CHECK_FALSE(fs::exists(d.path() / "r2.png"));
+  const RunResult over = runShell(d, b + " replay s.csv --brush mine.json -o r2.png");
+  CHECK(over.code == 0);
+  CHECK_THAT(over.err, Contains("warning:") && Contains("differs from the brush given"));
+  CHECK(runShell(d, b + " compare live.png r2.png").code == 0);
+}
+
+TEST_CASE("record without a device names --device none --trajectory", "[cli][record]") {
+  TempDir d;
+  const RunResult r = runShell(d, "BRISTLE_HD_LIBRARY=/nonexistent/libHD.so '" + kBin +
+                                      "' record --brush round -o s.csv");
+  CHECK(r.code == 69);
+  CHECK_THAT(r.err, Contains("--device none --trajectory T.csv"));
+  CHECK_FALSE(fs::exists(d.path() / "s.csv"));
+}
