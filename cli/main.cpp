@@ -103,6 +103,9 @@ int main(int argc, char** argv) {
   render->add_option("-o,--output", r.output, "Output PNG; - writes it to stdout")->required();
   render->add_option("--trace", r.trace, "Write the per-step trace (JSON lines)");
   render->add_option("--forces", r.forces, "Write the force on the handle per step (CSV)");
+  render->add_option("--stats", r.stats,
+                     "Write the run's figures and warnings (JSON: painted pixels, failed "
+                     "solves, paint laid down, ...)");
   render->add_option("--solver", r.solver, "Spine solver")
       ->capture_default_str()
       ->check(CLI::IsMember({"ipopt", "slsqp"}));
@@ -281,7 +284,10 @@ int main(int argc, char** argv) {
       "does not stop the others. Without --shard, the shard comes from Slurm's\n"
       "SLURM_ARRAY_TASK_ID/_COUNT/_MIN or Kubernetes' JOB_COMPLETION_INDEX (+ --shard-count).\n"
       "SIGTERM or Ctrl-C abandons running jobs and leaves no partial file.\n"
+      "Each job's log entry lists its warnings and figures (painted pixels, failed solves,\n"
+      "paint laid down); the warnings are also printed on stderr.\n"
       "Exit: 0 when every job of the shard succeeded, else the first failed job's code;\n"
+      "1 with --fail-on-warning when a job has warnings and none failed;\n"
       "143/130 when stopped by SIGTERM/SIGINT. See docs/batch.md.");
   batch->add_option("manifest", ba.manifest, "Batch manifest (bristle-batch/1 JSON)")->required();
   batch->add_option("--out", ba.out_dir, "Output folder (created if missing)")->required();
@@ -295,7 +301,10 @@ int main(int argc, char** argv) {
   batch->add_flag("--overwrite", ba.overwrite, "Render every job, even when its output is up to date");
   batch->add_flag("--json", ba.json, "One JSON object per job on stdout, then a summary");
   batch->add_option("--log", ba.log, "Job log (JSON lines; default OUT/logs/batch-<time>-<host>-<pid>-shard-I-of-N.jsonl)");
-  batch->add_flag("--dry-run", ba.dry_run, "List the shard's jobs and whether they would render; render nothing");
+  batch->add_flag("--dry-run", ba.dry_run, "List the shard's jobs and whether they would render, then a summary line; render nothing");
+  batch->add_flag("--fail-on-warning", ba.fail_on_warning,
+                  "Exit 1 when a job has warnings (and none failed): a brush that never touched "
+                  "the paper, no visible paint, failed solves");
   batch->add_flag("-q,--quiet", ba.quiet, "No progress, no summary");
 
   bristle::cli::CompareArgs cmp;

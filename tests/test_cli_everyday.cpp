@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "cli_runner.h"
@@ -212,4 +213,27 @@ TEST_CASE("record without a device names --device none --trajectory", "[cli][rec
   CHECK(r.code == 69);
   CHECK_THAT(r.err, Contains("--device none --trajectory T.csv"));
   CHECK_FALSE(fs::exists(d.path() / "s.csv"));
+}
+
+TEST_CASE("render --stats: the figures and the warnings as JSON", "[cli][stats]") {
+  TempDir d;
+  shortTrajectory(d);
+  d.write("air.csv", "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+                     "0,10,10,60,1,0,0,0\n1,40,10,60,1,0,0,0\n");
+  const std::string b = "'" + kBin + "'";
+  REQUIRE(runShell(d, b + " render -q --brush round --trajectory short.csv -o s.png --stats s.json")
+              .code == 0);
+  const std::string painted = readAll(d.file("s.json"));
+  CHECK_THAT(painted, Contains("\"warnings\":[]"));
+  CHECK_THAT(painted, Contains("\"failed_steps\":0"));
+  CHECK(painted.find("\"painted_pixels\":0,") == std::string::npos);
+  const RunResult air =
+      runShell(d, b + " render -q --brush round --trajectory air.csv -o a.png --stats a.json");
+  CHECK(air.code == 0);
+  const std::string blank = readAll(d.file("a.json"));
+  CHECK_THAT(blank, Contains("\"painted_pixels\":0,") && Contains("\"paint_laid_mm3\":0.0"));
+  CHECK_THAT(blank, Contains("\"warnings\":[\"the brush never touched the canvas (air.csv): "
+                             "the image is blank\"]"));
+  CHECK(air.err == "bristle: warning: the brush never touched the canvas (air.csv): the image is "
+                   "blank\n");
 }

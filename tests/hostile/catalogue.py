@@ -1083,6 +1083,12 @@ case("stdin-trajectory-empty", "`--trajectory -` with nothing on standard input"
 case("stdout-twice", "`-o -` and `--trace -`: one standard output",
      render("b.json", "t.csv", "-", "--trace", "-"), 64,
      "--trace -: only -o can be standard output (-); give --trace a file", STROKE)
+case("stats-stdout", "`render --stats -`: the stats are a file",
+     render("b.json", "t.csv", "o.png", "--stats", "-"), 64,
+     "--stats -: only -o can be standard output (-); give --stats a file", STROKE)
+case("stats-is-trajectory", "`render --stats` onto the trajectory",
+     render("b.json", "t.csv", "o.png", "--stats", "t.csv"), 64,
+     "t.csv: --stats: is the same file as the input t.csv (--trajectory)" + OVER, STROKE)
 case("record-session-stdout", "`record -o -`: the session is a file",
      RECORD + ["-o", "-"], 64,
      "-o -: only --png can be standard output (-); give -o a file", STROKE)
