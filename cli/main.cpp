@@ -138,6 +138,16 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> files;
   CLI::App* validate = app.add_subcommand("validate", "Check brush and scene (.json) and trajectory (.csv) files");
+  validate->footer(
+      "Examples:\n"
+      "  bristle validate round\n"
+      "  bristle validate scenes/brushes/flat.json scenes/trajectories/s-curve.csv\n"
+      "  bristle validate scenes/paintings/calligraphy.json scenes/sheets/small.json\n"
+      "Each file is checked on its own (a .csv is a trajectory; a .json a scene or a sheet\n"
+      "when its format says so, else a brush), a scene or sheet with every file it names.\n"
+      "Brushes and trajectories given together are then checked in pairs as render checks\n"
+      "them before its run (the same messages): a brush that starts below the paper is\n"
+      "exit 65, one that never comes within reach of it a warning. Exit: the first error's.");
   validate->add_option("files", files, "Files to check; a library brush by its name (round)")->required();
 
   // The library: the source tree's, else the install's; BRISTLE_BRUSHES points elsewhere.
@@ -341,6 +351,11 @@ int main(int argc, char** argv) {
 
   std::string help_topic;
   CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
+  help->footer(
+      "Examples:\n"
+      "  bristle help\n"
+      "  bristle help validate\n"
+      "Each command's help (also COMMAND --help) shows its options and its own examples.");
   help->add_option("command", help_topic, "Command to explain");
 
   try {

@@ -324,16 +324,7 @@ std::vector<std::string> sceneWarnings(const Scene& scene) {
   for (const SceneStroke& st : scene.strokes) {
     // No hair reaches further from the ferrule than the brush's reach: a stroke
     // whose handle never comes that close to the canvas cannot touch it.
-    const double r = scene.brushes[st.brush].reachMm();
-    bool reachable = false;
-    for (const TrajectorySample& s : st.trajectory.samples) {
-      const Eigen::Vector3d& p = s.pose.position_mm;
-      if (p.z() <= r && p.x() >= -r && p.x() <= w + r && p.y() >= -r && p.y() <= h + r) {
-        reachable = true;
-        break;
-      }
-    }
-    if (!reachable)
+    if (!st.trajectory.comesWithinReach(scene.brushes[st.brush].reachMm(), w, h))
       out.push_back(scene.path + ": " + st.pointer + ": the brush never comes within reach of "
                     "the canvas (trajectory " + st.trajectory_path + ")");
   }

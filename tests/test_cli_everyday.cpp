@@ -237,3 +237,61 @@ TEST_CASE("render --stats: the figures and the warnings as JSON", "[cli][stats]"
   CHECK(air.err == "bristle: warning: the brush never touched the canvas (air.csv): the image is "
                    "blank\n");
 }
+
+TEST_CASE("help per command: its own description and examples", "[cli][help]") {
+  for (const std::string cmd : {"render", "validate", "brushes", "pigments", "preview", "record",
+                                "replay", "sheet", "batch", "compare"}) {
+    INFO(cmd);
+    const RunResult h = runBristle("help " + cmd), dash = runBristle(cmd + " --help");
+    CHECK(h.code == 0);
+    CHECK(dash.code == 0);
+    CHECK(h.out == dash.out);
+    // Its examples are its own: each example line runs this command.
+    const size_t at = h.out.find("Examples:\n");
+    REQUIRE(at != std::string::npos);
+    std::istringstream lines(h.out.substr(at + 10));
+    int own = 0;
+    for (std::string line; std::getline(lines, line) && line.rfind("  ", 0) == 0;) {
+      if (line.rfind("  bristle ", 0) != 0) continue;
+      CHECK_THAT(line + " ", StartsWith("  bristle " + cmd + " "));
+      ++own;
+    }
+    CHECK(own >= 1);
+  }
+  const RunResult v = runBristle("help validate");
+  CHECK_THAT(v.out, StartsWith("Check brush and scene"));
+  CHECK_THAT(v.out, Contains("bristle validate round\n"));
+  CHECK(v.out.find("bristle render") == std::string::npos);
+}
+
+TEST_CASE("validate BRUSH TRAJ refuses the pair render refuses, with the same message",
+          "[cli][validate]") {
+  TempDir d;
+  // Held with the ferrule 5 mm up: the 20 mm hairs start in the paper.
+  d.write("low.csv", "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+                     "0,15,40,5,1,0,0,0\n1,30,40,25,1,0,0,0\n");
+  d.write("high.csv", "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+                      "0,15,40,80,1,0,0,0\n1,30,40,80,1,0,0,0\n");
+  const std::string b = "'" + kBin + "'";
+  const RunResult render = runShell(d, b + " render -q --brush round --trajectory low.csv -o o.png");
+  const RunResult validate = runShell(d, b + " validate round low.csv");
+  CHECK(render.code == 65);
+  CHECK(validate.code == 65);
+  CHECK_THAT(render.err, StartsWith("bristle: low.csv: line 3: the brush starts below the canvas"));
+  CHECK(validate.err == render.err);
+  // Each file alone is fine; only the pair is refused.
+  CHECK(runShell(d, b + " validate round").code == 0);
+  CHECK(runShell(d, b + " validate low.csv").code == 0);
+
+  // Never within reach: render's image would be blank, and validate says so.
+  const RunResult high = runShell(d, b + " validate round high.csv");
+  CHECK(high.code == 0);
+  CHECK(high.err == "bristle: warning: high.csv: the brush 'round' never comes within reach of "
+                    "the paper: render's image would be blank\n");
+  CHECK_THAT(high.out, Contains("round with high.csv: ok (starts above the paper, never reaches it)"));
+  const RunResult good = runShell(d, b + " validate round '" +
+                                         sourcePath("scenes/trajectories/s-curve.csv") + "'");
+  CHECK(good.code == 0);
+  CHECK(good.err.empty());
+  CHECK_THAT(good.out, Contains("comes within reach of it"));
+}

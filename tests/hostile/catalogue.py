@@ -1118,6 +1118,16 @@ case("replay-recorded-brush-gone", "`replay` without `--brush`: the recorded bru
      ["replay", "r.csv", "-o", "o.png"], 66, "gone.json: cannot read: No such file or directory",
      all_of(brush(), session_of("gone.json")))
 
+# -- validate checks a brush with a trajectory as render does, by the same function --
+LOW_START = all_of(brush(), trajectory(rows=[[0, 15, 40, -5, 1, 0, 0, 0],
+                                             [1, 30, 40, 25, 1, 0, 0, 0]]))
+PAIR_LOW = ("t.csv: line 3: the ferrule goes below the canvas (spine 0 root at z = -5 mm); "
+            "z must stay >= 0")
+case("render-starts-below", "`render` of a trajectory starting with the ferrule in the paper",
+     render(), 65, PAIR_LOW, LOW_START)
+case("validate-pair-starts-below", "`validate BRUSH TRAJ`: the same pair, the same message",
+     ["validate", "b.json", "t.csv"], 65, PAIR_LOW, LOW_START)
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
