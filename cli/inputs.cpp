@@ -1,11 +1,7 @@
 #include "cli/inputs.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 
 #include "engine/error.h"

@@ -3,7 +3,8 @@
 # user would, from outside the source tree: a brush by name (found in the
 # install's share/bristle/brushes), a trajectory piped in with `--trajectory -`,
 # the PNG piped out with `-o -` into `bristle compare -` against a render made
-# the ordinary way (files in, a file out); the layout, and the man page.
+# the ordinary way (files in, a file out); the layout, the man page, and a
+# project of someone else's built with find_package(bristle) against it.
 #
 #   check-install.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
@@ -23,7 +24,8 @@ for f in bin/bristle share/bristle/brushes/round.json share/bristle/brushes/fan.
          share/bristle/paintings/petals/dot.csv share/bristle/sheets/library.json \
          share/bristle/batch/standard.json share/bristle/blender/bristle_brush.py \
          share/bristle/docs/README.md share/bristle/docs/errors.md \
-         share/man/man1/bristle.1; do
+         share/man/man1/bristle.1 include/bristle/engine/brush.h include/bristle/bristle/version.h \
+         lib/libbristle_engine.a lib/cmake/bristle/bristleConfig.cmake; do
   [[ -f prefix/$f ]] || fail "prefix/$f was not installed"
 done
 
@@ -51,4 +53,11 @@ for c in render preview validate brushes pigments record replay sheet batch comp
   grep -q "^ *bristle $c\$" man.txt || fail "the man page has no section 'bristle $c'"
 done
 grep -q -- "--trajectory" man.txt || fail "the man page lacks the render options"
+# find_package(bristle): an outside project links the installed libraries.
+cmake -S "$src/tests/install/consumer" -B consumer -DCMAKE_PREFIX_PATH="$tmp/prefix" \
+  -DCMAKE_BUILD_TYPE=Release >consumer.log 2>&1 || fail "configuring the consumer: $(tail -5 consumer.log)"
+cmake --build consumer >>consumer.log 2>&1 || fail "building the consumer: $(tail -5 consumer.log)"
+out=$(consumer/consumer prefix/share/bristle/brushes/round.json two.png)
+[[ "$out" == "bristle 0."*": brush 'round', 7 spines, reach "*" mm" ]] || fail "consumer said: $out"
+"$bin" compare two.png two.png >/dev/null || fail "the consumer's PNG does not read back"
 echo "check-install: ok ($tmp/prefix)"
