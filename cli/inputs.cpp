@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "engine/brush_library.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "engine/text_file.h"
@@ -32,14 +33,7 @@ fs::path exeDir() {
 
 }  // namespace
 
-bool isBrushName(const std::string& ref) {
-  const std::string ext = ".json";
-  const bool json = ref.size() >= ext.size() &&
-                    ref.compare(ref.size() - ext.size(), ext.size(), ext) == 0;
-  return !ref.empty() && !isStdio(ref) && ref.find('/') == std::string::npos && !json;
-}
-
-std::vector<std::string> brushLibraryDirs() {
+std::vector<std::string> cliBrushLibraryDirs() {
   std::vector<std::string> dirs;
   const fs::path bin = exeDir();
   // The executable the build made (not an installed copy) works in its source tree.
@@ -48,15 +42,7 @@ std::vector<std::string> brushLibraryDirs() {
     dirs.push_back(BRISTLE_SOURCE_DIR "/scenes/brushes");
   if (!bin.empty())
     dirs.push_back((bin / BRISTLE_BIN_TO_DATADIR / "bristle/brushes").lexically_normal().string());
-  if (const char* env = std::getenv("BRISTLE_BRUSH_PATH")) {
-    const std::string path = env;
-    size_t start = 0;
-    while (start <= path.size()) {
-      const size_t colon = std::min(path.find(':', start), path.size());
-      if (colon > start) dirs.push_back(path.substr(start, colon - start));
-      start = colon + 1;
-    }
-  }
+  for (std::string& d : brushPathDirs()) dirs.push_back(std::move(d));
   return dirs;
 }
 
@@ -66,24 +52,12 @@ std::string defaultBrushLibrary() {
     std::error_code ec;
     if (fs::is_directory(d, ec)) return d;
   }
-  return dirs.front();
+  return dirs.empty() ? std::string(BRISTLE_SOURCE_DIR "/scenes/brushes") : dirs.front();
 }
 
 std::string findBrushFile(const std::string& ref, const std::string& option) {
   if (!isBrushName(ref)) return ref;
-  const std::vector<std::string> dirs = brushLibraryDirs();
-  for (const std::string& d : dirs) {
-    const std::string file = d + "/" + ref + ".json";
-    std::error_code ec;
-    // Whatever is there is the brush: the reader refuses what is not a regular file.
-    if (fs::exists(fs::symlink_status(file, ec))) return file;
-  }
-  throw Error(ExitCode::kNoInput,
-              (option.empty() ? "" : option + " ") + ref + ": no brush named '" + ref +
-                  "' in the library (looked for " + ref + ".json in " + joined(dirs, ", ") +
-                  (std::getenv("BRISTLE_BRUSH_PATH") ? "" : "; BRISTLE_BRUSH_PATH is not set") +
-                  "); `bristle brushes` lists the library, and a path must contain '/' or "
-                  "end in .json");
+  return findBrushByName(ref, option.empty() ? ref : option + " " + ref);
 }
 
 const std::string& stdinText() {

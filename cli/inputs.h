@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/atomic_output.h"
+#include "engine/brush_library.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
 
@@ -17,24 +18,20 @@ namespace bristle::cli {
 // "-": standard input (an input) or standard output (a PNG output).
 inline bool isStdio(const std::string& path) { return path == kStdioPath; }
 
-// True when ref is a brush name to look up, false when it is a path used as
-// given: a path contains '/' or ends in ".json" ("-" is neither: standard input).
-bool isBrushName(const std::string& ref);
+// The folders a brush name is looked up in (engine/brush_library.h), in order:
+// the source tree's scenes/brushes (only for the executable in the build tree:
+// an installed copy does not depend on the checkout it was built from), the
+// install's share/bristle/brushes (<exe dir>/../share/...), then each folder of
+// BRISTLE_BRUSH_PATH (colon-separated; empty entries skipped). main() gives
+// them to setBrushLibraryDirs, for the command line and the files it reads.
+std::vector<std::string> cliBrushLibraryDirs();
 
-// The folders a brush name is looked up in, in order: the source tree's
-// scenes/brushes (only for the executable in the build tree: an installed
-// copy does not depend on the checkout it was built from), the install's
-// share/bristle/brushes (<exe dir>/../share/...), then each folder of
-// BRISTLE_BRUSH_PATH (colon-separated; empty entries skipped).
-std::vector<std::string> brushLibraryDirs();
-
-// The file of a brush reference: a path as given; a name as DIR/NAME.json in the
-// first folder of brushLibraryDirs() holding a regular file of that name.
-// Throws Error(kNoInput) naming the option, the name and every folder looked in.
+// The file of a brush reference on the command line: a path as given; a name
+// through findBrushByName (kNoInput "OPTION NAME: no brush named ...").
 std::string findBrushFile(const std::string& ref, const std::string& option);
 
-// The first folder of brushLibraryDirs() that exists (for `bristle brushes`),
-// or the source tree's when none does.
+// The first library folder that exists (for `bristle brushes`), or the source
+// tree's when none does.
 std::string defaultBrushLibrary();
 
 

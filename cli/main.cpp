@@ -77,6 +77,8 @@ void addPaintOptions(CLI::App* app, bristle::cli::PaintOptions& p) {
 
 int main(int argc, char** argv) {
   using bristle::cli::printError;
+  // Brush names, on the command line and in the scenes, sheets and manifests it reads.
+  bristle::setBrushLibraryDirs(bristle::cli::cliBrushLibraryDirs());
   CLI::App app(kDescription, "bristle");
   app.footer(kFooter);
   app.set_version_flag("--version", std::string("bristle ") + bristle::kVersion);

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "engine/brush_library.h"
 #include "engine/error.h"
 #include "engine/json_reader.h"
 #include "engine/pigments.h"
@@ -140,7 +141,8 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
     s.require(!brush.empty(), "brush", "must name a brush file");
     const std::string traj = s.string("trajectory");
     s.require(!traj.empty(), "trajectory", "must name a trajectory file");
-    st.brush_path = resolve(base_dir, brush);
+    st.brush_path = isBrushName(brush) ? findBrushByName(brush, path + ": " + st.pointer + "/brush")
+                                       : resolve(base_dir, brush);
     st.trajectory_path = resolve(base_dir, traj);
     parsePaintLoad(s.object("paint"), &st.paint);
     if (s.has("placement")) parsePlacement(s.object("placement"), &st.placement);

@@ -295,3 +295,31 @@ TEST_CASE("validate BRUSH TRAJ refuses the pair render refuses, with the same me
   CHECK(good.err.empty());
   CHECK_THAT(good.out, Contains("comes within reach of it"));
 }
+
+TEST_CASE("brush names in scenes, sheets and batch manifests", "[cli][names]") {
+  TempDir d;
+  shortTrajectory(d);
+  d.write("s.json", R"({"format": "bristle-scene/1", "name": "named",
+    "canvas": {"size_mm": [120, 90], "px_per_mm": 2},
+    "strokes": [{"brush": "round", "trajectory": "short.csv", "paint": {"paints": ["sumi-ink"]}}]})");
+  d.write("p.json", R"({"format": "bristle-scene/1", "name": "named",
+    "canvas": {"size_mm": [120, 90], "px_per_mm": 2},
+    "strokes": [{"brush": ")" + kRound + R"(", "trajectory": "short.csv",
+                 "paint": {"paints": ["sumi-ink"]}}]})");
+  d.write("sh.json", R"({"format": "bristle-sheet/1", "name": "named", "px_per_mm": 2,
+    "brushes": ["round", {"path": "flat", "lift_mm": 1}], "trajectories": ["short.csv"]})");
+  d.write("m.json", R"({"format": "bristle-batch/1",
+    "jobs": [{"id": "one", "brush": "round", "trajectory": "short.csv"}]})");
+  const std::string b = "'" + kBin + "'";
+  const RunResult v = runShell(d, b + " validate s.json sh.json");
+  CHECK(v.code == 0);
+  CHECK_THAT(v.out, Contains("s.json: ok (scene 'named', 1 stroke, 1 brush") &&
+                        Contains("sh.json: ok (sheet 'named', 2 brushes x 1 trajectory)"));
+  // The name is the library's file: the same painting, pixel for pixel.
+  REQUIRE(runShell(d, b + " render -q s.json -o s.png").code == 0);
+  REQUIRE(runShell(d, b + " render -q p.json -o p.png").code == 0);
+  CHECK(runShell(d, b + " compare s.png p.png").code == 0);
+  const RunResult batch = runShell(d, b + " batch m.json --out out --json");
+  CHECK(batch.code == 0);
+  CHECK_THAT(batch.out, Contains("\"status\":\"rendered\""));
+}

@@ -1071,6 +1071,18 @@ case("brush-name-unknown-validate", "`validate` of a brush name found nowhere, "
      "nope: no brush named 'nope' in the library (looked for nope.json in "
      "{src}/scenes/brushes, {prefix}/share/bristle/brushes; BRISTLE_BRUSH_PATH is not set)"
      + NO_NAME, env={"BRISTLE_BRUSH_PATH": None})
+case("brush-name-unknown-scene", "a scene stroke whose brush is a name found nowhere",
+     ["validate", "s.json"], 66, "s.json: /strokes/0/brush: no brush named 'nope' in the "
+     "library (looked for nope.json in {src}/scenes/brushes, {prefix}/share/bristle/brushes; "
+     "BRISTLE_BRUSH_PATH is not set)" + NO_NAME,
+     all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update({"brush": "nope"}))),
+     env={"BRISTLE_BRUSH_PATH": None})
+case("brush-name-unknown-manifest", "a batch job whose brush is a name found nowhere",
+     BATCH_DRY, 66, "m.json: /jobs/0/brush: no brush named 'nope' in the library (looked for "
+     "nope.json in {src}/scenes/brushes, {prefix}/share/bristle/brushes, lib)" + NO_NAME,
+     all_of(STROKE, folder("out"), folder("lib"),
+            manifest(edit=lambda m: m["jobs"][0].update({"brush": "nope"}))),
+     env={"BRISTLE_BRUSH_PATH": "lib"})
 case("brush-name-fifo", "a brush name that is a FIFO in a BRISTLE_BRUSH_PATH folder",
      ["validate", "zz"], 66, "lib/zz.json: cannot read: is a FIFO" + NOT_REG,
      all_of(folder("lib"), fifo("lib/zz.json")), env={"BRISTLE_BRUSH_PATH": "lib"})
