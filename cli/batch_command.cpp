@@ -7,7 +7,11 @@
 // - SIGTERM/SIGINT stop the run between jobs: running jobs are abandoned, their
 //   files removed, and the log says so;
 // - the same manifest gives the same pixels whatever --jobs or --shard is,
-//   because every job is a separate, deterministic render.
+//   because every job is a separate, deterministic render;
+// - no problem is hidden: each job's warnings (a brush that never touched the
+//   paper, failed solves) and figures (painted pixels, paint laid down) are in
+//   its log entry, kept in its PNG for the runs that skip it, and
+//   --fail-on-warning makes them fail the batch.
 
 #include <fcntl.h>
 #include <signal.h>
@@ -52,8 +56,10 @@ void refuseSymlinkFolder(const std::string& dir) {
                 dir + ": cannot create: is a symbolic link; a batch writes only beneath --out");
 }
 
-// The PNG text key that carries a job's up-to-date key.
+// The PNG text key that carries a job's up-to-date key, and the one that
+// carries its warnings (a JSON list), so that a run skipping it still logs them.
 constexpr const char* kKeyText = "bristle:batch-key";
+constexpr const char* kWarningsText = "bristle:batch-warnings";
 // How often the run loop looks at its children and at the stop flag. Short
 // enough that a stop or a finished job is seen without delay a person notices,
 // long enough to cost nothing beside a render (~0.01% of a core).
@@ -111,16 +117,36 @@ std::string readBytes(const std::string& path) {
 }
 
 // Whether `path` is a complete PNG stamped with `key` (a corrupt or truncated
-// file is not: it is rendered again).
-bool upToDate(const std::string& path, const std::string& key) {
+// file is not: it is rendered again); *warnings gets the warnings stamped with it.
+bool upToDate(const std::string& path, const std::string& key,
+              std::vector<std::string>* warnings) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return false;
+  bool same = false;
   try {
-    for (const auto& [k, v] : render::readPngText(path))
-      if (k == kKeyText) return v == key;
+    for (const auto& [k, v] : render::readPngText(path)) {
+      if (k == kKeyText) same = v == key;
+      if (k == kWarningsText) {
+        const nlohmann::json list = nlohmann::json::parse(v, nullptr, false);
+        if (list.is_array())
+          for (const nlohmann::json& w : list)
+            if (w.is_string()) warnings->push_back(w.get<std::string>());
+      }
+    }
   } catch (const std::exception&) {
+    return false;
   }
-  return false;
+  return same;
+}
+
+// The warnings a job's stderr holds ("bristle: warning: W" lines), without the prefix.
+std::vector<std::string> warningLines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  const std::string prefix = "bristle: warning: ";
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0) out.push_back(line.substr(prefix.size()));
+  return out;
 }
 
 enum class Status { kRendered, kSkipped, kFailed, kAbandoned };
@@ -139,6 +165,8 @@ struct Outcome {
   int code = 0;  // the job's exit code (0 when it succeeded)
   std::string error;
   double seconds = 0;
+  std::vector<std::string> warnings;  // of a rendered (or skipped) job
+  nlohmann::json figures;             // of a rendered stroke or scene (render --stats)
 };
 
 struct PendingJob {
@@ -149,7 +177,7 @@ struct PendingJob {
 struct Running {
   PendingJob pending;
   pid_t pid = -1;
-  std::string png, err;  // the child's output and stderr, in the private folder
+  std::string png, err, stats;  // the child's output, stderr and --stats, in the private folder
   Clock::time_point start;
 };
 
@@ -191,15 +219,17 @@ class BatchRun {
         checkBeneath(args_.out_dir, job.output);  // a link out of --out fails the job
         const std::vector<std::string> inputs = batchJobInputs(job, manifest_.path);
         const std::string key = hex64(batchJobKey(job, inputs));
-        if (!args_.overwrite && upToDate(outputPath(job), key)) {
-          finish(job, key, Outcome{Status::kSkipped, 0, "", seconds(t0)});
+        Outcome skipped{Status::kSkipped, 0, "", 0, {}, {}};
+        if (!args_.overwrite && upToDate(outputPath(job), key, &skipped.warnings)) {
+          skipped.seconds = seconds(t0);
+          finish(job, key, skipped);
         } else if (args_.dry_run) {
           finishDry(job, key);
         } else {
           queue.push_back({&job, key});
         }
       } catch (const Error& e) {
-        finish(job, "", Outcome{Status::kFailed, static_cast<int>(e.code()), e.what(), seconds(t0)});
+        finish(job, "", Outcome{Status::kFailed, static_cast<int>(e.code()), e.what(), seconds(t0), {}, {}});
       }
     }
     if (args_.dry_run) return std::move(outcomes_);
@@ -267,6 +297,10 @@ class BatchRun {
     std::vector<std::string> argv_s = {exe_};
     for (std::string& a : batchJobArguments(*p.job)) argv_s.push_back(std::move(a));
     argv_s.insert(argv_s.end(), {"-o", r.png, "--quiet"});
+    if (p.job->kind != BatchJobKind::kSheet) {  // `render` reports its figures
+      r.stats = (fs::path(private_dir_) / (tag + ".stats.json")).string();
+      argv_s.insert(argv_s.end(), {"--stats", r.stats});
+    }
     std::vector<char*> argv;
     for (std::string& a : argv_s) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -301,9 +335,21 @@ class BatchRun {
     Outcome o;
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
       try {
+        o.warnings = warningLines(r.err);
+        if (!r.stats.empty()) {
+          nlohmann::json stats = nlohmann::json::parse(readBytes(r.stats), nullptr, false);
+          if (stats.is_object()) {
+            o.warnings = stats.value("warnings", std::vector<std::string>{});
+            stats.erase("warnings");
+            o.figures = std::move(stats);
+          }
+        }
+        std::string png = render::withPngText(readBytes(r.png), kKeyText, r.pending.key);
+        if (!o.warnings.empty())
+          png = render::withPngText(png, kWarningsText,
+                                    nlohmann::json(o.warnings).dump(-1, ' ', true));
         // Beneath --out, never through a symbolic link out of it.
-        writeFileBeneath(args_.out_dir, job.output,
-                         render::withPngText(readBytes(r.png), kKeyText, r.pending.key));
+        writeFileBeneath(args_.out_dir, job.output, png);
         o.status = Status::kRendered;
       } catch (const Error& e) {
         o.code = static_cast<int>(e.code());
@@ -322,6 +368,7 @@ class BatchRun {
     std::error_code ec;
     fs::remove(r.png, ec);
     fs::remove(r.err, ec);
+    if (!r.stats.empty()) fs::remove(r.stats, ec);
     o.seconds = seconds(r.start);
     finish(job, r.pending.key, o);
   }
@@ -337,12 +384,12 @@ class BatchRun {
       }
       finish(*r.pending.job, r.pending.key,
              Outcome{Status::kAbandoned, 0, "stopped by signal " + std::to_string(g_stop_signal),
-                     seconds(r.start)});
+                     seconds(r.start), {}, {}});
     }
     running->clear();
     for (size_t i = next; i < queue.size(); ++i)
       finish(*queue[i].job, queue[i].key,
-             Outcome{Status::kAbandoned, 0, "not started: stopped by signal", 0});
+             Outcome{Status::kAbandoned, 0, "not started: stopped by signal", 0, {}, {}});
   }
 
   nlohmann::json record(const BatchJob& job, const std::string& key, const Outcome& o) const {
@@ -359,6 +406,9 @@ class BatchRun {
     } else if (o.status == Status::kAbandoned) {
       j["error"] = o.error;
     }
+    if (o.status == Status::kRendered || o.status == Status::kSkipped)
+      j["warnings"] = o.warnings;
+    if (!o.figures.is_null()) j["figures"] = o.figures;
     return j;
   }
 
@@ -371,11 +421,13 @@ class BatchRun {
       std::cout << j.dump() << '\n' << std::flush;
     } else if (o.status == Status::kFailed) {
       printError("job '" + job.id + "' failed (" + std::to_string(o.code) + "): " + o.error);
+    } else {
+      for (const std::string& w : o.warnings) printError("job '" + job.id + "': warning: " + w);
     }
   }
 
   void finishDry(const BatchJob& job, const std::string& key) {
-    outcomes_[job.index] = Outcome{Status::kRendered, 0, "", 0};
+    outcomes_[job.index] = Outcome{Status::kRendered, 0, "", 0, {}, {}};
     nlohmann::json j = record(job, key, outcomes_[job.index]);
     j["status"] = "would render";
     if (args_.json) {
@@ -441,8 +493,9 @@ int runBatch(const BatchArgs& args) {
     BatchRun run(args, manifest, args.dry_run ? nullptr : &log);
     const std::map<int, Outcome> outcomes = run.run(mine);
 
-    int rendered = 0, skipped = 0, failed = 0, abandoned = 0, first_failure = 0;
+    int rendered = 0, skipped = 0, failed = 0, abandoned = 0, warned = 0, first_failure = 0;
     for (const auto& [index, o] : outcomes) {
+      warned += !o.warnings.empty();
       switch (o.status) {
         case Status::kRendered: ++rendered; break;
         case Status::kSkipped: ++skipped; break;
@@ -459,20 +512,34 @@ int runBatch(const BatchArgs& args) {
         {"shard", std::to_string(shard.index) + "/" + std::to_string(shard.count)},
         {"jobs", mine.size()},   {"rendered", rendered},
         {"skipped", skipped},    {"failed", failed},
-        {"abandoned", abandoned}, {"seconds", std::round(secs * 1000) / 1000},
-        {"log", log_path}};
+        {"abandoned", abandoned}, {"warned", warned},
+        {"seconds", std::round(secs * 1000) / 1000}, {"log", log_path}};
     if (!args.dry_run) log << summary.dump() << '\n' << std::flush;
+    const std::string with_warnings =
+        warned ? ", " + std::to_string(warned) + " with warnings" : std::string();
     if (args.json) {
       std::cout << summary.dump() << '\n' << std::flush;
-    } else if (!args.quiet && !args.dry_run) {
+    } else if (!args.quiet && args.dry_run) {
+      // Also when every job is up to date: the user sees that the run looked.
+      std::printf("batch: %zu jobs (shard %d/%d): %d would render, %d up to date, %d failed%s "
+                  "(dry run)\n",
+                  mine.size(), shard.index, shard.count, rendered, skipped, failed,
+                  with_warnings.c_str());
+    } else if (!args.quiet) {
       std::fprintf(stderr,
-                   "batch: %zu jobs (shard %d/%d): %d rendered, %d up to date, %d failed%s in %.1f s; "
-                   "log %s\n",
+                   "batch: %zu jobs (shard %d/%d): %d rendered, %d up to date, %d failed%s%s in "
+                   "%.1f s; log %s\n",
                    mine.size(), shard.index, shard.count, rendered, skipped, failed,
-                   abandoned ? (", " + std::to_string(abandoned) + " abandoned").c_str() : "", secs,
-                   log_path.c_str());
+                   abandoned ? (", " + std::to_string(abandoned) + " abandoned").c_str() : "",
+                   with_warnings.c_str(), secs, log_path.c_str());
     }
     if (g_stop_signal != 0) return 128 + g_stop_signal;
+    if (first_failure == 0 && warned > 0 && args.fail_on_warning) {
+      if (!args.json)
+        printError("batch: " + std::to_string(warned) +
+                   (warned == 1 ? " job has" : " jobs have") + " warnings (--fail-on-warning)");
+      return static_cast<int>(ExitCode::kCheckFailed);
+    }
     return first_failure;
   } catch (const Error& e) {
     printError(e.what());

@@ -19,7 +19,7 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::string scene;  // positional: a bristle-scene/1 file instead of --brush/--trajectory
   std::vector<std::string> given;  // the options given on the command line ("--trace", ...)
   std::string brush, trajectory, output;
-  std::string trace, forces;  // optional outputs
+  std::string trace, forces, stats;  // optional outputs
   std::string solver = "ipopt";
   double px_per_mm = 8;
   double max_step_mm = 0.25;
@@ -49,6 +49,9 @@ int runPreview(const PreviewArgs& args);
 
 // Lists the brushes (*.json) of a library folder.
 int runBrushes(const std::string& library_dir);
+
+// Lists the pigment table; swatches: auto (on a terminal), always, never.
+int runPigments(const std::string& swatches);
 
 // `bristle record`: a live session with a haptic device (or a played
 // trajectory), written as it goes; `bristle replay`: its render.
@@ -87,6 +90,7 @@ struct BatchArgs {
   int jobs = 1;
   int shard_count = 0;  // with JOB_COMPLETION_INDEX (Kubernetes)
   bool overwrite = false, json = false, dry_run = false, quiet = false;
+  bool fail_on_warning = false;  // exit 1 when a job has warnings and none failed
 };
 int runBatch(const BatchArgs& args);
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
@@ -150,7 +151,7 @@ nlohmann::json imageJson(const std::string& path, const render::Image16& image,
 
 int runCompare(const CompareArgs& args) {
   const CompareTolerance tolerance = toleranceOf(args);
-  checkOutputs({{"--diff", args.diff}}, {{"a", args.a}, {"b", args.b}});
+  checkCliFiles({{"--diff", args.diff}}, {{"a", args.a}, {"b", args.b}}, {}, {"a", "b"});
   render::PngFormat fa, fb;
   const render::Image16 a = render::readPngRgba16(args.a, &fa);
   const render::Image16 b = render::readPngRgba16(args.b, &fb);

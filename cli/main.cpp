@@ -7,6 +7,7 @@
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "engine/error.h"
 #include "engine/temp_files.h"
 
@@ -18,18 +19,22 @@ constexpr const char* kDescription =
 
 constexpr const char* kFooter =
     "Examples:\n"
-    "  bristle render --brush scenes/brushes/round.json \\\n"
+    "  bristle render --brush round \\\n"
     "                 --trajectory scenes/trajectories/s-curve.csv -o s.png --trace s.jsonl\n"
-    "  bristle render --solver slsqp --brush scenes/brushes/flat.json \\\n"
+    "  bristle render --solver slsqp --brush flat \\\n"
     "                 --trajectory scenes/trajectories/straight-pull.csv -o flat.png\n"
-    "  bristle preview scenes/brushes/fan.json -o fan.png\n"
+    "  bristle render --brush round --trajectory - -o - < T.csv > out.png\n"
+    "  bristle preview fan -o fan.png\n"
     "  bristle brushes\n"
-    "  bristle validate scenes/brushes/round.json scenes/trajectories/s-curve.csv\n"
-    "  bristle record --brush scenes/brushes/round.json -o session.csv --png live.png\n"
-    "  bristle replay session.csv --brush scenes/brushes/round.json -o replay.png\n"
+    "  bristle pigments\n"
+    "  bristle validate round scenes/trajectories/s-curve.csv\n"
+    "  bristle record --brush round -o session.csv --png live.png\n"
+    "  bristle replay session.csv -o replay.png\n"
     "  bristle compare golden/round-s-curve.png new.png --tolerance strict --diff d.png\n"
     "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
     "  bristle batch scenes/batch/standard.json --out renders/ --jobs 2\n"
+    "A brush is a library name (bristle brushes lists them) or a file; - is stdin for\n"
+    "a trajectory and stdout for a PNG.\n"
     "\n"
     "Exit codes: 0 ok, 1 images differ (compare), 64 usage, 65 bad input\n"
     "data, 66 input missing, 69 haptic device unavailable (or failed), 70 internal\n"
@@ -72,6 +77,8 @@ void addPaintOptions(CLI::App* app, bristle::cli::PaintOptions& p) {
 
 int main(int argc, char** argv) {
   using bristle::cli::printError;
+  // Brush names, on the command line and in the scenes, sheets and manifests it reads.
+  bristle::setBrushLibraryDirs(bristle::cli::cliBrushLibraryDirs());
   CLI::App app(kDescription, "bristle");
   app.footer(kFooter);
   app.set_version_flag("--version", std::string("bristle ") + bristle::kVersion);
@@ -82,21 +89,25 @@ int main(int argc, char** argv) {
   render->footer(
       "Examples:\n"
       "  bristle render scenes/paintings/petals.json -o petals.png --impasto\n"
-      "  bristle render --brush scenes/brushes/round.json \\\n"
+      "  bristle render --brush round \\\n"
       "      --trajectory scenes/trajectories/s-curve.csv -o s.png --trace s.jsonl\n"
-      "  bristle render --brush scenes/brushes/flat.json --trajectory T.csv -o petal.png \\\n"
+      "  bristle render --brush flat --trajectory T.csv -o petal.png \\\n"
       "      --paint cadmium-red,titanium-white --load across --impasto\n"
-      "  bristle render --brush scenes/brushes/round.json --trajectory T.csv -o dry.png \\\n"
+      "  bristle render --brush round --trajectory T.csv -o dry.png \\\n"
       "      --paint burnt-umber --amount 0.15 --paper-tooth 0.06\n"
+      "  bristle render --brush round --trajectory - -o - < T.csv | bristle compare ref.png -\n"
       "The canvas is sized to everything the brush can reach plus a 5 mm margin.\n"
-      "Paints: a pigment name (see docs/paint.md: ultramarine, cadmium-yellow, titanium-white,\n"
-      "sumi-ink, ...) or #rrggbb.");
+      "Paints: a pigment name (bristle pigments lists them: ultramarine, cadmium-yellow,\n"
+      "titanium-white, sumi-ink, ...) or #rrggbb.");
   render->add_option("scene", r.scene, "A scene (bristle-scene/1 JSON): a whole painting");
-  render->add_option("--brush", r.brush, "Brush file (bristle-brush/1 JSON)");
-  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV)");
-  render->add_option("-o,--output", r.output, "Output PNG")->required();
+  render->add_option("--brush", r.brush, "Brush: a library name (round) or a file (bristle-brush/1 JSON)");
+  render->add_option("--trajectory", r.trajectory, "Trajectory (bristle-trajectory/1 CSV); - reads stdin");
+  render->add_option("-o,--output", r.output, "Output PNG; - writes it to stdout")->required();
   render->add_option("--trace", r.trace, "Write the per-step trace (JSON lines)");
   render->add_option("--forces", r.forces, "Write the force on the handle per step (CSV)");
+  render->add_option("--stats", r.stats,
+                     "Write the run's figures and warnings (JSON: painted pixels, failed "
+                     "solves, paint laid down, ...)");
   render->add_option("--solver", r.solver, "Spine solver")
       ->capture_default_str()
       ->check(CLI::IsMember({"ipopt", "slsqp"}));
@@ -129,26 +140,59 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> files;
   CLI::App* validate = app.add_subcommand("validate", "Check brush and scene (.json) and trajectory (.csv) files");
-  validate->add_option("files", files, "Files to check")->required();
+  validate->footer(
+      "Examples:\n"
+      "  bristle validate round\n"
+      "  bristle validate scenes/brushes/flat.json scenes/trajectories/s-curve.csv\n"
+      "  bristle validate scenes/paintings/calligraphy.json scenes/sheets/small.json\n"
+      "Each file is checked on its own (a .csv is a trajectory; a .json a scene or a sheet\n"
+      "when its format says so, else a brush), a scene or sheet with every file it names.\n"
+      "Brushes and trajectories given together are then checked in pairs as render checks\n"
+      "them before its run (the same messages): a brush that starts below the paper is\n"
+      "exit 65, one that never comes within reach of it a warning. Exit: the first error's.");
+  validate->add_option("files", files, "Files to check; a library brush by its name (round)")->required();
 
-  // The library ships in the source tree; BRISTLE_BRUSHES points elsewhere.
+  // The library: the source tree's, else the install's; BRISTLE_BRUSHES points elsewhere.
   std::string library = std::getenv("BRISTLE_BRUSHES") ? std::getenv("BRISTLE_BRUSHES")
-                                                        : BRISTLE_SOURCE_DIR "/scenes/brushes";
+                                                        : bristle::cli::defaultBrushLibrary();
   CLI::App* brushes = app.add_subcommand("brushes", "List the brush library, one line each");
-  brushes->add_option("--library", library, "Folder of brush files (default: $BRISTLE_BRUSHES "
-                                            "or the source tree's scenes/brushes)");
+  brushes->footer(
+      "Examples:\n"
+      "  bristle brushes\n"
+      "  bristle brushes --library scenes/brushes\n"
+      "Each name listed works wherever a brush is taken (--brush round). A name is looked\n"
+      "up as NAME.json in the source tree's scenes/brushes, then the install's\n"
+      "share/bristle/brushes, then each folder of BRISTLE_BRUSH_PATH (colon-separated).\n"
+      "A brush that contains '/' or ends in .json is a path, used as given.");
+  brushes->add_option("--library", library, "Folder of brush files (default: $BRISTLE_BRUSHES, "
+                                            "else the source tree's scenes/brushes, else the "
+                                            "install's share/bristle/brushes)");
+
+  std::string swatches = "auto";
+  CLI::App* pigments = app.add_subcommand("pigments", "List the pigment table: names, colours, Kubelka-Munk K and S");
+  pigments->footer(
+      "Examples:\n"
+      "  bristle pigments\n"
+      "  bristle pigments --swatches never\n"
+      "The colour is what a film of the paint (2 units thick) shows over white paper.\n"
+      "Any name listed, or a colour #rrggbb, works as --paint. See docs/paint.md.");
+  pigments->add_option("--swatches", swatches,
+                       "Colour swatches (24-bit ANSI): auto (when stdout is a terminal), "
+                       "always, never")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "always", "never"}));
 
   bristle::cli::PreviewArgs pv;
   CLI::App* preview = app.add_subcommand("preview", "Draw a brush in 3D, at rest or at a time of a trajectory");
   preview->footer(
       "Examples:\n"
-      "  bristle preview scenes/brushes/fan.json -o fan.png\n"
-      "  bristle preview scenes/brushes/round.json --trajectory scenes/trajectories/s-curve.csv \\\n"
+      "  bristle preview fan -o fan.png\n"
+      "  bristle preview round --trajectory scenes/trajectories/s-curve.csv \\\n"
       "      --at 1.2 -o round-1.2s.png\n"
       "The inset shows the footprint: what of the brush touches the paper.");
-  preview->add_option("brush", pv.brush, "Brush file (bristle-brush/1 JSON)")->required();
-  preview->add_option("-o,--output", pv.output, "Output PNG")->required();
-  preview->add_option("--trajectory", pv.trajectory, "Simulate along this trajectory ...");
+  preview->add_option("brush", pv.brush, "Brush: a library name (round) or a file (bristle-brush/1 JSON)")->required();
+  preview->add_option("-o,--output", pv.output, "Output PNG; - writes it to stdout")->required();
+  preview->add_option("--trajectory", pv.trajectory, "Simulate along this trajectory (- reads stdin) ...");
   preview->add_option("--at", pv.at_s, "... up to this time (s)")->capture_default_str();
   preview->add_option("--offset-mm", pv.offset_mm, "Shift the trajectory by X Y Z mm")->expected(3);
   preview->add_option("--width", pv.width_px, "Image width (px)")->capture_default_str()->check(CLI::Range(64, 4096));
@@ -161,21 +205,21 @@ int main(int argc, char** argv) {
       "record", "Paint live with a haptic device (or play a trajectory) and record the session");
   record->footer(
       "Examples:\n"
-      "  bristle record --brush scenes/brushes/round.json -o session.csv --png live.png\n"
+      "  bristle record --brush round -o session.csv --png live.png\n"
       "  bristle record --device none --trajectory scenes/trajectories/s-curve.csv \\\n"
-      "      --brush scenes/brushes/round.json -o session.csv --forces forces.csv\n"
+      "      --brush round -o session.csv --forces forces.csv\n"
       "The session (bristle-trajectory/1 with buttons and forces) is written as it goes.\n"
       "Ends on Ctrl-C, --duration, or the end of --trajectory. BRISTLE_HD_LIBRARY names\n"
       "the OpenHaptics library (default libHD.so). Exit 69: device unavailable or failed.");
-  record->add_option("--brush", rec.brush, "Brush file (bristle-brush/1 JSON)")->required();
+  record->add_option("--brush", rec.brush, "Brush: a library name (round) or a file (bristle-brush/1 JSON)")->required();
   record->add_option("-o,--output", rec.output, "Session file to write (CSV)")->required();
   record->add_option("--device", rec.device, "Haptic device")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "openhaptics", "none"}));
   record->add_option("--trajectory", rec.trajectory,
-                     "Trajectory the 'none' device plays as the stylus (bristle-trajectory/1)");
+                     "Trajectory the 'none' device plays as the stylus (bristle-trajectory/1; - reads stdin)");
   record->add_option("--forces", rec.forces, "Write every servo tick's force (CSV, 1 kHz)");
-  record->add_option("--png", rec.png, "Render the recorded stroke to this PNG at the end");
+  record->add_option("--png", rec.png, "Render the recorded stroke to this PNG at the end (- writes it to stdout)");
   record->add_option("--duration", rec.duration_s, "Stop after this many seconds (0: no limit)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 86400.0));
@@ -200,9 +244,18 @@ int main(int argc, char** argv) {
 
   bristle::cli::ReplayArgs rep;
   CLI::App* replay = app.add_subcommand("replay", "Render a recorded session (same pixels as live)");
+  replay->footer(
+      "Examples:\n"
+      "  bristle replay session.csv -o replay.png\n"
+      "  bristle replay session.csv --brush flat -o as-flat.png\n"
+      "Without --brush, the brush is the one the session's header records (a library\n"
+      "name, or a file's path), and it must be the same file: a hash that differs from\n"
+      "the header's brush_fnv1a64 is an error (65). With --brush, it is a warning.\n"
+      "Give the --png options of the recording (--paint, --px-per-mm, ...) to get its pixels.");
   replay->add_option("session", rep.session, "Session file (from bristle record)")->required();
-  replay->add_option("--brush", rep.brush, "Brush file it was recorded with")->required();
-  replay->add_option("-o,--output", rep.output, "Output PNG")->required();
+  replay->add_option("--brush", rep.brush,
+                     "Brush, instead of the one the session's header records (a library name or a file)");
+  replay->add_option("-o,--output", rep.output, "Output PNG; - writes it to stdout")->required();
   replay->add_option("--px-per-mm", rep.px_per_mm, "Canvas resolution (pixels per mm)")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 100.0));
@@ -223,7 +276,7 @@ int main(int argc, char** argv) {
       "centred on its inked area; rows are brushes (their names), columns trajectories\n"
       "(their file stems). The sheet format is docs/sheet-format.md.");
   sheet->add_option("sheet", sh.sheet, "Sheet file (bristle-sheet/1 JSON)")->required();
-  sheet->add_option("-o,--output", sh.output, "Output PNG")->required();
+  sheet->add_option("-o,--output", sh.output, "Output PNG; - writes it to stdout")->required();
   sheet->add_option("--px-per-mm", sh.px_per_mm, "Resolution, instead of the sheet's px_per_mm")
       ->check(CLI::Range(0.5, 100.0));
   sheet->add_option("--solver", sh.solver, "Spine solver, instead of the sheet's")
@@ -243,7 +296,10 @@ int main(int argc, char** argv) {
       "does not stop the others. Without --shard, the shard comes from Slurm's\n"
       "SLURM_ARRAY_TASK_ID/_COUNT/_MIN or Kubernetes' JOB_COMPLETION_INDEX (+ --shard-count).\n"
       "SIGTERM or Ctrl-C abandons running jobs and leaves no partial file.\n"
+      "Each job's log entry lists its warnings and figures (painted pixels, failed solves,\n"
+      "paint laid down); the warnings are also printed on stderr.\n"
       "Exit: 0 when every job of the shard succeeded, else the first failed job's code;\n"
+      "1 with --fail-on-warning when a job has warnings and none failed;\n"
       "143/130 when stopped by SIGTERM/SIGINT. See docs/batch.md.");
   batch->add_option("manifest", ba.manifest, "Batch manifest (bristle-batch/1 JSON)")->required();
   batch->add_option("--out", ba.out_dir, "Output folder (created if missing)")->required();
@@ -257,7 +313,10 @@ int main(int argc, char** argv) {
   batch->add_flag("--overwrite", ba.overwrite, "Render every job, even when its output is up to date");
   batch->add_flag("--json", ba.json, "One JSON object per job on stdout, then a summary");
   batch->add_option("--log", ba.log, "Job log (JSON lines; default OUT/logs/batch-<time>-<host>-<pid>-shard-I-of-N.jsonl)");
-  batch->add_flag("--dry-run", ba.dry_run, "List the shard's jobs and whether they would render; render nothing");
+  batch->add_flag("--dry-run", ba.dry_run, "List the shard's jobs and whether they would render, then a summary line; render nothing");
+  batch->add_flag("--fail-on-warning", ba.fail_on_warning,
+                  "Exit 1 when a job has warnings (and none failed): a brush that never touched "
+                  "the paper, no visible paint, failed solves");
   batch->add_flag("-q,--quiet", ba.quiet, "No progress, no summary");
 
   bristle::cli::CompareArgs cmp;
@@ -270,8 +329,8 @@ int main(int argc, char** argv) {
       "Presets: exact (equal pixels; the default), strict (max abs <= 2, <= 0.1% of pixels\n"
       "over 1), loose (SSIM >= 0.99, <= 1% of pixels over 8). Exit 0 within tolerance, 1 not\n"
       "(also when the sizes differ). See docs/golden-tests.md.");
-  compare->add_option("a", cmp.a, "First PNG (the reference)")->required();
-  compare->add_option("b", cmp.b, "Second PNG")->required();
+  compare->add_option("a", cmp.a, "First PNG (the reference); - reads stdin")->required();
+  compare->add_option("b", cmp.b, "Second PNG; - reads stdin")->required();
   compare->add_option("--diff", cmp.diff, "Write the amplified difference image (PNG)");
   compare->add_option("--diff-gain", cmp.diff_gain, "Amplification of --diff")
       ->capture_default_str()
@@ -294,6 +353,11 @@ int main(int argc, char** argv) {
 
   std::string help_topic;
   CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
+  help->footer(
+      "Examples:\n"
+      "  bristle help\n"
+      "  bristle help validate\n"
+      "Each command's help (also COMMAND --help) shows its options and its own examples.");
   help->add_option("command", help_topic, "Command to explain");
 
   try {
@@ -320,6 +384,7 @@ int main(int argc, char** argv) {
     }
     if (validate->parsed()) return bristle::cli::runValidate(files);
     if (brushes->parsed()) return bristle::cli::runBrushes(library);
+    if (pigments->parsed()) return bristle::cli::runPigments(swatches);
     if (preview->parsed()) return bristle::cli::runPreview(pv);
     if (record->parsed()) return bristle::cli::runRecord(rec);
     if (replay->parsed()) return bristle::cli::runReplay(rep);
@@ -327,13 +392,13 @@ int main(int argc, char** argv) {
     if (compare->parsed()) return bristle::cli::runCompare(cmp);
     if (batch->parsed()) return bristle::cli::runBatch(ba);
     if (help->parsed() && !help_topic.empty()) {
-      for (CLI::App* sub : {render, validate, brushes, preview, record, replay, sheet, batch, compare}) {
+      for (CLI::App* sub : {render, validate, brushes, pigments, preview, record, replay, sheet, batch, compare}) {
         if (sub->get_name() == help_topic) {
           std::cout << sub->help("bristle");
           return 0;
         }
       }
-      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, record, replay, sheet, batch, compare)");
+      printError("help: unknown command '" + help_topic + "' (commands: render, preview, validate, brushes, pigments, record, replay, sheet, batch, compare)");
       return static_cast<int>(bristle::ExitCode::kUsage);
     }
     std::cout << app.help();

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
@@ -22,8 +23,10 @@
 namespace bristle::cli {
 
 int runPreview(const PreviewArgs& args) {
-  checkOutputs({{"-o", args.output}}, {{"brush", args.brush}, {"--trajectory", args.trajectory}});
-  const Brush brush = loadBrush(args.brush);
+  const std::string brush_file = findBrushFile(args.brush, "");
+  checkCliFiles({{"-o", args.output}}, {{"brush", brush_file}, {"--trajectory", args.trajectory}},
+                {"-o"}, {"--trajectory"});
+  const Brush brush = loadBrush(brush_file);
   BrushGeometry geometry(brush);
   Simulation sim(brush, SimOptions{}, makeIpoptSolver(), makeSlsqpSolver());
   double t_s = 0;
@@ -33,7 +36,7 @@ int runPreview(const PreviewArgs& args) {
     rest.position_mm = Eigen::Vector3d(0, 0, brush.reachMm() + 2);
     sim.reset(rest, 0);
   } else {
-    Trajectory traj = loadTrajectory(args.trajectory);
+    Trajectory traj = loadTrajectoryArg(args.trajectory);
     if (args.offset_mm.size() == 3 &&
         !(std::fabs(args.offset_mm[0]) <= kMaxPositionMm &&
           std::fabs(args.offset_mm[1]) <= kMaxPositionMm &&
@@ -89,7 +92,7 @@ int runPreview(const PreviewArgs& args) {
   opt.height_px = args.height_px;
   const render::Image8 image = render::renderPreview(scene, opt);
   render::writePng(args.output, image, {{"Software", "bristle preview"}, {"bristle:brush", brush.name}});
-  if (!args.quiet) std::cout << args.output << "\n";
+  if (!args.quiet && !isStdio(args.output)) std::cout << args.output << "\n";
   return 0;
 }
 

@@ -3,11 +3,13 @@
 // and `bristle replay session.csv --brush B.json -o out.png`.
 
 #include <csignal>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
@@ -26,12 +28,10 @@ namespace {
 std::atomic<bool> g_interrupt{false};
 extern "C" void onSignal(int) { g_interrupt.store(true); }
 
-// Renders a session file: the same function for record --png and replay, so
-// both give the same pixels.
-void renderSession(const Brush& brush, const std::string& session_path,
-                   const std::string& brush_hash, const StrokePngOptions& png,
-                   const std::string& output) {
-  haptics::Session session = haptics::loadSession(session_path, brush_hash);
+// Renders a session: the same function for record --png and replay, so both
+// give the same pixels.
+void renderSession(const Brush& brush, haptics::Session session, const std::string& session_path,
+                   const StrokePngOptions& png, const std::string& output) {
   for (const std::string& w : session.warnings) printError("warning: " + w);
   // A live session may start with the brush held into the paper; the stroke
   // starts where the brush was first clear of it (as the live sim did).
@@ -53,7 +53,7 @@ std::unique_ptr<haptics::Device> openDevice(const RecordArgs& args, bool* is_non
     if (args.trajectory.empty())
       throw Error(ExitCode::kUsage,
                   "--device none: needs --trajectory T.csv to play as the stylus");
-    return std::make_unique<haptics::NoneDevice>(loadTrajectory(args.trajectory));
+    return std::make_unique<haptics::NoneDevice>(loadTrajectoryArg(args.trajectory));
   };
   if (args.device == "none") return none();
   const std::string lib = haptics::hd::hdLibraryPath();
@@ -68,7 +68,11 @@ std::unique_ptr<haptics::Device> openDevice(const RecordArgs& args, bool* is_non
     if (!dev->notice().empty()) printError("notice: " + dev->notice());
     return dev;
   } catch (const Error& e) {
-    if (e.code() != ExitCode::kUnavailable || args.trajectory.empty()) throw;
+    if (e.code() != ExitCode::kUnavailable) throw;
+    if (args.trajectory.empty())
+      throw Error(e.code(), std::string(e.what()) +
+                                "; or, without a device, --device none --trajectory T.csv "
+                                "plays a trajectory as the stylus");
     printError(std::string("notice: no haptic device (") + e.what() +
                "); falling back to --device none");
     return none();
@@ -89,29 +93,57 @@ const char* endText(haptics::ServoLoop::End e) {
 // The render of a session (record --png, replay): the same options for both,
 // checked before anything runs.
 template <class Args>
-StrokePngOptions sessionPngOptions(const Args& args, const std::string& session) {
+StrokePngOptions sessionPngOptions(const Args& args, const std::string& brush_file,
+                                   const std::string& session) {
   StrokePngOptions png;
   static_cast<PaintOptions&>(png) = args;
   png.solver = args.solver;
   png.px_per_mm = args.px_per_mm;
-  png.inputs = {args.brush, session};
+  png.inputs = {brush_file, session};
   checkStrokePngOptions(png);
   return png;
+}
+
+// What a session's "# brush:" line records of --brush: a library name as
+// given, a file as its absolute path, so that replay finds it from anywhere.
+std::string recordedBrush(const std::string& ref, const std::string& file) {
+  if (isBrushName(ref)) return ref;
+  return std::filesystem::absolute(file).lexically_normal().string();
+}
+
+// The brush of a session's header ("# brush: round" or a path) as a file: a
+// name is looked up in the library; a relative path is taken from the working
+// folder, else from the session's folder. kUsage when the header names none.
+std::string brushOfSession(const haptics::Session& session, const std::string& session_path) {
+  const auto it = session.header.find("brush");
+  if (it == session.header.end() || it->second.empty())
+    throw Error(ExitCode::kUsage, session_path +
+                                      ": the header records no brush (no '# brush:' line); "
+                                      "give --brush");
+  const std::string& ref = it->second;
+  if (isBrushName(ref)) return findBrushFile(ref, session_path + ": # brush:");
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::path(ref).is_absolute() || fs::exists(fs::symlink_status(ref, ec))) return ref;
+  const fs::path beside = fs::path(session_path).parent_path() / ref;
+  return fs::exists(fs::symlink_status(beside, ec)) ? beside.string() : ref;
 }
 
 }  // namespace
 
 int runRecord(const RecordArgs& args) {
-  const StrokePngOptions png = sessionPngOptions(args, args.output);
+  const std::string brush_file = findBrushFile(args.brush, "--brush");
+  const StrokePngOptions png = sessionPngOptions(args, brush_file, args.output);
   // Every output is checked before the session file is opened (which
   // truncates it): none is an input or another output, each can be created.
-  checkOutputs({{"-o", args.output}, {"--forces", args.forces}, {"--png", args.png}},
-               {{"--brush", args.brush}, {"--trajectory", args.trajectory}});
-  const Brush brush = loadBrush(args.brush);
-  const std::string hash = haptics::brushFileHash(args.brush);
+  checkCliFiles({{"-o", args.output}, {"--forces", args.forces}, {"--png", args.png}},
+                {{"--brush", brush_file}, {"--trajectory", args.trajectory}}, {"--png"},
+                {"--trajectory"});
+  const Brush brush = loadBrush(brush_file);
+  const std::string hash = haptics::brushFileHash(brush_file);
   checkCanCreate(args.output);
   if (!args.forces.empty()) checkCanCreate(args.forces);
-  if (!args.png.empty()) checkCanCreate(args.png);
+  if (!args.png.empty()) checkCanCreateArg(args.png);
 
   bool is_none = false;
   std::unique_ptr<haptics::Device> device = openDevice(args, &is_none);
@@ -119,7 +151,7 @@ int runRecord(const RecordArgs& args) {
     // The played trajectory is planned as its replay will be, before the session
     // is opened: one over the step limits (docs/errors.md) would record for
     // days a session that no replay could render.
-    const Trajectory played = loadTrajectory(args.trajectory);
+    const Trajectory played = loadTrajectoryArg(args.trajectory);
     validateTrajectoryForBrush(played, brush);
     planStepTimes(played, brush, SimOptions{});
   }
@@ -128,7 +160,7 @@ int runRecord(const RecordArgs& args) {
   header.device_model = device->model();
   header.servo_rate_hz = device->servoRateHz();
   header.session_rate_hz = args.session_rate_hz;
-  header.brush_path = args.brush;
+  header.brush_path = recordedBrush(args.brush, brush_file);
   header.brush_hash = hash;
   haptics::SessionWriter writer(args.output, args.forces, header);
 
@@ -165,20 +197,46 @@ int runRecord(const RecordArgs& args) {
                     " holds it up to the error");
   }
   if (!args.png.empty()) {
-    renderSession(brush, args.output, hash, png, args.png);
-    if (!args.quiet) std::cout << args.png << "\n";
+    renderSession(brush, haptics::loadSession(args.output, hash), args.output, png, args.png);
+    if (!args.quiet && !isStdio(args.png)) std::cout << args.png << "\n";
   }
-  if (!args.quiet) std::cout << args.output << "\n";
+  // With --png -, stdout holds the PNG alone.
+  if (!args.quiet && !isStdio(args.png)) std::cout << args.output << "\n";
   return 0;
 }
 
 int runReplay(const ReplayArgs& args) {
-  const StrokePngOptions png = sessionPngOptions(args, args.session);
-  checkOutputs({{"-o", args.output}}, {{"session", args.session}, {"--brush", args.brush}});
-  const Brush brush = loadBrush(args.brush);
-  checkCanCreate(args.output);
-  renderSession(brush, args.session, haptics::brushFileHash(args.brush), png, args.output);
-  if (!args.quiet) std::cout << args.output << "\n";
+  checkCliFiles({{"-o", args.output}}, {{"session", args.session}}, {"-o"}, {});
+  // The brush: --brush, whose hash differing from the recorded one is a
+  // warning (the user chose it); else the session's own, which must be the
+  // file it was recorded with.
+  haptics::Session session;
+  std::string brush_file;
+  if (!args.brush.empty()) {
+    brush_file = findBrushFile(args.brush, "--brush");
+    session = haptics::loadSession(args.session, haptics::brushFileHash(brush_file));
+  } else {
+    session = haptics::loadSession(args.session);
+    brush_file = brushOfSession(session, args.session);
+    const std::string hash = haptics::brushFileHash(brush_file);
+    const auto recorded = session.header.find("brush_fnv1a64");
+    if (recorded == session.header.end())
+      session.warnings.push_back(args.session +
+                                 ": no brush_fnv1a64 header: cannot check the brush " +
+                                 brush_file);
+    else if (recorded->second != hash)
+      throw Error(ExitCode::kDataError,
+                  args.session + ": brush_fnv1a64 " + recorded->second + ": the brush " +
+                      brush_file + " (from the header) is " + hash +
+                      ": it changed since the recording; give --brush to replay with it anyway");
+  }
+  const StrokePngOptions png = sessionPngOptions(args, brush_file, args.session);
+  checkCliFiles({{"-o", args.output}}, {{"session", args.session}, {"--brush", brush_file}},
+                {"-o"}, {});
+  const Brush brush = loadBrush(brush_file);
+  checkCanCreateArg(args.output);
+  renderSession(brush, std::move(session), args.session, png, args.output);
+  if (!args.quiet && !isStdio(args.output)) std::cout << args.output << "\n";
   return 0;
 }
 

@@ -6,7 +6,9 @@
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "cli/progress.h"
+#include "cli/run_stats.h"
 #include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
@@ -35,12 +37,8 @@ void printError(const std::string& message) {
 }
 
 void warnFailedSolves(const SimStats& stats) {
-  if (stats.failed_steps <= 0) return;
-  printError("warning: " + std::to_string(stats.failed_steps) + " of " +
-             std::to_string(stats.steps) + " steps had a failed solve (" +
-             std::to_string(stats.failed_spine_solves) +
-             " spine solves); those spines were carried along frozen in their last good pose, "
-             "for at most " + std::to_string(stats.longest_failed_run) + " steps in a row");
+  const std::string w = failedSolvesWarning(stats);
+  if (!w.empty()) printError("warning: " + w);
 }
 
 int runRender(const RenderArgs& args) {
@@ -57,13 +55,18 @@ int runRender(const RenderArgs& args) {
   png.max_step_mm = args.max_step_mm;
   png.min_rate_hz = args.min_rate_hz;
   static_cast<PaintOptions&>(png) = args;
-  png.inputs = {args.brush, args.trajectory};
+  const std::string brush_file = findBrushFile(args.brush, "--brush");
+  png.inputs = {brush_file, args.trajectory};
   checkStrokePngOptions(png);
-  checkOutputs({{"-o", args.output}, {"--trace", args.trace}, {"--forces", args.forces}},
-               {{"--brush", args.brush}, {"--trajectory", args.trajectory}});
+  checkCliFiles({{"-o", args.output},
+                 {"--trace", args.trace},
+                 {"--forces", args.forces},
+                 {"--stats", args.stats}},
+                {{"--brush", brush_file}, {"--trajectory", args.trajectory}}, {"-o"},
+                {"--trajectory"});
 
-  const Brush brush = loadBrush(args.brush);
-  Trajectory trajectory = loadTrajectory(args.trajectory);
+  const Brush brush = loadBrush(brush_file);
+  Trajectory trajectory = loadTrajectoryArg(args.trajectory);
   if (args.offset_mm.size() == 3) {
     const Eigen::Vector3d offset(args.offset_mm[0], args.offset_mm[1], args.offset_mm[2]);
     if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");
@@ -76,7 +79,8 @@ int runRender(const RenderArgs& args) {
 
   // Fail before the long run if an output cannot be created; each output is
   // written to a temporary file and renamed only when everything succeeded.
-  checkCanCreate(args.output);
+  checkCanCreateArg(args.output);
+  if (!args.stats.empty()) checkCanCreate(args.stats);
   std::unique_ptr<AtomicOutput> trace, forces;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
   if (!args.forces.empty()) {
@@ -107,10 +111,19 @@ int runRender(const RenderArgs& args) {
   if (trace) trace->commit();
   if (forces) forces->commit();
 
+  RunStats stats;
+  stats.painted_pixels = png_result.ink_pixels;
+  stats.pixels = png_result.pixels;
+  stats.sim = result.stats;
+  stats.paint_laid_mm3 = result.deposited_mm3;
+  stats.paint_picked_up_mm3 = result.picked_up_mm3;
+  const std::string traj_name = isStdio(args.trajectory) ? std::string(kStdinName) : args.trajectory;
   if (!result.touched)
-    printError("warning: the brush never touched the canvas (" + args.trajectory +
-               "): the image is blank");
-  warnFailedSolves(result.stats);
+    stats.warn("the brush never touched the canvas (" + traj_name + "): the image is blank");
+  else if (png_result.ink_pixels == 0)
+    stats.warn("the brush touched the canvas (" + traj_name + ") but left no visible paint");
+  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
+  writeRunStats(args.stats, stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,
@@ -122,7 +135,7 @@ int runRender(const RenderArgs& args) {
                  "left on the brush\n",
                  result.deposited_mm3, result.picked_up_mm3, png_result.left_on_brush_mm3,
                  png_result.loaded_mm3);
-    std::cout << args.output << "\n";
+    if (!isStdio(args.output)) std::cout << args.output << "\n";
   }
   return 0;
 }

@@ -10,7 +10,9 @@
 
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "cli/progress.h"
+#include "cli/run_stats.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/scene.h"
@@ -23,8 +25,8 @@ namespace bristle::cli {
 namespace {
 
 // The options that make sense with a scene: the scene says everything else.
-constexpr const char* kSceneOptions[] = {"--output", "--trace", "--impasto", "--bits", "--quiet",
-                                         "--help"};
+constexpr const char* kSceneOptions[] = {"--output", "--trace", "--stats", "--impasto", "--bits",
+                                         "--quiet", "--help"};
 
 // Was a stroke (its pointer, "/strokes/3") already named in a warning?
 bool warnedAbout(const std::vector<std::string>& warnings, const std::string& pointer) {
@@ -42,7 +44,7 @@ void checkSceneOptions(const RenderArgs& args) {
       throw Error(ExitCode::kUsage,
                   "render " + args.scene + ": " + given +
                       " cannot be used with a scene (the scene sets it); with a scene only -o, "
-                      "--trace, --impasto, --bits and --quiet are allowed");
+                      "--trace, --stats, --impasto, --bits and --quiet are allowed");
   }
 }
 
@@ -51,18 +53,21 @@ void checkSceneOptions(const RenderArgs& args) {
 int runRenderScene(const RenderArgs& args) {
   checkSceneOptions(args);
   if (args.output.empty()) throw Error(ExitCode::kUsage, "render: -o/--output is required");
-  checkOutputs({{"-o", args.output}, {"--trace", args.trace}}, {{"scene", args.scene}});
+  checkCliFiles({{"-o", args.output}, {"--trace", args.trace}, {"--stats", args.stats}},
+                {{"scene", args.scene}}, {"-o"}, {});
   const Scene scene = loadScene(args.scene);
   std::vector<NamedFile> inputs;
   for (const SceneStroke& st : scene.strokes) {
     inputs.push_back({args.scene + ": " + st.pointer + "/brush", st.brush_path});
     inputs.push_back({args.scene + ": " + st.pointer + "/trajectory", st.trajectory_path});
   }
-  checkOutputs({{"-o", args.output}, {"--trace", args.trace}}, inputs);
+  checkCliFiles({{"-o", args.output}, {"--trace", args.trace}, {"--stats", args.stats}}, inputs,
+                {"-o"}, {});
   const std::vector<std::string> warnings = sceneWarnings(scene);
   for (const std::string& w : warnings) printError("warning: " + w);
 
-  checkCanCreate(args.output);
+  checkCanCreateArg(args.output);
+  if (!args.stats.empty()) checkCanCreate(args.stats);
   std::unique_ptr<AtomicOutput> trace;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
 
@@ -82,19 +87,30 @@ int runRenderScene(const RenderArgs& args) {
   render::PngText text = render::provenanceText(scene.inputs);
   text.push_back({"bristle:scene", scene.name});
   text.push_back({"bristle:canvas", canvasText(canvas.grid())});
+  const render::Image8 image8 = render::composeRgb8(canvas, compose);
   if (args.bits == 16)
     render::writePng(args.output, render::composeRgb16(canvas, compose), text);
   else
-    render::writePng(args.output, render::composeRgb8(canvas, compose), text);
+    render::writePng(args.output, image8, text);
   if (trace) trace->commit();
 
+  RunStats stats;
+  stats.painted_pixels = render::inkPixels(
+      image8, render::paperColour8(canvas.paper(), canvas.model(), canvas.grid().px_per_mm, compose));
+  stats.pixels = long(image8.width) * image8.height;
+  stats.sim = result.stats;
+  stats.paint_laid_mm3 = result.deposited_mm3;
+  stats.paint_picked_up_mm3 = result.picked_up_mm3;
+  stats.warnings = warnings;  // printed before the run
   // Strokes out of reach were named before the run; the others are news.
   for (int i : result.untouched)
     if (!warnedAbout(warnings, scene.strokes[size_t(i)].pointer))
-      printError("warning: " + scene.path + ": " + scene.strokes[size_t(i)].pointer +
+      stats.warn(scene.path + ": " + scene.strokes[size_t(i)].pointer +
                  ": the brush never touched the canvas (trajectory " +
                  scene.strokes[size_t(i)].trajectory_path + ")");
-  warnFailedSolves(result.stats);
+  if (stats.painted_pixels == 0) stats.warn(scene.path + ": the painting holds no visible paint");
+  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
+  writeRunStats(args.stats, stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,
@@ -104,7 +120,7 @@ int runRenderScene(const RenderArgs& args) {
                  st.iterations);
     std::fprintf(stderr, "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up\n",
                  result.deposited_mm3, result.picked_up_mm3);
-    std::cout << args.output << "\n";
+    if (!isStdio(args.output)) std::cout << args.output << "\n";
   }
   return 0;
 }

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "cli/progress.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
@@ -31,7 +32,7 @@ std::string fmt(double v) {
 }  // namespace
 
 int runSheet(const SheetArgs& args) {
-  checkOutputs({{"-o", args.output}}, {{"sheet", args.sheet}});
+  checkCliFiles({{"-o", args.output}}, {{"sheet", args.sheet}}, {"-o"}, {});
   Sheet sheet = loadSheet(args.sheet);
   std::vector<NamedFile> inputs;
   for (size_t i = 0; i < sheet.brush_paths.size(); ++i)
@@ -39,11 +40,11 @@ int runSheet(const SheetArgs& args) {
   for (size_t i = 0; i < sheet.trajectory_paths.size(); ++i)
     inputs.push_back(
         {args.sheet + ": /trajectories/" + std::to_string(i), sheet.trajectory_paths[i]});
-  checkOutputs({{"-o", args.output}}, inputs);
+  checkCliFiles({{"-o", args.output}}, inputs, {"-o"}, {});
   // Command-line overrides of the sheet's own settings (a quick, coarse proof).
   if (args.px_per_mm > 0) sheet.px_per_mm = args.px_per_mm;
   if (!args.solver.empty()) sheet.solver = args.solver;
-  checkCanCreate(args.output);
+  checkCanCreateArg(args.output);
 
   PartProgress progress(!args.quiet, "cell");
   render::SheetRenderOptions options;
@@ -84,7 +85,7 @@ int runSheet(const SheetArgs& args) {
                  result.cells.size(), result.layout.rows, result.layout.cols, st.steps,
                  st.solved_steps, st.fallback_solves, st.iterations, result.layout.width_px,
                  result.layout.height_px);
-    std::cout << args.output << "\n";
+    if (!isStdio(args.output)) std::cout << args.output << "\n";
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "engine/canvas.h"
 #include "engine/error.h"
 #include "engine/paint.h"
@@ -131,14 +132,18 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
 
   render::ComposeOptions compose;
   compose.impasto = o.impasto;
-  render::PngText text = render::provenanceText(o.inputs);
+  render::PngText text = render::provenanceText(inputsHash(o.inputs));
   text.push_back({"bristle:brush", brush.name});
   text.push_back({"bristle:canvas", canvasText(grid)});
   text.push_back({"bristle:paint", o.paint + " load=" + o.load + " mix=" + o.mix});
+  const render::Image8 image8 = render::composeRgb8(canvas, compose);
+  r.ink_pixels = render::inkPixels(
+      image8, render::paperColour8(paper, mix, grid.px_per_mm, compose));
+  r.pixels = long(image8.width) * image8.height;
   if (o.bits == 16)
     render::writePng(output, render::composeRgb16(canvas, compose), text);
   else
-    render::writePng(output, render::composeRgb8(canvas, compose), text);
+    render::writePng(output, image8, text);
   return r;
 }
 

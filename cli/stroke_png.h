@@ -27,6 +27,7 @@ struct StrokePngOptions : PaintOptions {  // paint and paper, as `bristle render
 struct StrokePngResult {
   render::StrokeResult stroke;
   double left_on_brush_mm3 = 0, loaded_mm3 = 0;
+  long ink_pixels = 0, pixels = 0;  // visible paint, of the image (render/compose.h)
 };
 
 // Checks the options (kUsage / kDataError naming the option) before anything long runs.

@@ -1,15 +1,20 @@
 // `bristle validate FILE...`: checks brush, trajectory and scene files and
 // reports each file's verdict, so a batch of inputs can be checked before a
 // long run. A .json file is a scene or a sheet when its "format" says so, else
-// a brush.
+// a brush. Brushes and trajectories given together are then checked in pairs,
+// as `render --brush B --trajectory T` would check them before its run.
 
 #include <iostream>
+#include <utility>
+#include <vector>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
 #include "engine/scene.h"
+#include "engine/simulation.h"
 #include "engine/sheet.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
@@ -41,22 +46,52 @@ void validateSheet(const std::string& f) {
             << (nt == 1 ? " trajectory)\n" : " trajectories)\n");
 }
 
+// Each brush with each trajectory: the checks `render` makes before its run
+// (validateTrajectoryForBrush: the same function, so the same message and
+// exit code), and a warning when the brush never comes within reach of the
+// paper (render's image would be blank).
+int validatePairs(const std::vector<std::pair<std::string, Brush>>& brushes,
+                  const std::vector<Trajectory>& trajectories) {
+  int code = 0;
+  for (const auto& [path, brush] : brushes)
+    for (const Trajectory& t : trajectories) {
+      try {
+        validateTrajectoryForBrush(t, brush);
+      } catch (const Error& e) {
+        printError(e.what());
+        if (code == 0) code = static_cast<int>(e.code());
+        continue;
+      }
+      const bool reaches = t.comesWithinReach(brush.reachMm());
+      if (!reaches)
+        printError("warning: " + t.path + ": the brush '" + brush.name +
+                   "' never comes within reach of the paper: render's image would be blank");
+      std::cout << path << " with " << t.path << ": ok (starts above the paper"
+                << (reaches ? ", comes within reach of it" : ", never reaches it") << ")\n";
+    }
+  return code;
+}
+
 }  // namespace
 
 int runValidate(const std::vector<std::string>& files) {
   int code = 0;
-  for (const std::string& f : files) {
+  std::vector<std::pair<std::string, Brush>> brushes;
+  std::vector<Trajectory> trajectories;
+  for (const std::string& arg : files) {
     try {
-      const bool csv = f.size() >= 4 && f.compare(f.size() - 4, 4, ".csv") == 0;
+      const bool csv = arg.size() >= 4 && arg.compare(arg.size() - 4, 4, ".csv") == 0;
+      const std::string f = csv ? arg : findBrushFile(arg, "");  // a library name is a brush
       const std::string text = csv ? std::string() : readTextFile(f);
       if (!csv && looksLikeScene(text)) {
         validateScene(f);
       } else if (!csv && looksLikeSheet(text)) {
         validateSheet(f);
       } else if (csv) {
-        const Trajectory t = loadTrajectory(f);
+        Trajectory t = loadTrajectory(f);
         std::cout << f << ": ok (trajectory, " << t.samples.size() << " samples, "
                   << t.endTime() - t.startTime() << " s)\n";
+        trajectories.push_back(std::move(t));
       } else {
         // Every problem of the file at once, one line each.
         const std::vector<std::string> problems = checkBrush(f);
@@ -73,12 +108,15 @@ int runValidate(const std::vector<std::string>& files) {
                   << (b.surface.present() ? ", surface" : "")
                   << (b.strips.present() ? ", " + std::to_string(b.strips.count) + " strips" : "")
                   << ")\n";
+        brushes.emplace_back(arg, b);
       }
     } catch (const Error& e) {
       printError(e.what());
       if (code == 0) code = static_cast<int>(e.code());
     }
   }
+  if (code == 0 && !brushes.empty() && !trajectories.empty())
+    code = validatePairs(brushes, trajectories);
   return code;
 }
 

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "bristle/version.h"
+#include "engine/brush_library.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "engine/json_reader.h"
@@ -203,7 +204,9 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
       job.kind = BatchJobKind::kStroke;
       if (!o.has("brush") || !o.has("trajectory"))
         o.fail(o.pointer(), "a stroke job needs both \"brush\" and \"trajectory\"");
-      job.brush = resolve(base_dir, o.string("brush"));
+      const std::string brush = o.string("brush");
+      job.brush = isBrushName(brush) ? findBrushByName(brush, path + ": " + o.pointer() + "/brush")
+                                     : resolve(base_dir, brush);
       job.trajectory = resolve(base_dir, o.string("trajectory"));
     }
 

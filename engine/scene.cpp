@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "engine/brush_library.h"
 #include "engine/error.h"
 #include "engine/json_reader.h"
 #include "engine/pigments.h"
@@ -140,7 +141,8 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
     s.require(!brush.empty(), "brush", "must name a brush file");
     const std::string traj = s.string("trajectory");
     s.require(!traj.empty(), "trajectory", "must name a trajectory file");
-    st.brush_path = resolve(base_dir, brush);
+    st.brush_path = isBrushName(brush) ? findBrushByName(brush, path + ": " + st.pointer + "/brush")
+                                       : resolve(base_dir, brush);
     st.trajectory_path = resolve(base_dir, traj);
     parsePaintLoad(s.object("paint"), &st.paint);
     if (s.has("placement")) parsePlacement(s.object("placement"), &st.placement);
@@ -324,16 +326,7 @@ std::vector<std::string> sceneWarnings(const Scene& scene) {
   for (const SceneStroke& st : scene.strokes) {
     // No hair reaches further from the ferrule than the brush's reach: a stroke
     // whose handle never comes that close to the canvas cannot touch it.
-    const double r = scene.brushes[st.brush].reachMm();
-    bool reachable = false;
-    for (const TrajectorySample& s : st.trajectory.samples) {
-      const Eigen::Vector3d& p = s.pose.position_mm;
-      if (p.z() <= r && p.x() >= -r && p.x() <= w + r && p.y() >= -r && p.y() <= h + r) {
-        reachable = true;
-        break;
-      }
-    }
-    if (!reachable)
+    if (!st.trajectory.comesWithinReach(scene.brushes[st.brush].reachMm(), w, h))
       out.push_back(scene.path + ": " + st.pointer + ": the brush never comes within reach of "
                     "the canvas (trajectory " + st.trajectory_path + ")");
   }

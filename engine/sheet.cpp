@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "engine/brush_library.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "engine/json_reader.h"
@@ -49,7 +50,9 @@ std::vector<std::string> pathList(const JsonObject& top, const std::string& key,
                         (lifts ? " or {\"path\": ..., \"lift_mm\": ...}" : ""));
       path = list[i].get<std::string>();
     }
-    const std::string resolved = resolveInputPath(base_dir, path);
+    const std::string resolved = lifts && isBrushName(path)
+                                     ? findBrushByName(path, top.file() + ": " + pi)
+                                     : resolveInputPath(base_dir, path);
     const auto [it, fresh] = seen.emplace(resolved, i);
     if (!fresh)
       top.fail(pi, "'" + resolved + "' is listed already at " + pointer + "/" +

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <vector>
 
 #include "engine/error.h"
 
@@ -92,6 +93,24 @@ std::string readTextFile(const std::string& path) {
   if (got > kMaxInputBytes) throw tooLarge(path, kMaxInputBytes, true);
   text.resize(got);
   return text;
+}
+
+std::string readStandardInput() {
+  if (::isatty(STDIN_FILENO))
+    throw Error(ExitCode::kNoInput, std::string(kStdinName) +
+                                        ": is a terminal; pipe the input in (... < FILE) or "
+                                        "give its path");
+  std::string text;
+  std::vector<char> buf(1 << 16);
+  for (;;) {
+    const ssize_t n = ::read(STDIN_FILENO, buf.data(), buf.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw Error(ExitCode::kNoInput, std::string(kStdinName) + ": cannot read: " +
+                                                   std::strerror(errno));
+    if (n == 0) return text;
+    text.append(buf.data(), static_cast<size_t>(n));
+    if (text.size() > kMaxInputBytes) throw tooLarge(kStdinName, kMaxInputBytes, true);
+  }
 }
 
 std::string lineColumnOf(const std::string& text, size_t byte_offset) {

@@ -30,6 +30,15 @@ std::string readTextFile(const std::string& path);
 // "is a FIFO", ... (for messages about inputs and outputs alike).
 const char* fileKindOf(mode_t mode);
 
+// The name messages give standard input, and the path that means it ("-").
+inline constexpr const char* kStdinName = "stdin";
+inline constexpr const char* kStdioPath = "-";
+
+// Reads standard input to its end, as readTextFile reads a file: kDataError
+// over kMaxInputBytes, kNoInput when unreadable or a terminal (bristle does
+// not wait for input typed by hand). Messages name it kStdinName.
+std::string readStandardInput();
+
 // "line L, column C" of a byte offset in text (1-based), for parse errors.
 std::string lineColumnOf(const std::string& text, size_t byte_offset);
 

@@ -191,4 +191,12 @@ Trajectory loadTrajectory(const std::string& path) {
   return parseTrajectory(readTextFile(path), path);
 }
 
+bool Trajectory::comesWithinReach(double r, double w, double h) const {
+  for (const TrajectorySample& s : samples) {
+    const Eigen::Vector3d& p = s.pose.position_mm;
+    if (p.z() <= r && p.x() >= -r && p.x() <= w + r && p.y() >= -r && p.y() <= h + r) return true;
+  }
+  return false;
+}
+
 }  // namespace bristle

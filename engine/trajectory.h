@@ -3,6 +3,7 @@
 // (ARCHITECTURE.md, "Formats"), and pose interpolation at any time.
 
 #include <optional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,13 @@ struct Trajectory {
   Pose poseAt(double t_s) const;
   // Index k of the segment [samples[k], samples[k+1]] that contains t.
   size_t segmentAt(double t_s) const;
+  // Whether some sample holds the handle within reach_mm of the canvas, the
+  // rectangle [0, width_mm] x [0, height_mm] at z = 0 (unbounded by default):
+  // no hair reaches further from the ferrule than its brush's reach, so a
+  // trajectory that never does cannot touch the paper.
+  bool comesWithinReach(double reach_mm,
+                        double width_mm = std::numeric_limits<double>::infinity(),
+                        double height_mm = std::numeric_limits<double>::infinity()) const;
 };
 
 // Parses and validates a trajectory; throws bristle::Error (66 missing, 65 bad

@@ -90,4 +90,21 @@ PngText provenanceText(std::uint64_t inputs_fnv1a64) {
           {"bristle:inputs-fnv1a64", hex64(inputs_fnv1a64)}};
 }
 
+std::array<std::uint8_t, 3> paperColour8(const PaperSpec& paper, MixModel model, double px_per_mm,
+                                         const ComposeOptions& options) {
+  CanvasGrid g;
+  g.width_px = g.height_px = 1;
+  g.px_per_mm = px_per_mm;
+  const PaintCanvas blank(g, paper, model);
+  const Image8 px = composeRgb8(blank, options);
+  return {px.pixels[0], px.pixels[1], px.pixels[2]};
+}
+
+long inkPixels(const Image8& image, const std::array<std::uint8_t, 3>& paper) {
+  long n = 0;
+  const size_t pixels = size_t(image.width) * size_t(image.height);
+  for (size_t i = 0; i < pixels; ++i) n += isInk(&image.pixels[i * size_t(image.channels)], paper);
+  return n;
+}
+
 }  // namespace bristle::render

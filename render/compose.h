@@ -4,7 +4,9 @@
 // sRGB; optionally "impasto": the paint's thickness lit from one light, normals
 // from the gradient of the paint height (as IMPaSTo renders relief, NPAR 2004).
 
+#include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,23 @@ std::vector<float> composeLinear(const PaintCanvas& canvas, const ComposeOptions
 // 8-bit / 16-bit sRGB-encoded RGB images of the canvas.
 Image8 composeRgb8(const PaintCanvas& canvas, const ComposeOptions& options);
 Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options);
+
+// A pixel is ink when its colour differs from the bare paper's by more than
+// this (sum of |difference| over R, G, B, 8-bit levels): a visible mark, not a
+// rounding difference. 6 levels is about 2 per channel, under what the eye
+// sees on a light paper but above the one-level steps of sRGB rounding.
+inline constexpr int kInkLevels = 6;
+
+// The 8-bit colour bare paper composes to (a blank canvas of one pixel).
+std::array<std::uint8_t, 3> paperColour8(const PaperSpec& paper, MixModel model, double px_per_mm,
+                                         const ComposeOptions& options);
+// Whether an 8-bit RGB(A) pixel is ink on that paper (kInkLevels).
+inline bool isInk(const std::uint8_t* px, const std::array<std::uint8_t, 3>& paper) {
+  const int d = std::abs(px[0] - paper[0]) + std::abs(px[1] - paper[1]) + std::abs(px[2] - paper[2]);
+  return d > kInkLevels;
+}
+// How many pixels of an 8-bit image are ink: the visible paint of a render.
+long inkPixels(const Image8& image, const std::array<std::uint8_t, 3>& paper);
 
 // The PNG text chunks every painting carries: "Software" (bristle and its
 // version), "bristle:version" and "bristle:inputs-fnv1a64" (16 hex digits of

@@ -7,6 +7,7 @@
 
 #include <png.h>
 #include <zlib.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -15,6 +16,7 @@
 #include <cstdint>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -139,6 +141,37 @@ std::vector<png_text> toPngText(const PngText& text) {
   return chunks;
 }
 
+// "-": the whole PNG is encoded in memory first, then written to standard
+// output, so a failure before the end leaves nothing on it; a write error
+// (a closed pipe, a full disk) is kIoError after some bytes may have gone out.
+void writePngToStdout(const EncodeJob& job) {
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* memory = ::open_memstream(&buffer, &size);
+  if (memory == nullptr)
+    throw Error(ExitCode::kIoError, std::string("stdout: cannot encode the PNG: ") +
+                                        std::strerror(errno));
+  PngFailure failure;
+  const bool encoded = encodePng(memory, job, &failure);
+  const bool closed = std::fclose(memory) == 0;  // sets buffer and size
+  const std::string bytes = buffer != nullptr ? std::string(buffer, size) : std::string();
+  std::free(buffer);
+  if (!encoded || !closed)
+    throw Error(ExitCode::kIoError, std::string("stdout: cannot encode the PNG: ") +
+                                        (encoded ? "out of memory" : failure.message));
+  std::fflush(stdout);  // nothing buffered may follow the PNG's bytes out of order
+  std::size_t sent = 0;
+  while (sent < bytes.size()) {
+    const ssize_t n = ::write(STDOUT_FILENO, bytes.data() + sent, bytes.size() - sent);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0)
+      throw Error(ExitCode::kIoError, "stdout: write failed after " + std::to_string(sent) +
+                                          " of " + std::to_string(bytes.size()) +
+                                          " bytes: " + std::strerror(errno));
+    sent += static_cast<std::size_t>(n);
+  }
+}
+
 void writePngRows(const std::string& path, int width, int height, int channels,
                   int bit_depth, const void* pixels, std::size_t pixel_bytes,
                   const PngText& text) {
@@ -157,6 +190,13 @@ void writePngRows(const std::string& path, int width, int height, int channels,
     rows[r] = const_cast<png_bytep>(static_cast<const png_byte*>(pixels)) + row_bytes * r;
   }
 
+  const EncodeJob job{width, height, channels, bit_depth, rows.data(), chunks.data(),
+                      static_cast<int>(chunks.size())};
+  if (path == kStdoutPath) {
+    writePngToStdout(job);
+    return;
+  }
+
   // Write beside the target and rename, so readers never see a partial file.
   // Through a symbolic link the link's target is replaced; a device, FIFO or
   // directory is refused, never replaced (engine/atomic_output.h).
@@ -168,8 +208,6 @@ void writePngRows(const std::string& path, int width, int height, int channels,
     throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
   }
   PngFailure failure;
-  const EncodeJob job{width, height, channels, bit_depth, rows.data(), chunks.data(),
-                      static_cast<int>(chunks.size())};
   errno = 0;
   const bool encoded = encodePng(file, job, &failure);
   const int encode_errno = errno;  // libpng's "Write Error" hides the reason
@@ -233,17 +271,45 @@ void checkChunkLengths(std::FILE* file, const std::string& path) {
     throw Error(ExitCode::kNoInput, path + ": cannot read: " + std::strerror(errno));
 }
 
+// The name messages give a PNG's path: "-" is standard input.
+std::string shownName(const std::string& path) {
+  return path == kStdioPath ? std::string(kStdinName) : path;
+}
+
+// Standard input, read whole (engine/text_file.h's limits) into a memory file
+// that is then read as any PNG file is.
+int standardInputAsFile() {
+  const std::string bytes = readStandardInput();
+  const int fd = ::memfd_create("bristle-stdin", MFD_CLOEXEC);
+  auto fail = [&](int fd_to_close) {
+    const std::string reason = std::strerror(errno);
+    if (fd_to_close >= 0) ::close(fd_to_close);
+    return Error(ExitCode::kNoInput, std::string(kStdinName) + ": cannot read: " + reason);
+  };
+  if (fd < 0) throw fail(-1);
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw fail(fd);
+    done += static_cast<std::size_t>(n);
+  }
+  if (::lseek(fd, 0, SEEK_SET) != 0) throw fail(fd);
+  return fd;
+}
+
 // Opens a PNG and consumes its signature. Throws kNoInput / kDataError.
 std::FILE* openPng(const std::string& path) {
   // A regular file (a FIFO or a device is refused, and never blocks), no larger
-  // than any input may be.
+  // than any input may be; or standard input for "-", read into a memory file.
+  const std::string name = shownName(path);
   std::string why;
-  const int fd = openInputFile(path, &why);
-  if (fd < 0) throw Error(ExitCode::kNoInput, path + ": cannot read: " + why);
+  const int fd = path == kStdioPath ? standardInputAsFile() : openInputFile(path, &why);
+  if (fd < 0) throw Error(ExitCode::kNoInput, name + ": cannot read: " + why);
   struct stat st {};
   if (::fstat(fd, &st) == 0 && static_cast<std::uint64_t>(st.st_size) > kMaxInputBytes) {
     ::close(fd);
-    throw Error(ExitCode::kDataError, path + ": size: " + std::to_string(st.st_size) +
+    throw Error(ExitCode::kDataError, name + ": size: " + std::to_string(st.st_size) +
                                           " bytes is over the input limit of " +
                                           std::to_string(kMaxInputBytes) + " bytes (256 MiB)");
   }
@@ -251,21 +317,21 @@ std::FILE* openPng(const std::string& path) {
   if (file == nullptr) {
     const int open_errno = errno;
     ::close(fd);
-    throw Error(ExitCode::kNoInput, path + ": cannot read: " + describeErrno(open_errno));
+    throw Error(ExitCode::kNoInput, name + ": cannot read: " + describeErrno(open_errno));
   }
   png_byte signature[kSignatureBytes] = {};
   const std::size_t got = std::fread(signature, 1, kSignatureBytes, file);
   if (got != kSignatureBytes && std::ferror(file)) {  // e.g. a directory
     const int read_errno = errno;
     std::fclose(file);
-    throw Error(ExitCode::kNoInput, path + ": cannot read: " + describeErrno(read_errno));
+    throw Error(ExitCode::kNoInput, name + ": cannot read: " + describeErrno(read_errno));
   }
   if (got != kSignatureBytes || png_sig_cmp(signature, 0, kSignatureBytes) != 0) {
     std::fclose(file);
-    throw Error(ExitCode::kDataError, path + ": not a PNG file");
+    throw Error(ExitCode::kDataError, name + ": not a PNG file");
   }
   try {
-    checkChunkLengths(file, path);
+    checkChunkLengths(file, name);
   } catch (...) {
     std::fclose(file);
     throw;
@@ -347,27 +413,28 @@ struct Decoded {
 // Opens, decodes and hands the decoder (with text and header) to the caller;
 // with `image` null only the text chunks are wanted.
 void decodePng(const std::string& path, Decode to, Decoder* d, Decoded* image) {
+  const std::string name = shownName(path);
   std::FILE* file = openPng(path);
   FileCloser closer{file};
   int passes = 1;
-  if (!readHeader(file, to, d, &passes)) throw corruptPng(path, *d);
+  if (!readHeader(file, to, d, &passes)) throw corruptPng(name, *d);
   const std::uint64_t width = png_get_image_width(d->png, d->info);
   const std::uint64_t height = png_get_image_height(d->png, d->info);
   const std::size_t row_bytes = png_get_rowbytes(d->png, d->info);
   if (width * height > kMaxReadPixels) {
     throw Error(ExitCode::kDataError,
-                path + ": IHDR: " + std::to_string(width) + " x " + std::to_string(height) +
+                name + ": IHDR: " + std::to_string(width) + " x " + std::to_string(height) +
                     " px is over the limit of " + std::to_string(kMaxReadPixels) +
                     " px (64 Mpx, the largest canvas bristle writes)");
   }
   if (image == nullptr) {
     std::vector<png_byte> scratch(row_bytes);
-    if (!readBody(d, nullptr, scratch.data(), passes)) throw corruptPng(path, *d);
+    if (!readBody(d, nullptr, scratch.data(), passes)) throw corruptPng(name, *d);
     return;
   }
   const std::uint64_t sample_bytes = to == Decode::kRgba16 ? 2 : 1;
   if (row_bytes != width * 4 * sample_bytes) {
-    throw Error(ExitCode::kDataError, path + ": unsupported PNG pixel layout");
+    throw Error(ExitCode::kDataError, name + ": unsupported PNG pixel layout");
   }
   image->width = static_cast<int>(width);
   image->height = static_cast<int>(height);
@@ -376,7 +443,7 @@ void decodePng(const std::string& path, Decode to, Decoder* d, Decoded* image) {
   image->bytes.resize(row_bytes * height);
   std::vector<png_bytep> rows(height);
   for (std::size_t r = 0; r < height; ++r) rows[r] = image->bytes.data() + row_bytes * r;
-  if (!readBody(d, rows.data(), nullptr, passes)) throw corruptPng(path, *d);
+  if (!readBody(d, rows.data(), nullptr, passes)) throw corruptPng(name, *d);
 }
 
 }  // namespace

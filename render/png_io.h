@@ -23,6 +23,11 @@ struct Image16 {
 
 using PngText = std::vector<std::pair<std::string, std::string>>;
 
+// The path writePng takes for standard output: the PNG is encoded in memory
+// whole and only then written to it, so an error before that leaves nothing
+// on it (the CLI's `-o -`).
+inline constexpr const char* kStdoutPath = "-";
+
 // Throws bristle::Error: kCantCreate (73) when the file cannot be created (missing
 // directory, no permission), kIoError (74) when writing fails midway. The temp
 // file is removed on every failure path.

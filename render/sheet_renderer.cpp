@@ -21,8 +21,7 @@ PixelRect inkBox(const Image8& img, Rgb8 paper) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const std::uint8_t* p = &img.pixels[(size_t(y) * img.width + x) * size_t(img.channels)];
-      const int d = std::abs(p[0] - paper.r) + std::abs(p[1] - paper.g) + std::abs(p[2] - paper.b);
-      if (d <= kSheetInkLevels) continue;
+      if (!isInk(p, {paper.r, paper.g, paper.b})) continue;
       x0 = std::min(x0, x), x1 = std::max(x1, x);
       y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
@@ -65,12 +64,8 @@ void checkSheetSize(const Sheet& sheet, double width, double height) {
 }  // namespace
 
 Rgb8 sheetPaperColour(const Sheet& sheet, const ComposeOptions& compose) {
-  CanvasGrid g;
-  g.width_px = g.height_px = 1;
-  g.px_per_mm = sheet.px_per_mm;
-  const PaintCanvas blank(g, sheet.paper, sheet.mix);
-  const Image8 px = composeRgb8(blank, compose);
-  return {px.pixels[0], px.pixels[1], px.pixels[2]};
+  const std::array<std::uint8_t, 3> c = paperColour8(sheet.paper, sheet.mix, sheet.px_per_mm, compose);
+  return {c[0], c[1], c[2]};
 }
 
 SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,

@@ -66,11 +66,8 @@ struct SheetRenderOptions {
 // whole sheet done so far and planned in all.
 using SheetStepCallback = std::function<void(int cell, int cells, long step, long steps)>;
 
-// A pixel is ink when its colour differs from the bare paper's by more than
-// this (sum of |difference| over R, G, B, 8-bit levels): a visible mark, not a
-// rounding difference. 6 levels is about 2 per channel, under what the eye
-// sees on a light paper but above the one-level steps of sRGB rounding.
-inline constexpr int kSheetInkLevels = 6;
+// A pixel of a cell is ink by the rule of render/compose.h (kInkLevels).
+inline constexpr int kSheetInkLevels = kInkLevels;
 
 // Auto cells: the largest inked area plus this much paper on every side (mm).
 inline constexpr double kSheetCellPadMm = 3;

@@ -46,18 +46,24 @@ inline std::string readAll(const std::string& path) {
   return ss.str();
 }
 
-// Runs `bristle <args>` (args are passed to the shell as written).
-inline RunResult runBristle(const std::string& args) {
-  static TempDir io;
-  const std::string out = io.file("stdout"), err = io.file("stderr");
-  const std::string cmd = std::string("env -u GALLIUM_DRIVER '") + BRISTLE_BIN + "' " + args +
-                          " >'" + out + "' 2>'" + err + "' </dev/null";
+// Runs a shell command line with stdout and stderr sent to the files out and
+// err (and stdin from /dev/null unless the command redirects it), then reads them.
+inline RunResult runCaptured(const std::string& command, const std::string& out,
+                             const std::string& err) {
+  const std::string cmd = "{ " + command + "\n} >'" + out + "' 2>'" + err + "' </dev/null";
   const int status = std::system(cmd.c_str());
   RunResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = readAll(out);
   r.err = readAll(err);
   return r;
+}
+
+// Runs `bristle <args>` (args are passed to the shell as written).
+inline RunResult runBristle(const std::string& args) {
+  static TempDir io;
+  return runCaptured(std::string("env -u GALLIUM_DRIVER '") + BRISTLE_BIN + "' " + args,
+                     io.file("stdout"), io.file("stderr"));
 }
 
 inline std::string sourcePath(const std::string& rel) {

@@ -352,7 +352,7 @@ TEST_CASE("help and version", "[cli]") {
   CHECK_THAT(v.out, Contains("bristle 0."));
   const RunResult h = runBristle("help render");
   CHECK(h.code == 0);
-  CHECK_THAT(h.out, Contains("bristle render --brush scenes/brushes/round.json"));
+  CHECK_THAT(h.out, Contains("bristle render --brush round"));
   const RunResult top = runBristle("--help");
   CHECK(top.code == 0);
   CHECK_THAT(top.out, Contains("Examples:"));

@@ -330,3 +330,67 @@ TEST_CASE("batch: a sheet job is keyed by every file the sheet reads", "[cli][ba
   r = runBristle("batch '" + path + "' --out '" + out + "' --json");
   CHECK(jsonLines(r.out).at("tiny")["status"] == "rendered");
 }
+
+TEST_CASE("batch: each job logs its warnings and figures; --fail-on-warning fails on them",
+          "[cli][batch][warnings]") {
+  TempDir d;
+  json m = manifest(d, 1);
+  // A second job far above the paper: its brush never touches it.
+  std::string high = "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
+  for (int i = 0; i <= 5; ++i) high += std::to_string(i * 0.1) + ",20,20,80,1,0,0,0\n";
+  d.write("high.csv", high);
+  m["jobs"].push_back({{"id", "above"}, {"brush", kRound}, {"trajectory", "high.csv"}});
+  const std::string jobs = writeManifest(d, m);
+  const std::string out = d.file("out");
+
+  const RunResult r = runBristle("batch '" + jobs + "' --out '" + out + "' --json");
+  REQUIRE(r.code == 0);  // warnings alone do not fail a batch ...
+  std::map<std::string, json> lines = jsonLines(r.out);
+  const json& dab = lines["dab0"];
+  CHECK(dab["status"] == "rendered");
+  CHECK(dab["warnings"].empty());
+  CHECK(dab["figures"]["painted_pixels"].get<long>() > 100);
+  CHECK(dab["figures"]["paint_laid_mm3"].get<double>() > 0);
+  CHECK(dab["figures"]["failed_steps"] == 0);
+  const json& above = lines["above"];
+  CHECK(above["status"] == "rendered");
+  REQUIRE(above["warnings"].size() == 1);
+  CHECK_THAT(above["warnings"][0].get<std::string>(),
+             Contains("the brush never touched the canvas") && Contains("high.csv"));
+  CHECK(above["figures"]["painted_pixels"] == 0);
+  CHECK(above["figures"]["paint_laid_mm3"] == 0.0);
+  CHECK(lines["summary"]["warned"] == 1);
+  // The job log holds the same entries.
+  const std::string log = lines["summary"]["log"].get<std::string>();
+  CHECK_THAT(readAll(log), Contains("the brush never touched the canvas"));
+
+  // ... --fail-on-warning does, also when the job is skipped as up to date: its
+  // warnings were kept in its PNG.
+  const RunResult again = runBristle("batch '" + jobs + "' --out '" + out + "' --fail-on-warning");
+  CHECK(again.code == 1);
+  CHECK_THAT(again.err, Contains("job 'above': warning: the brush never touched the canvas"));
+  CHECK_THAT(again.err, Contains("0 rendered, 2 up to date, 0 failed, 1 with warnings"));
+  CHECK_THAT(again.err, Contains("bristle: batch: 1 job has warnings (--fail-on-warning)"));
+  m["jobs"].erase(1);
+  writeManifest(d, m);
+  CHECK(runBristle("batch '" + jobs + "' --out '" + out + "' --fail-on-warning -q").code == 0);
+}
+
+TEST_CASE("batch --dry-run ends with a summary line, also when all is up to date",
+          "[cli][batch]") {
+  TempDir d;
+  json m = manifest(d, 2);
+  m["jobs"][1]["brush"] = kRound;  // the flat's dab stays above the paper: a warning
+  const std::string jobs = writeManifest(d, m);
+  const std::string out = d.file("out");
+  const RunResult before = runBristle("batch '" + jobs + "' --out '" + out + "' --dry-run");
+  CHECK(before.code == 0);
+  CHECK_THAT(before.out, Contains("dab0  ->  ") && Contains("(would render)"));
+  CHECK_THAT(before.out,
+             Contains("batch: 2 jobs (shard 0/1): 2 would render, 0 up to date, 0 failed (dry run)\n"));
+  REQUIRE(runBristle("batch '" + jobs + "' --out '" + out + "' -q").code == 0);
+  const RunResult after = runBristle("batch '" + jobs + "' --out '" + out + "' --dry-run");
+  CHECK(after.code == 0);
+  CHECK(after.out == "batch: 2 jobs (shard 0/1): 0 would render, 2 up to date, 0 failed (dry run)\n");
+  CHECK(runBristle("batch '" + jobs + "' --out '" + out + "' --dry-run -q").out.empty());
+}

@@ -35,14 +35,17 @@ HANG_GUARD_S = 120
 CASES = []
 
 
-def case(cid, what, args, code, message, setup=None, logs=None):
+def case(cid, what, args, code, message, setup=None, logs=None, env=None):
     """Registers a case: `bristle ARGS` in a folder set up by setup(dir) exits
     with `code` and prints `bristle: message` alone on stderr. `logs` names the
-    one folder the run may add files to (a batch's job log, OUT/logs)."""
+    one folder the run may add files to (a batch's job log, OUT/logs). `env`
+    sets environment variables for the run (None: unset). In the message,
+    {src} stands for the source tree and {prefix} for the folder above the
+    executable's (the build tree, or an install's prefix)."""
     assert not any(c.id == cid for c in CASES), cid
     CASES.append(argparse.Namespace(id=cid, what=what, args=args, code=code,
                                     message=message, setup=setup or (lambda d: None),
-                                    logs=logs))
+                                    logs=logs, env=env or {}))
 
 
 # ---- inputs ---------------------------------------------------------------
@@ -237,6 +240,11 @@ def run_case(bristle, c):
         before = snapshot(d)
         env = dict(os.environ)
         env.pop("GALLIUM_DRIVER", None)
+        for key, value in c.env.items():
+            if value is None:
+                env.pop(key, None)
+            else:
+                env[key] = value
         try:
             r = subprocess.run([bristle, *c.args], cwd=d, env=env, stdin=subprocess.DEVNULL,
                                capture_output=True, timeout=HANG_GUARD_S)
@@ -245,7 +253,9 @@ def run_case(bristle, c):
         err = r.stderr.decode(errors="replace")
         if os.environ.get("HOSTILE_SHOW"):
             print(f"  [{r.returncode}] {err!r}")
-        expected = "bristle: " + c.message + "\n"
+        prefix = Path(bristle).resolve().parent.parent
+        expected = ("bristle: " + c.message.replace("{src}", str(SRC))
+                    .replace("{prefix}", str(prefix)) + "\n")
         if r.returncode != c.code:
             problems.append(f"exit code {r.returncode}, expected {c.code}")
         if err != expected:
@@ -1048,6 +1058,87 @@ case("png-text-chunk-bomb", "a 106-byte PNG whose tEXt chunk claims 1.7 GB",
      ["compare", "a.png", "a.png"], 65,
      "a.png: tEXt: a chunk of 1778384896 bytes is longer than the 65 bytes left in the file "
      "(corrupt or truncated PNG)", text_chunk_bomb("a.png"))
+
+# -- brushes by name, and "-" for standard input and output ------------------
+NO_NAME = ("; `bristle brushes` lists the library, and a path must contain '/' or end in "
+           ".json")
+case("brush-name-unknown", "a brush name found in no library folder",
+     render("nope"), 66, "--brush nope: no brush named 'nope' in the library (looked for "
+     "nope.json in {src}/scenes/brushes, {prefix}/share/bristle/brushes, lib)" + NO_NAME,
+     all_of(STROKE, folder("lib")), env={"BRISTLE_BRUSH_PATH": "lib:"})
+case("brush-name-unknown-validate", "`validate` of a brush name found nowhere, "
+     "BRISTLE_BRUSH_PATH unset", ["validate", "nope"], 66,
+     "nope: no brush named 'nope' in the library (looked for nope.json in "
+     "{src}/scenes/brushes, {prefix}/share/bristle/brushes; BRISTLE_BRUSH_PATH is not set)"
+     + NO_NAME, env={"BRISTLE_BRUSH_PATH": None})
+case("brush-name-unknown-scene", "a scene stroke whose brush is a name found nowhere",
+     ["validate", "s.json"], 66, "s.json: /strokes/0/brush: no brush named 'nope' in the "
+     "library (looked for nope.json in {src}/scenes/brushes, {prefix}/share/bristle/brushes; "
+     "BRISTLE_BRUSH_PATH is not set)" + NO_NAME,
+     all_of(STROKE, scene(edit=lambda s: s["strokes"][0].update({"brush": "nope"}))),
+     env={"BRISTLE_BRUSH_PATH": None})
+case("brush-name-unknown-manifest", "a batch job whose brush is a name found nowhere",
+     BATCH_DRY, 66, "m.json: /jobs/0/brush: no brush named 'nope' in the library (looked for "
+     "nope.json in {src}/scenes/brushes, {prefix}/share/bristle/brushes, lib)" + NO_NAME,
+     all_of(STROKE, folder("out"), folder("lib"),
+            manifest(edit=lambda m: m["jobs"][0].update({"brush": "nope"}))),
+     env={"BRISTLE_BRUSH_PATH": "lib"})
+case("brush-name-fifo", "a brush name that is a FIFO in a BRISTLE_BRUSH_PATH folder",
+     ["validate", "zz"], 66, "lib/zz.json: cannot read: is a FIFO" + NOT_REG,
+     all_of(folder("lib"), fifo("lib/zz.json")), env={"BRISTLE_BRUSH_PATH": "lib"})
+case("stdin-brush", "`--brush -`: only a trajectory is read from standard input",
+     render("-", "t.csv", "-"), 64,
+     "--brush -: only --trajectory can read standard input (-); give --brush a file", STROKE)
+case("stdin-trajectory-empty", "`--trajectory -` with nothing on standard input",
+     render("b.json", "-", "-"), 65,
+     "stdin: line 1: empty file (expected '# bristle-trajectory/1')", brush())
+case("stdout-twice", "`-o -` and `--trace -`: one standard output",
+     render("b.json", "t.csv", "-", "--trace", "-"), 64,
+     "--trace -: only -o can be standard output (-); give --trace a file", STROKE)
+case("stats-stdout", "`render --stats -`: the stats are a file",
+     render("b.json", "t.csv", "o.png", "--stats", "-"), 64,
+     "--stats -: only -o can be standard output (-); give --stats a file", STROKE)
+case("stats-is-trajectory", "`render --stats` onto the trajectory",
+     render("b.json", "t.csv", "o.png", "--stats", "t.csv"), 64,
+     "t.csv: --stats: is the same file as the input t.csv (--trajectory)" + OVER, STROKE)
+case("record-session-stdout", "`record -o -`: the session is a file",
+     RECORD + ["-o", "-"], 64,
+     "-o -: only --png can be standard output (-); give -o a file", STROKE)
+case("replay-no-brush-recorded", "`replay` without `--brush` of a session whose header names "
+     "no brush", ["replay", "r.csv", "-o", "o.png"], 64,
+     "r.csv: the header records no brush (no '# brush:' line); give --brush",
+     all_of(brush(), session(rows=[[0, *HIGH, *REST], [1, *HIGH, *REST]])))
+
+
+def session_of(brush_line, hash_of="b.json"):
+    """A setup step: a session whose header records `brush_line` and the hash
+    of the file hash_of (written first)."""
+    def step(d):
+        write(d, "r.csv", "# bristle-trajectory/1\n# bristle record: a live session\n"
+              f"# brush: {brush_line}\n"
+              f"# brush_fnv1a64: {fnv1a64((d / hash_of).read_bytes())}\n" + HEADER + "\n"
+              + "".join(",".join(str(v) for v in [t, *HIGH, *REST]) + "\n" for t in (0, 1)))
+    return step
+
+
+case("replay-recorded-brush-changed", "`replay` without `--brush`: the recorded brush file "
+     "changed since the recording", ["replay", "r.csv", "-o", "o.png"], 65,
+     f"r.csv: brush_fnv1a64 {fnv1a64(b'{}')}: the brush b.json (from the header) is "
+     f"{fnv1a64(b'[]')}: it changed since the recording; give --brush to replay with it anyway",
+     all_of(brush(text="[]"), brush("old.json", text="{}"), session_of("b.json", "old.json")))
+case("replay-recorded-brush-gone", "`replay` without `--brush`: the recorded brush file is gone",
+     ["replay", "r.csv", "-o", "o.png"], 66, "gone.json: cannot read: No such file or directory",
+     all_of(brush(), session_of("gone.json")))
+
+# -- validate checks a brush with a trajectory as render does, by the same function --
+LOW_START = all_of(brush(), trajectory(rows=[[0, 15, 40, -5, 1, 0, 0, 0],
+                                             [1, 30, 40, 25, 1, 0, 0, 0]]))
+PAIR_LOW = ("t.csv: line 3: the ferrule goes below the canvas (spine 0 root at z = -5 mm); "
+            "z must stay >= 0")
+case("render-starts-below", "`render` of a trajectory starting with the ferrule in the paper",
+     render(), 65, PAIR_LOW, LOW_START)
+case("validate-pair-starts-below", "`validate BRUSH TRAJ`: the same pair, the same message",
+     ["validate", "b.json", "t.csv"], 65, PAIR_LOW, LOW_START)
 
 CASES_END = None  # the cases are appended above this line
 

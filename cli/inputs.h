@@ -1,0 +1,61 @@
+#pragma once
+// How the command line names its files, as users of a Unix tool expect:
+//  - a brush is a file, or a library name ("round") looked up in the brush
+//    library's folders (brushLibraryDirs);
+//  - "-" is standard input for a trajectory and standard output for a PNG.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/atomic_output.h"
+#include "engine/brush_library.h"
+#include "engine/text_file.h"
+#include "engine/trajectory.h"
+
+namespace bristle::cli {
+
+// "-": standard input (an input) or standard output (a PNG output).
+inline bool isStdio(const std::string& path) { return path == kStdioPath; }
+
+// The folders a brush name is looked up in (engine/brush_library.h), in order:
+// the source tree's scenes/brushes (only for the executable in the build tree:
+// an installed copy does not depend on the checkout it was built from), the
+// install's share/bristle/brushes (<exe dir>/../share/...), then each folder of
+// BRISTLE_BRUSH_PATH (colon-separated; empty entries skipped). main() gives
+// them to setBrushLibraryDirs, for the command line and the files it reads.
+std::vector<std::string> cliBrushLibraryDirs();
+
+// The file of a brush reference on the command line: a path as given; a name
+// through findBrushByName (kNoInput "OPTION NAME: no brush named ...").
+std::string findBrushFile(const std::string& ref, const std::string& option);
+
+// The first library folder that exists (for `bristle brushes`), or the source
+// tree's when none does.
+std::string defaultBrushLibrary();
+
+
+// Standard input, read whole once (readStandardInput, engine/text_file.h);
+// later calls return the same text.
+const std::string& stdinText();
+
+// A trajectory file, or standard input for "-".
+Trajectory loadTrajectoryArg(const std::string& path);
+
+// The bytes of every input in order (a file, or standard input for "-"),
+// hashed as the PNG's "bristle:inputs-fnv1a64" (render/compose.h).
+std::uint64_t inputsHash(const std::vector<std::string>& inputs);
+
+// A command's outputs and inputs checked as checkOutputs (engine/atomic_output.h)
+// does, with "-" allowed only for the outputs named in stdout_ok (the PNG's
+// option; kUsage otherwise), at most one of them, and as an input only for
+// the options in stdin_ok, at most one of them. "-" entries are then left out
+// of checkOutputs.
+void checkCliFiles(const std::vector<NamedFile>& outputs, const std::vector<NamedFile>& inputs,
+                   const std::vector<std::string>& stdout_ok,
+                   const std::vector<std::string>& stdin_ok);
+
+// checkCanCreate (engine/atomic_output.h) for a file; nothing for "-".
+void checkCanCreateArg(const std::string& path);
+
+}  // namespace bristle::cli

@@ -1,0 +1,40 @@
+#include "cli/run_stats.h"
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "engine/atomic_output.h"
+
+namespace bristle::cli {
+
+void RunStats::warn(const std::string& w) {
+  printError("warning: " + w);
+  warnings.push_back(w);
+}
+
+std::string failedSolvesWarning(const SimStats& stats) {
+  if (stats.failed_steps <= 0) return "";
+  return std::to_string(stats.failed_steps) + " of " + std::to_string(stats.steps) +
+         " steps had a failed solve (" + std::to_string(stats.failed_spine_solves) +
+         " spine solves); those spines were carried along frozen in their last good pose, "
+         "for at most " + std::to_string(stats.longest_failed_run) + " steps in a row";
+}
+
+void writeRunStats(const std::string& path, const RunStats& s) {
+  if (path.empty()) return;
+  const nlohmann::json j = {
+      {"painted_pixels", s.painted_pixels},
+      {"pixels", s.pixels},
+      {"steps", s.sim.steps},
+      {"failed_steps", s.sim.failed_steps},
+      {"failed_spine_solves", s.sim.failed_spine_solves},
+      {"fallback_solves", s.sim.fallback_solves},
+      {"paint_laid_mm3", s.paint_laid_mm3},
+      {"paint_picked_up_mm3", s.paint_picked_up_mm3},
+      {"warnings", s.warnings}};
+  AtomicOutput out(path);
+  out.stream() << j.dump() << '\n';
+  out.commit();
+}
+
+}  // namespace bristle::cli

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# `cmake --install` to a temporary prefix, then the installed bristle used as a
+# user would, from outside the source tree: a brush by name (found in the
+# install's share/bristle/brushes), a trajectory piped in with `--trajectory -`,
+# the PNG piped out with `-o -` into `bristle compare -` against a render made
+# the ordinary way (files in, a file out); the layout, the man page, and a
+# project of someone else's built with find_package(bristle) against it.
+#
+#   check-install.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build=$(realpath "$1")
+src=$(realpath "$2")
+tmp=$(mktemp -d /tmp/bristle-install-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "check-install: $*" >&2; exit 1; }
+
+cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
+cd "$tmp"
+[[ "$PWD" != "$src"* ]] || fail "the test must run outside the source tree"
+bin=$tmp/prefix/bin/bristle
+
+for f in bin/bristle share/bristle/brushes/round.json share/bristle/brushes/fan.json \
+         share/bristle/trajectories/s-curve.csv share/bristle/paintings/petals.json \
+         share/bristle/paintings/petals/dot.csv share/bristle/sheets/library.json \
+         share/bristle/batch/standard.json share/bristle/blender/bristle_brush.py \
+         share/bristle/docs/README.md share/bristle/docs/errors.md \
+         share/man/man1/bristle.1 include/bristle/engine/brush.h include/bristle/bristle/version.h \
+         lib/libbristle_engine.a lib/cmake/bristle/bristleConfig.cmake; do
+  [[ -f prefix/$f ]] || fail "prefix/$f was not installed"
+done
+
+# A name is the install's brush: the installed copy does not look in the source tree.
+out=$("$bin" validate round)
+[[ "$out" == "$tmp/prefix/share/bristle/brushes/round.json: ok (brush 'round',"* ]] ||
+  fail "validate round: $out"
+"$bin" brushes | grep -q '^round ' || fail "bristle brushes does not list the installed library"
+
+# The pipe against the ordinary render.
+head -60 "$src/scenes/trajectories/straight-pull.csv" > short.csv
+env -u GALLIUM_DRIVER "$build/cli/bristle" render -q --brush "$src/scenes/brushes/round.json" \
+  --trajectory short.csv -o ordinary.png
+env -u GALLIUM_DRIVER "$bin" render -q --brush round --trajectory - -o - < short.csv |
+  "$bin" compare ordinary.png - > compare.txt || fail "compare: $(cat compare.txt)"
+grep -q "ordinary.png and -: identical pixels" compare.txt || fail "compare said: $(cat compare.txt)"
+
+# Installed scenes keep their relative paths.
+"$bin" validate prefix/share/bristle/paintings/petals.json prefix/share/bristle/sheets/library.json \
+  >/dev/null || fail "the installed painting or sheet does not validate"
+
+# The man page renders and has a section for every command.
+MANWIDTH=100 man -l prefix/share/man/man1/bristle.1 2>/dev/null | col -b > man.txt
+for c in render preview validate brushes pigments record replay sheet batch compare; do
+  grep -q "^ *bristle $c\$" man.txt || fail "the man page has no section 'bristle $c'"
+done
+grep -q -- "--trajectory" man.txt || fail "the man page lacks the render options"
+# find_package(bristle): an outside project links the installed libraries.
+cmake -S "$src/tests/install/consumer" -B consumer -DCMAKE_PREFIX_PATH="$tmp/prefix" \
+  -DCMAKE_BUILD_TYPE=Release >consumer.log 2>&1 || fail "configuring the consumer: $(tail -5 consumer.log)"
+cmake --build consumer >>consumer.log 2>&1 || fail "building the consumer: $(tail -5 consumer.log)"
+out=$(consumer/consumer prefix/share/bristle/brushes/round.json two.png)
+[[ "$out" == "bristle 0."*": brush 'round', 7 spines, reach "*" mm" ]] || fail "consumer said: $out"
+"$bin" compare two.png two.png >/dev/null || fail "the consumer's PNG does not read back"
+echo "check-install: ok ($tmp/prefix)"

@@ -1,0 +1,325 @@
+// The command line as a Unix tool's user expects it (issue 20): brushes by
+// library name, `bristle pigments`, "-" for standard input and output, and
+// `replay` taking its brush from the session's header.
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "cli_runner.h"
+#include "engine/pigments.h"
+#include "render/png_io.h"
+
+using namespace bristle;
+using namespace bristle::testing;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBin = BRISTLE_BIN;
+const std::string kRound = sourcePath("scenes/brushes/round.json");
+
+// Runs a shell command line (pipes and redirections allowed, stdin /dev/null
+// unless it redirects it) in `dir`, capturing stdout and stderr.
+RunResult runShell(const TempDir& dir, const std::string& command) {
+  std::ofstream(dir.file(".command.sh")) << "cd '" << dir.path().string() << "' || exit 99\n{\n"
+                                         << command << "\n} </dev/null\n";
+  return runCaptured("env -u GALLIUM_DRIVER sh '" + dir.file(".command.sh") + "'",
+                     dir.file(".stdout"), dir.file(".stderr"));
+}
+
+// The first 60 lines of the straight pull: a short stroke (about a second to render).
+std::string shortTrajectory(const TempDir& dir) {
+  std::ifstream in(sourcePath("scenes/trajectories/straight-pull.csv"));
+  std::ofstream out(dir.file("short.csv"));
+  std::string line;
+  for (int i = 0; i < 60 && std::getline(in, line); ++i) out << line << "\n";
+  return dir.file("short.csv");
+}
+
+std::string bytesOf(const std::string& path) { return readAll(path); }
+
+}  // namespace
+
+TEST_CASE("a brush by library name is the library's file", "[cli][names]") {
+  TempDir d;
+  shortTrajectory(d);
+  const std::string b = "'" + kBin + "'";
+  const RunResult by_name = runShell(d, b + " render -q --brush round --trajectory short.csv -o n.png");
+  REQUIRE(by_name.code == 0);
+  const RunResult by_path =
+      runShell(d, b + " render -q --brush '" + kRound + "' --trajectory short.csv -o p.png");
+  REQUIRE(by_path.code == 0);
+  // The same pixels and the same provenance (the inputs' hash): byte for byte.
+  CHECK(bytesOf(d.file("n.png")) == bytesOf(d.file("p.png")));
+
+  const RunResult v = runShell(d, b + " validate round");
+  CHECK(v.code == 0);
+  CHECK(v.out == kRound + ": ok (brush 'round', 7 spines, surface)\n");
+
+  // A path is used as given, never looked up: round.json here does not exist.
+  const RunResult rel = runShell(d, b + " validate round.json");
+  CHECK(rel.code == 66);
+  CHECK(rel.err == "bristle: round.json: cannot read: No such file or directory\n");
+}
+
+TEST_CASE("brush names: BRISTLE_BRUSH_PATH and the install's share folder", "[cli][names]") {
+  TempDir d;
+  fs::create_directories(d.path() / "mine");
+  fs::copy_file(kRound, d.path() / "mine/house.json");
+  const std::string b = "'" + kBin + "'";
+  // Empty entries and missing folders are skipped; the first hit wins.
+  const RunResult env = runShell(d, "BRISTLE_BRUSH_PATH=:nowhere:mine " + b + " validate house");
+  CHECK(env.code == 0);
+  CHECK(env.out == "mine/house.json: ok (brush 'round', 7 spines, surface)\n");
+  const RunResult unset = runShell(d, "env -u BRISTLE_BRUSH_PATH " + b + " validate house");
+  CHECK(unset.code == 66);
+  CHECK_THAT(unset.err, Contains("no brush named 'house'") &&
+                            Contains("BRISTLE_BRUSH_PATH is not set"));
+
+  // A copy of the executable in PREFIX/bin finds PREFIX/share/bristle/brushes.
+  fs::create_directories(d.path() / "prefix/bin");
+  fs::create_directories(d.path() / "prefix/share/bristle/brushes");
+  fs::copy_file(kBin, d.path() / "prefix/bin/bristle");
+  fs::copy_file(kRound, d.path() / "prefix/share/bristle/brushes/shared.json");
+  const RunResult share = runShell(d, "env -u BRISTLE_BRUSH_PATH prefix/bin/bristle validate shared");
+  CHECK(runShell(d, "prefix/bin/bristle validate nope").err.find(sourcePath("scenes")) ==
+        std::string::npos);
+  CHECK(share.code == 0);
+  CHECK(share.out == (d.path() / "prefix/share/bristle/brushes/shared.json").string() +
+                         ": ok (brush 'round', 7 spines, surface)\n");
+  // The build's own executable looks in the source tree first; a copy elsewhere
+  // (an install) never does: its `round` is its share folder's.
+  fs::copy_file(kRound, d.path() / "prefix/share/bristle/brushes/round.json");
+  const RunResult copy = runShell(d, "prefix/bin/bristle validate round");
+  CHECK(copy.out == (d.path() / "prefix/share/bristle/brushes/round.json").string() +
+                        ": ok (brush 'round', 7 spines, surface)\n");
+  const RunResult build = runShell(d, b + " validate round");
+  CHECK(build.out == kRound + ": ok (brush 'round', 7 spines, surface)\n");
+}
+
+TEST_CASE("pigments: the table, with swatches only on a terminal", "[cli][pigments]") {
+  TempDir d;
+  const std::string b = "'" + kBin + "'";
+  const RunResult plain = runShell(d, b + " pigments");
+  REQUIRE(plain.code == 0);
+  CHECK(plain.out.find('\x1b') == std::string::npos);  // a pipe: no escapes
+  size_t lines = 0;
+  for (char c : plain.out) lines += c == '\n';
+  CHECK(lines == pigmentTable().size());
+  for (const Pigment& p : pigmentTable()) CHECK_THAT(plain.out, Contains("\n" + p.name + " ") || StartsWith(p.name + " "));
+  // Titanium white shows light, ivory black dark.
+  auto colour = [&](const std::string& name) {
+    const size_t at = plain.out.find(name + " ");
+    REQUIRE(at != std::string::npos);
+    const size_t hash = plain.out.find('#', at);
+    return std::stoi(plain.out.substr(hash + 1, 2), nullptr, 16);
+  };
+  CHECK(colour("titanium-white") > 0xd0);
+  CHECK(colour("ivory-black") < 0x40);
+
+  const RunResult always = runShell(d, b + " pigments --swatches always");
+  CHECK_THAT(always.out, StartsWith("\x1b[48;2;"));
+  size_t swatches = 0;
+  for (size_t at = 0; (at = always.out.find("\x1b[48;2;", at)) != std::string::npos; ++at)
+    ++swatches;
+  CHECK(swatches == pigmentTable().size());
+  // On a terminal (script(1) gives the command one) the default shows swatches.
+  const RunResult tty = runShell(d, "script -qec \"" + kBin + " pigments\" /dev/null");
+  CHECK_THAT(tty.out, Contains("\x1b[48;2;"));
+  CHECK(runShell(d, "script -qec \"" + kBin + " pigments --swatches never\" /dev/null")
+            .out.find("\x1b[48;2;") == std::string::npos);
+}
+
+TEST_CASE("'-': a trajectory from stdin, the PNG to stdout", "[cli][stdio]") {
+  TempDir d;
+  shortTrajectory(d);
+  const std::string b = "'" + kBin + "'";
+  REQUIRE(runShell(d, b + " render -q --brush round --trajectory short.csv -o file.png").code == 0);
+  // Progress and the summary stay on stderr: stdout is the PNG alone.
+  const RunResult piped =
+      runShell(d, "cat short.csv | " + b + " render --brush round --trajectory - -o - > piped.png");
+  REQUIRE(piped.code == 0);
+  CHECK(piped.out.empty());
+  CHECK_THAT(piped.err, Contains("steps ("));
+  CHECK(bytesOf(d.file("piped.png")) == bytesOf(d.file("file.png")));
+  CHECK_FALSE(fs::exists(d.path() / "-"));
+  // ... and straight into compare, which reads "-" from stdin.
+  const RunResult cmp = runShell(d, b + " render -q --brush round --trajectory - -o - < short.csv | " +
+                                        b + " compare file.png -");
+  CHECK(cmp.code == 0);
+  CHECK_THAT(cmp.out, Contains("file.png and -: identical pixels"));
+  const RunResult cmp_bad = runShell(d, "echo not a png | " + b + " compare file.png -");
+  CHECK(cmp_bad.code == 65);
+  CHECK(cmp_bad.err == "bristle: stdin: not a PNG file\n");
+
+  // A bad trajectory on stdin: the error names stdin, and stdout stays empty.
+  std::ofstream(d.file("bad.csv")) << "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+                                      "0,nan,0,20,1,0,0,0\n1,0,0,20,1,0,0,0\n";
+  const RunResult bad = runShell(d, b + " render --brush round --trajectory - -o - < bad.csv > out.png");
+  CHECK(bad.code == 65);
+  CHECK(bad.err == "bristle: stdin: line 3, column 2 (x_mm): must be finite\n");
+  CHECK(bytesOf(d.file("out.png")).empty());
+
+  // preview and sheet write to stdout too.
+  const RunResult pv = runShell(d, b + " preview round -o - > pv.png");
+  CHECK(pv.code == 0);
+  CHECK(render::readPngRgba8(d.file("pv.png")).width == 800);
+  CHECK_FALSE(fs::exists(d.path() / "-"));
+}
+
+TEST_CASE("replay takes the brush from the session's header", "[cli][replay]") {
+  TempDir d;
+  shortTrajectory(d);
+  fs::copy_file(kRound, d.path() / "mine.json");
+  const std::string b = "'" + kBin + "'";
+  // Recorded by name and by path, each replayed without --brush: the live --png's pixels.
+  for (const std::string& brush : {std::string("round"), std::string("mine.json")}) {
+    INFO(brush);
+    const RunResult rec = runShell(d, b + " record -q --device none --brush " + brush +
+                                          " --trajectory short.csv -o s.csv --png live.png");
+    REQUIRE(rec.code == 0);
+    const std::string header = readAll(d.file("s.csv"));
+    CHECK_THAT(header, Contains("# brush: " + (brush == "round"
+                                                   ? brush
+                                                   : (d.path() / "mine.json").string()) + "\n"));
+    fs::create_directories(d.path() / "elsewhere");
+    const RunResult rep = runShell(d, "cd elsewhere && " + b + " replay ../s.csv -o r.png");
+    REQUIRE(rep.code == 0);
+    CHECK(rep.err.empty());
+    CHECK(runShell(d, b + " compare live.png elsewhere/r.png").code == 0);
+  }
+  // The recorded file changed: refused; --brush overrides it with a warning.
+  std::ofstream(d.file("mine.json"), std::ios::app) << "\n";
+  const RunResult changed = runShell(d, b + " replay s.csv -o r2.png");
+  CHECK(changed.code == 65);
+  CHECK_THAT(changed.err, Contains("it changed since the recording; give --brush"));
+  CHECK_FALSE(fs::exists(d.path() / "r2.png"));
+  const RunResult over = runShell(d, b + " replay s.csv --brush mine.json -o r2.png");
+  CHECK(over.code == 0);
+  CHECK_THAT(over.err, Contains("warning:") && Contains("differs from the brush given"));
+  CHECK(runShell(d, b + " compare live.png r2.png").code == 0);
+}
+
+TEST_CASE("record without a device names --device none --trajectory", "[cli][record]") {
+  TempDir d;
+  const RunResult r = runShell(d, "BRISTLE_HD_LIBRARY=/nonexistent/libHD.so '" + kBin +
+                                      "' record --brush round -o s.csv");
+  CHECK(r.code == 69);
+  CHECK_THAT(r.err, Contains("--device none --trajectory T.csv"));
+  CHECK_FALSE(fs::exists(d.path() / "s.csv"));
+}
+
+TEST_CASE("render --stats: the figures and the warnings as JSON", "[cli][stats]") {
+  TempDir d;
+  shortTrajectory(d);
+  d.write("air.csv", "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+                     "0,10,10,60,1,0,0,0\n1,40,10,60,1,0,0,0\n");
+  const std::string b = "'" + kBin + "'";
+  REQUIRE(runShell(d, b + " render -q --brush round --trajectory short.csv -o s.png --stats s.json")
+              .code == 0);
+  const std::string painted = readAll(d.file("s.json"));
+  CHECK_THAT(painted, Contains("\"warnings\":[]"));
+  CHECK_THAT(painted, Contains("\"failed_steps\":0"));
+  CHECK(painted.find("\"painted_pixels\":0,") == std::string::npos);
+  const RunResult air =
+      runShell(d, b + " render -q --brush round --trajectory air.csv -o a.png --stats a.json");
+  CHECK(air.code == 0);
+  const std::string blank = readAll(d.file("a.json"));
+  CHECK_THAT(blank, Contains("\"painted_pixels\":0,") && Contains("\"paint_laid_mm3\":0.0"));
+  CHECK_THAT(blank, Contains("\"warnings\":[\"the brush never touched the canvas (air.csv): "
+                             "the image is blank\"]"));
+  CHECK(air.err == "bristle: warning: the brush never touched the canvas (air.csv): the image is "
+                   "blank\n");
+}
+
+TEST_CASE("help per command: its own description and examples", "[cli][help]") {
+  for (const std::string cmd : {"render", "validate", "brushes", "pigments", "preview", "record",
+                                "replay", "sheet", "batch", "compare"}) {
+    INFO(cmd);
+    const RunResult h = runBristle("help " + cmd), dash = runBristle(cmd + " --help");
+    CHECK(h.code == 0);
+    CHECK(dash.code == 0);
+    CHECK(h.out == dash.out);
+    // Its examples are its own: each example line runs this command.
+    const size_t at = h.out.find("Examples:\n");
+    REQUIRE(at != std::string::npos);
+    std::istringstream lines(h.out.substr(at + 10));
+    int own = 0;
+    for (std::string line; std::getline(lines, line) && line.rfind("  ", 0) == 0;) {
+      if (line.rfind("  bristle ", 0) != 0) continue;
+      CHECK_THAT(line + " ", StartsWith("  bristle " + cmd + " "));
+      ++own;
+    }
+    CHECK(own >= 1);
+  }
+  const RunResult v = runBristle("help validate");
+  CHECK_THAT(v.out, StartsWith("Check brush and scene"));
+  CHECK_THAT(v.out, Contains("bristle validate round\n"));
+  CHECK(v.out.find("bristle render") == std::string::npos);
+}
+
+TEST_CASE("validate BRUSH TRAJ refuses the pair render refuses, with the same message",
+          "[cli][validate]") {
+  TempDir d;
+  // Held with the ferrule 5 mm up: the 20 mm hairs start in the paper.
+  d.write("low.csv", "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+                     "0,15,40,5,1,0,0,0\n1,30,40,25,1,0,0,0\n");
+  d.write("high.csv", "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n"
+                      "0,15,40,80,1,0,0,0\n1,30,40,80,1,0,0,0\n");
+  const std::string b = "'" + kBin + "'";
+  const RunResult render = runShell(d, b + " render -q --brush round --trajectory low.csv -o o.png");
+  const RunResult validate = runShell(d, b + " validate round low.csv");
+  CHECK(render.code == 65);
+  CHECK(validate.code == 65);
+  CHECK_THAT(render.err, StartsWith("bristle: low.csv: line 3: the brush starts below the canvas"));
+  CHECK(validate.err == render.err);
+  // Each file alone is fine; only the pair is refused.
+  CHECK(runShell(d, b + " validate round").code == 0);
+  CHECK(runShell(d, b + " validate low.csv").code == 0);
+
+  // Never within reach: render's image would be blank, and validate says so.
+  const RunResult high = runShell(d, b + " validate round high.csv");
+  CHECK(high.code == 0);
+  CHECK(high.err == "bristle: warning: high.csv: the brush 'round' never comes within reach of "
+                    "the paper: render's image would be blank\n");
+  CHECK_THAT(high.out, Contains("round with high.csv: ok (starts above the paper, never reaches it)"));
+  const RunResult good = runShell(d, b + " validate round '" +
+                                         sourcePath("scenes/trajectories/s-curve.csv") + "'");
+  CHECK(good.code == 0);
+  CHECK(good.err.empty());
+  CHECK_THAT(good.out, Contains("comes within reach of it"));
+}
+
+TEST_CASE("brush names in scenes, sheets and batch manifests", "[cli][names]") {
+  TempDir d;
+  shortTrajectory(d);
+  d.write("s.json", R"({"format": "bristle-scene/1", "name": "named",
+    "canvas": {"size_mm": [120, 90], "px_per_mm": 2},
+    "strokes": [{"brush": "round", "trajectory": "short.csv", "paint": {"paints": ["sumi-ink"]}}]})");
+  d.write("p.json", R"({"format": "bristle-scene/1", "name": "named",
+    "canvas": {"size_mm": [120, 90], "px_per_mm": 2},
+    "strokes": [{"brush": ")" + kRound + R"(", "trajectory": "short.csv",
+                 "paint": {"paints": ["sumi-ink"]}}]})");
+  d.write("sh.json", R"({"format": "bristle-sheet/1", "name": "named", "px_per_mm": 2,
+    "brushes": ["round", {"path": "flat", "lift_mm": 1}], "trajectories": ["short.csv"]})");
+  d.write("m.json", R"({"format": "bristle-batch/1",
+    "jobs": [{"id": "one", "brush": "round", "trajectory": "short.csv"}]})");
+  const std::string b = "'" + kBin + "'";
+  const RunResult v = runShell(d, b + " validate s.json sh.json");
+  CHECK(v.code == 0);
+  CHECK_THAT(v.out, Contains("s.json: ok (scene 'named', 1 stroke, 1 brush") &&
+                        Contains("sh.json: ok (sheet 'named', 2 brushes x 1 trajectory)"));
+  // The name is the library's file: the same painting, pixel for pixel.
+  REQUIRE(runShell(d, b + " render -q s.json -o s.png").code == 0);
+  REQUIRE(runShell(d, b + " render -q p.json -o p.png").code == 0);
+  CHECK(runShell(d, b + " compare s.png p.png").code == 0);
+  const RunResult batch = runShell(d, b + " batch m.json --out out --json");
+  CHECK(batch.code == 0);
+  CHECK_THAT(batch.out, Contains("\"status\":\"rendered\""));
+}
