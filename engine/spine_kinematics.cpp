@@ -1,5 +1,6 @@
 #include "engine/spine_kinematics.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -53,13 +54,14 @@ Eigen::Vector2d eulerAnglesOfAxis(const Eigen::Matrix3d& r) {
 }
 
 Eigen::Matrix3d minimalRotation(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  // Rodrigues' formula with c = a x b = sin(angle) axis and d = cos(angle):
-  // R = I + [c]x + [c]x^2 / (1 + d).
-  const Eigen::Vector3d c = a.cross(b);
-  const double d = a.dot(b);
-  Eigen::Matrix3d cx;
-  cx << 0, -c.z(), c.y(), c.z(), 0, -c.x(), -c.y(), c.x(), 0;
-  return Eigen::Matrix3d::Identity() + cx + cx * cx / (1.0 + d);
+  // Rodrigues' formula, R = I + [a x b]x + [a x b]x^2 / (1 + a.b), is exact
+  // only for unit a and b, and near a half turn it divides by 1 + a.b ~ 0: the
+  // rounding of axes that have been through many steps' products then grows
+  // into a matrix that is no rotation at all (a bent-back tip segment of a
+  // soft brush stretched to 12 times its length in a few steps). Eigen's
+  // quaternion between two directions normalises them; normalised itself, its
+  // matrix is a rotation to rounding.
+  return Eigen::Quaterniond::FromTwoVectors(a, b).normalized().toRotationMatrix();
 }
 
 void spineForwardKinematics(const SpineSpec& spine, const Pose& handle,

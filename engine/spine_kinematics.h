@@ -73,8 +73,9 @@ std::vector<Eigen::Matrix3d> restRotations(const SpineSpec& spine);
 // reports (the trace) only; undefined in phi at theta = +-90 degrees.
 Eigen::Vector2d eulerAnglesOfAxis(const Eigen::Matrix3d& r);
 
-// The smallest rotation taking unit vector a to unit vector b (about a x b).
-// Requires a . b > -1 (not opposite).
+// The smallest rotation taking direction a to direction b (about a x b), an
+// exact rotation whatever the inputs' lengths. Requires a . b > -|a||b| (not
+// opposite).
 Eigen::Matrix3d minimalRotation(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
 }  // namespace bristle

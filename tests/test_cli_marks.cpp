@@ -53,9 +53,8 @@ void writeCsv(const Trajectory& t, const std::string& path) {
 // Renders one case of the press matrix with the brush and returns the mark's
 // coverage. Unless told, a brush with hair volume is solved by Ipopt, which
 // solves its spines together as the reference does; any other by SLSQP, the
-// fast solver (bench_matrix covers both). SLSQP's one-spine-at-a-time sweep
-// fails on the calligraphy brush's soft tip under a deep press
-// (docs/dynamics.md, "Hair volume").
+// fast solver (bench_matrix covers both): with hair volume the spines push on
+// each other, and the coupled NLP is the paper's formulation.
 Coverage renderCase(const std::string& name, Case c, const TempDir& dir, const std::string& tag,
                     std::string solver = "") {
   c.brush_path = sourcePath("scenes/brushes/" + name + ".json");
