@@ -166,7 +166,7 @@ TEST_CASE("round.json parses with the values in the file", "[readers]") {
   for (const SpineSpec& s : b.spines) {
     REQUIRE(s.jointCount() == 4);
     CHECK(s.segment_lengths_mm == std::vector<double>{6.0, 5.5, 5.0, 3.5});
-    CHECK(s.stiffness_nmm_per_rad == std::vector<double>{10.0, 8.0, 6.5, 5.0});
+    CHECK(s.stiffness_nmm_per_rad == std::vector<double>{30.0, 12.0, 3.0, 0.8});
     CHECK(s.damping_nmm == std::vector<double>{0.008, 0.006, 0.005, 0.004});
     CHECK(s.rest_angles_rad.size() == 4);
     CHECK(s.width_mm.size() == 5);

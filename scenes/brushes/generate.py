@@ -119,7 +119,7 @@ def volume(tip_spread):
 
 
 def round_brush():
-    lengths, K, D = [6.0, 5.5, 5.0, 3.5], [10.0, 8.0, 6.5, 5.0], [0.008, 0.006, 0.005, 0.004]
+    lengths, K, D = [6.0, 5.5, 5.0, 3.5], [30.0, 12.0, 3.0, 0.8], [0.008, 0.006, 0.005, 0.004]
     sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0]],
                 [3.2, 3.6, 3.2, 2.4, 0.8])]
     for k in range(6):
@@ -213,20 +213,25 @@ def fan():
 
 def calligraphy():
     lengths = [7.0, 7.0, 6.5, 5.5, 4.0]
-    K, D = [9.0, 7.5, 6.0, 5.0, 5.0], [0.01, 0.008, 0.006, 0.005, 0.004]
+    # Graded stiffness (docs/dynamics.md, "Graded stiffness"): a stiff root
+    # and a soft belly and tip, so that a press lays the belly down.
+    K, D = [60.0, 15.0, 4.0, 1.2, 0.5], [0.01, 0.008, 0.006, 0.005, 0.004]
+    # The belly's bundles, widened 1.15-1.4x from the root so that the laid
+    # belly covers the paper between spines as a real brush's hair does.
     sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0], [0, 0]],
-                [4.5, 5.5, 5.0, 3.5, 1.8, 0.4])]
+                [4.5, 6.32, 6.5, 4.9, 2.52, 0.4])]
     for k in range(6):
         a = math.pi / 6 + k * math.pi / 3
         sp.append(spine([2.6 * math.cos(a), 2.6 * math.sin(a), 0], lengths, K, D,
                         bend_towards(a, [0.05, 0.02, -0.15, -0.12, -0.08]),
-                        [3.2, 3.8, 3.4, 2.6, 1.2, 0.3]))
+                        [3.2, 4.37, 4.42, 3.64, 1.68, 0.3]))
     b = base("calligraphy", "Oriental calligraphy brush: 30 mm long, 8 mm at the ferrule, "
              "fine tip, soft", sp, 0.4, 0.3, 0.4)
     belly = [1.2, 1.8, 1.6, 1.0, 0.4, 0.2]
     b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
     b["strips"] = {"count": 150, "root_width_mm": 0.12, "tip_width_mm": 0.04, "seed": 9,
                    "placement": "area", "length_jitter": 0.1}
+    b["volume"] = dict(volume(0.45), stiffness_n_per_mm=2, cohesion_n_per_mm=0.5)
     b["paint"] = {"capacity": 1.3}
     return b
 
