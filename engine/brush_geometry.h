@@ -41,6 +41,7 @@ class BrushGeometry {
   void buildStrips(const BrushState& state, std::vector<BrushVertex>* triangles);
 
   bool hasSurface() const { return surface_ != nullptr; }
+  const Brush& brush() const { return *brush_; }
 
  private:
   const Brush* brush_;

@@ -52,9 +52,14 @@ StrokeRenderer::~StrokeRenderer() = default;
 
 bool StrokeRenderer::footprint(BrushGeometry& geometry, const BrushState& state,
                                const CanvasGrid& grid, double clip_mm, FootprintImage* out) {
-  std::vector<BrushVertex>& tris = triangles_;
-  tris.clear();
-  geometry.build(state, &tris);
+  triangles_.clear();
+  geometry.build(state, &triangles_);
+  return renderTriangles(grid, clip_mm, out);
+}
+
+bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double clip_mm,
+                                     FootprintImage* out) {
+  const std::vector<BrushVertex>& tris = triangles_;
   // The window is the bounding box of the triangles that dip below the clip plane.
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   vertices_.clear();
@@ -90,6 +95,33 @@ bool StrokeRenderer::footprint(BrushGeometry& geometry, const BrushState& state,
 
 namespace {
 
+// A state between a and b (same brush): positions moved along, rotations
+// turned along the shorter arc. For drawing only: the blend of two solved
+// states is not itself solved, but within a stamp spacing of both it is
+// where the hair passed.
+void blendStates(const BrushState& a, const BrushState& b, double t, BrushState* out) {
+  out->step = b.step;
+  out->t_s = a.t_s + t * (b.t_s - a.t_s);
+  out->handle.position_mm = a.handle.position_mm + t * (b.handle.position_mm - a.handle.position_mm);
+  out->handle.rotation = a.handle.rotation.slerp(t, b.handle.rotation);
+  out->spines.resize(b.spines.size());
+  for (size_t s = 0; s < b.spines.size(); ++s) {
+    const SpineState& sa = a.spines[s];
+    const SpineState& sb = b.spines[s];
+    SpineState& o = out->spines[s];
+    o.joints_mm.resize(sb.joints_mm.size());
+    for (size_t j = 0; j < sb.joints_mm.size(); ++j)
+      o.joints_mm[j] = sa.joints_mm[j] + t * (sb.joints_mm[j] - sa.joints_mm[j]);
+    o.rot.resize(sb.rot.size());
+    for (size_t j = 0; j < sb.rot.size(); ++j)
+      o.rot[j] = Eigen::Quaterniond(sa.rot[j])
+                     .slerp(t, Eigen::Quaterniond(sb.rot[j]))
+                     .toRotationMatrix();
+    o.contact = sb.contact;
+    o.sliding = sb.sliding;
+  }
+}
+
 // Furthest any joint near the canvas moved over it between two states. Each step
 // paints one stamp; where the touching part of the brush jumps further than a
 // stamp covers (a pressed brush springing back at lift-off), the step is split.
@@ -112,13 +144,40 @@ double contactJumpMm(const Brush& brush, const BrushState& a, const BrushState& 
 // Splitting stops after this many halvings (a step split into at most 32).
 constexpr int kMaxSplitDepth = 5;
 
+// At most this many stamps sweep one step: the split above keeps a step's
+// contact jump within max(--max-step-mm, 2 px), 2 px at the default 8 px/mm
+// and 0.25 mm, so a sweep at one stamp per pixel needs 2-3; 16 covers a
+// --max-step-mm of 2 at 8 px/mm.
+constexpr int kMaxSweepStamps = 16;
+
 }  // namespace
 
-void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState& state,
-                               const StrokeOptions& options, PaintCanvas* canvas,
-                               BrushPaint* paint, StrokeResult* result) {
+bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& from,
+                                    const BrushState& to, const CanvasGrid& grid,
+                                    double clip_mm, double spacing_mm, FootprintImage* out) {
+  const double jump = contactJumpMm(geometry.brush(), from, to, clip_mm);
+  const int stamps =
+      std::clamp(static_cast<int>(std::ceil(jump / spacing_mm)), 1, kMaxSweepStamps);
+  triangles_.clear();
+  for (int k = 1; k < stamps; ++k) {
+    blendStates(from, to, double(k) / stamps, &blended_);
+    geometry.build(blended_, &triangles_);
+  }
+  geometry.build(to, &triangles_);
+  return renderTriangles(grid, clip_mm, out);
+}
+
+void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
+                               const BrushState& state, const StrokeOptions& options,
+                               PaintCanvas* canvas, BrushPaint* paint, StrokeResult* result) {
   const CanvasGrid& grid = canvas->grid();
-  if (!footprint(geometry, state, grid, options.clip_mm, &image_)) return;
+  // One stamp per pixel of motion: a hair finer than a pixel, its tip dragged
+  // 2 px a step, otherwise leaves a dotted line where a real one draws a line.
+  const double spacing_mm = 1.0 / grid.px_per_mm;
+  const bool touched =
+      from ? sweptFootprint(geometry, *from, state, grid, options.clip_mm, spacing_mm, &image_)
+           : footprint(geometry, state, grid, options.clip_mm, &image_);
+  if (!touched) return;
   FootprintView view;
   // Pixel offset of the window in the canvas.
   view.col0 = static_cast<int>(std::lround(grid.colOf(image_.window.x0_mm)));
@@ -147,6 +206,7 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
   const int steps = static_cast<int>(times.size());
   const double max_jump_mm = std::max(options.sim.max_step_mm, 2.0 / canvas->grid().px_per_mm);
   int planned = 0;
+  BrushState painted;  // the state the last stamp showed
 
   // Steps from t0 to t1, halving the step while the touching part jumps too far.
   auto advance = [&](auto&& self, double t0, double t1, int depth) -> void {
@@ -160,12 +220,14 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
       self(self, tm, t1, depth + 1);
       return;
     }
-    paintStep(geometry, sim.state(), options, canvas, paint, &result);
+    paintStep(geometry, &painted, sim.state(), options, canvas, paint, &result);
+    painted = sim.state();
     if (on_step) on_step(sim.state(), planned, steps);
   };
 
   sim.reset(trajectory.poseAt(times.front()), times.front());
-  paintStep(geometry, sim.state(), options, canvas, paint, &result);
+  paintStep(geometry, nullptr, sim.state(), options, canvas, paint, &result);
+  painted = sim.state();
   if (on_step) on_step(sim.state(), 0, steps);
   for (planned = 1; planned < steps; ++planned)
     advance(advance, times[planned - 1], times[planned], 0);

@@ -63,8 +63,19 @@ class StrokeRenderer {
   bool footprint(BrushGeometry& geometry, const BrushState& state, const CanvasGrid& grid,
                  double clip_mm, FootprintImage* out);
 
+  // Footprint swept by the brush from `from` to `to`: the union of stamps of
+  // states blended between the two (handle and joints moved along, relative
+  // joint rotations turned along), spaced so that no touching joint moves more
+  // than `spacing_mm` from one stamp to the next; `from` itself is not
+  // stamped (the previous step painted it). Where two stamps overlap the
+  // deeper wins, as for the geometry of one stamp.
+  bool sweptFootprint(BrushGeometry& geometry, const BrushState& from, const BrushState& to,
+                      const CanvasGrid& grid, double clip_mm, double spacing_mm,
+                      FootprintImage* out);
+
  private:
-  void paintStep(BrushGeometry& geometry, const BrushState& state,
+  bool renderTriangles(const CanvasGrid& grid, double clip_mm, FootprintImage* out);
+  void paintStep(BrushGeometry& geometry, const BrushState* from, const BrushState& state,
                  const StrokeOptions& options, PaintCanvas* canvas, BrushPaint* paint,
                  StrokeResult* result);
 
@@ -72,6 +83,7 @@ class StrokeRenderer {
   FootprintImage image_;
   std::vector<BrushVertex> triangles_;
   std::vector<FootprintVertex> vertices_;
+  BrushState blended_;
 };
 
 }  // namespace bristle::render

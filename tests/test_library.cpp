@@ -2,6 +2,7 @@
 // kind of brush must look like, and that every brush paints.
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
@@ -165,6 +166,67 @@ TEST_CASE("a fan brush's footprint is many separate marks", "[library][footprint
   const int n = marks(fp);
   INFO(n << " separate marks");
   CHECK(n >= 10);
+}
+
+// Runs of covered pixels down each column of a footprint (lengths in px).
+std::vector<int> columnRuns(const render::FootprintImage& fp) {
+  std::vector<int> runs;
+  for (int c = 0; c < fp.window.width_px; ++c) {
+    int run = 0;
+    for (int row = 0; row <= fp.window.height_px; ++row) {
+      if (row < fp.window.height_px && fp.at(c, row)[3] > 0) {
+        ++run;
+      } else if (run > 0) {
+        runs.push_back(run);
+        run = 0;
+      }
+    }
+  }
+  return runs;
+}
+
+TEST_CASE("a step's footprint is swept: a hair finer than a pixel draws a line, not dots",
+          "[library][footprint]") {
+  // The fan's hair tips pressed on the paper, then the whole state moved 1 mm
+  // along y (8 px at 8 px/mm, exactly: shifts by whole pixels rasterise the
+  // same). Swept, every touched pixel of the end stamp continues in a run of
+  // at least the 8 px travelled down its column; 1 px of slack for float
+  // rounding at the triangles' edges. One stamp alone leaves mostly short
+  // runs: the hair tips are 1-2 px across the motion.
+  constexpr double kShiftMm = 1.0;
+  constexpr int kTravelPx = 8, kSlackPx = 1;
+  ::unsetenv("GALLIUM_DRIVER");
+  const Brush brush = library("fan");
+  BrushGeometry geo(brush);
+  render::StrokeRenderer r;
+  Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
+  Pose start = at(0, 0, brush.reachMm() + 1);
+  start.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX());
+  sim.reset(start, 0);
+  Pose down = start;
+  down.position_mm.z() = hairLength(brush) * std::cos(0.4) - 5;
+  moveTo(sim, down);
+  const BrushState from = sim.state();
+  BrushState to = from;
+  const Eigen::Vector3d shift(0, kShiftMm, 0);
+  to.handle.position_mm += shift;
+  for (SpineState& s : to.spines)
+    for (Eigen::Vector3d& p : s.joints_mm) p += shift;
+
+  render::FootprintImage stamp, swept;
+  REQUIRE(r.footprint(geo, to, window(), 0.1, &stamp));
+  REQUIRE(r.sweptFootprint(geo, from, to, window(), 0.1, 1.0 / 8, &swept));
+  const std::vector<int> one = columnRuns(stamp), many = columnRuns(swept);
+  REQUIRE_FALSE(one.empty());
+  REQUIRE_FALSE(many.empty());
+  const int shortest = *std::min_element(many.begin(), many.end());
+  int short_in_stamp = 0;
+  for (int run : one) short_in_stamp += run < kTravelPx - kSlackPx;
+  INFO("one stamp: " << one.size() << " column runs, " << short_in_stamp
+                     << " shorter than the travel; swept: shortest run " << shortest << " px");
+  CHECK(shortest >= kTravelPx - kSlackPx);
+  // The check bites: most runs of a single stamp are shorter than that.
+  CHECK(short_in_stamp * 2 > static_cast<int>(one.size()));
 }
 
 TEST_CASE("every library brush presses, drags, lifts and leaves a stroke", "[library]") {
