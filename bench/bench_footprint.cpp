@@ -224,6 +224,43 @@ void BM_GeometryAndFootprint(benchmark::State& state) {
 BENCHMARK(BM_GeometryAndFootprint)->ArgName("px_per_mm")->Arg(8)->Arg(16)->Arg(32)->Arg(56)
     ->UseManualTime()->Unit(benchmark::kMicrosecond);
 
+// The same pressed state swept over a step: the state moved range(0) pixels
+// along x from the one before (8 px/mm). 0 px is one stamp, as above; 2 px is
+// a default step's largest contact motion (0.25 mm), stamped twice.
+void BM_SweptFootprint(benchmark::State& state) {
+  const Brush brush = benchBrush(1);
+  BrushGeometry geometry(brush);
+  const BrushState to = pressedState(brush);
+  CanvasGrid grid;
+  grid.px_per_mm = 8;
+  grid.x0_mm = grid.y0_mm = -40;
+  grid.width_px = grid.height_px = 640;
+  BrushState from = to;
+  const Eigen::Vector3d back(-double(state.range(0)) / grid.px_per_mm, 0, 0);
+  from.handle.position_mm += back;
+  for (SpineState& s : from.spines)
+    for (Eigen::Vector3d& p : s.joints_mm) p += back;
+  StrokeRenderer renderer;
+  FootprintImage fp;
+  std::vector<double> us;
+  for (auto _ : state) {
+    const Clock::time_point t0 = Clock::now();
+    const bool touched =
+        renderer.sweptFootprint(geometry, from, to, grid, kClipMm, 1 / grid.px_per_mm, &fp);
+    const double dt = seconds(t0, Clock::now());
+    if (!touched) {
+      state.SkipWithError("no footprint");
+      break;
+    }
+    state.SetIterationTime(dt);
+    us.push_back(1e6 * dt);
+  }
+  state.counters["window_px"] = double(fp.window.width_px) * fp.window.height_px;
+  reportPercentiles(state, us, "");
+}
+BENCHMARK(BM_SweptFootprint)->ArgName("moved_px")->Arg(0)->Arg(2)->Arg(4)->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -15,6 +15,16 @@ BrushGeometry& BrushGeometry::operator=(BrushGeometry&&) noexcept = default;
 
 void BrushGeometry::buildSurface(const BrushState& state, std::vector<BrushVertex>* triangles) {
   if (surface_) surface_->update(state, triangles);
+  buildSpineTubes(state, triangles);
+}
+
+void BrushGeometry::buildHair(const BrushState& state, std::vector<BrushVertex>* triangles) {
+  buildSpineTubes(state, triangles);
+  buildStrips(state, triangles);
+}
+
+void BrushGeometry::buildSpineTubes(const BrushState& state,
+                                    std::vector<BrushVertex>* triangles) {
   // The simulated spines are hairs too: dressed in their own width they mark
   // the paper wherever the solver puts them in contact, also where an
   // approximating surface (§4.1) rounds off inside them, at a splayed tip.

@@ -39,11 +39,16 @@ class BrushGeometry {
   // The parts separately, for previews: surface (or spine tubes) and strips.
   void buildSurface(const BrushState& state, std::vector<BrushVertex>* triangles);
   void buildStrips(const BrushState& state, std::vector<BrushVertex>* triangles);
+  // Everything but the subdivision surface: the spines' tubes and the strips,
+  // the parts fine enough to leave gaps between a step's stamps.
+  void buildHair(const BrushState& state, std::vector<BrushVertex>* triangles);
 
   bool hasSurface() const { return surface_ != nullptr; }
   const Brush& brush() const { return *brush_; }
 
  private:
+  void buildSpineTubes(const BrushState& state, std::vector<BrushVertex>* triangles);
+
   const Brush* brush_;
   std::unique_ptr<BrushSurface> surface_;
   std::unique_ptr<StripLayout> strips_;  // placed once per brush (§4.2.2)

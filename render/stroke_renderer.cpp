@@ -159,9 +159,12 @@ bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& f
   const int stamps =
       std::clamp(static_cast<int>(std::ceil(jump / spacing_mm)), 1, kMaxSweepStamps);
   triangles_.clear();
+  // The blends stamp the hair only: the subdivision surface is the belly, many
+  // pixels across, whose stamps a step apart overlap anyway; refining it again
+  // for each blend would double a step's footprint time (docs/PERFORMANCE.md).
   for (int k = 1; k < stamps; ++k) {
     blendStates(from, to, double(k) / stamps, &blended_);
-    geometry.build(blended_, &triangles_);
+    geometry.buildHair(blended_, &triangles_);
   }
   geometry.build(to, &triangles_);
   return renderTriangles(grid, clip_mm, out);
