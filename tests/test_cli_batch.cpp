@@ -394,3 +394,42 @@ TEST_CASE("batch --dry-run ends with a summary line, also when all is up to date
   CHECK(after.out == "batch: 2 jobs (shard 0/1): 0 would render, 2 up to date, 0 failed (dry run)\n");
   CHECK(runBristle("batch '" + jobs + "' --out '" + out + "' --dry-run -q").out.empty());
 }
+
+TEST_CASE("batch: a preview job is the preview command's picture, keyed by its brush and trajectory",
+          "[cli][batch][preview]") {
+  TempDir dir;
+  dir.write("dab.csv", dab(2));
+  const json m = {{"format", "bristle-batch/1"},
+                  {"jobs",
+                   {{{"id", "rest"}, {"preview", "round"}, {"options", {{"width", 200}, {"height", 150}}}},
+                    {{"id", "bent"},
+                     {"preview", kRound},
+                     {"trajectory", "dab.csv"},
+                     {"options", {{"at", 0.25}, {"width", 200}, {"height", 150}}}}}}};
+  const std::string path = writeManifest(dir, m);
+  const std::string out = dir.file("out");
+  RunResult r = runBristle("batch '" + path + "' --out '" + out + "' --json --jobs 2");
+  REQUIRE(r.code == 0);
+  auto lines = jsonLines(r.out);
+  CHECK(lines.at("rest")["kind"] == "preview");
+  CHECK(lines.at("bent")["status"] == "rendered");
+  CHECK(lines.at("bent")["warnings"] == json::array());
+  CHECK_FALSE(lines.at("bent").contains("figures"));  // `preview` reports none
+  REQUIRE(runBristle("preview round --width 200 --height 150 -q -o '" + dir.file("rest.png") + "'")
+              .code == 0);
+  REQUIRE(runBristle("preview '" + kRound + "' --trajectory '" + dir.file("dab.csv") +
+                     "' --at 0.25 --width 200 --height 150 -q -o '" + dir.file("bent.png") + "'")
+              .code == 0);
+  CHECK(pixelHash(out + "/rest.png") == pixelHash(dir.file("rest.png")));
+  CHECK(pixelHash(out + "/bent.png") == pixelHash(dir.file("bent.png")));
+  CHECK(pixelHash(out + "/rest.png") != pixelHash(out + "/bent.png"));
+
+  r = runBristle("batch '" + path + "' --out '" + out + "' --json");
+  CHECK(jsonLines(r.out).at("summary")["skipped"] == 2);
+  // The trajectory changes: only the deformed preview renders again.
+  dir.write("dab.csv", dab(5));
+  r = runBristle("batch '" + path + "' --out '" + out + "' --json");
+  lines = jsonLines(r.out);
+  CHECK(lines.at("rest")["status"] == "skipped");
+  CHECK(lines.at("bent")["status"] == "rendered");
+}

@@ -967,17 +967,17 @@ case("batch-option-newline", "an option's value holding a newline and a fake mes
      "does not start with '-' and holds no control character",
      all_of(STROKE, folder("out"), job_options({"paint": "red\nbristle: fake"})))
 case("batch-option-unknown", "an option no job command has", BATCH_DRY, 65,
-     "m.json: /jobs/0/options/frobnicate: unknown option 'frobnicate' (known: amount, "
-     "background, bits, color, colour, contact-band-mm, impasto, ipopt-option, load, "
+     "m.json: /jobs/0/options/frobnicate: unknown option 'frobnicate' (known: amount, at, "
+     "background, bits, color, colour, contact-band-mm, height, impasto, ipopt-option, load, "
      "max-step-mm, min-rate-hz, mix, offset-mm, paint, paper-scale, paper-seed, paper-tooth, "
-     "px-per-mm, solver, solver-max-iterations, tip-length)",
+     "px-per-mm, solver, solver-max-iterations, tip-length, width)",
      all_of(STROKE, folder("out"), job_options({"frobnicate": 1})))
 case("batch-defaults-option-unknown", "an unknown option in the manifest's defaults",
      BATCH_DRY, 65,
-     "m.json: /defaults/options/quiet-paper: unknown option 'quiet-paper' (known: amount, "
-     "background, bits, color, colour, contact-band-mm, impasto, ipopt-option, load, "
+     "m.json: /defaults/options/quiet-paper: unknown option 'quiet-paper' (known: amount, at, "
+     "background, bits, color, colour, contact-band-mm, height, impasto, ipopt-option, load, "
      "max-step-mm, min-rate-hz, mix, offset-mm, paint, paper-scale, paper-seed, paper-tooth, "
-     "px-per-mm, solver, solver-max-iterations, tip-length)",
+     "px-per-mm, solver, solver-max-iterations, tip-length, width)",
      all_of(STROKE, folder("out"),
             manifest(edit=lambda m: m.update(defaults={"options": {"quiet-paper": False}}))))
 case("batch-option-flag-not-bool", "a flag given a number", BATCH_DRY, 65,
