@@ -297,7 +297,8 @@ class BatchRun {
     std::vector<std::string> argv_s = {exe_};
     for (std::string& a : batchJobArguments(*p.job)) argv_s.push_back(std::move(a));
     argv_s.insert(argv_s.end(), {"-o", r.png, "--quiet"});
-    if (p.job->kind != BatchJobKind::kSheet) {  // `render` reports its figures
+    if (p.job->kind == BatchJobKind::kStroke || p.job->kind == BatchJobKind::kScene) {
+      // `render` reports its figures; `sheet` and `preview` have none.
       r.stats = (fs::path(private_dir_) / (tag + ".stats.json")).string();
       argv_s.insert(argv_s.end(), {"--stats", r.stats});
     }
@@ -460,7 +461,7 @@ int runBatch(const BatchArgs& args) {
     for (const BatchJob& job : manifest.jobs) {
       const std::string at = args.manifest + ": " + job.pointer;
       inputs.push_back({at + (job.kind == BatchJobKind::kSheet ? "/sheet" : "/scene"), job.input});
-      inputs.push_back({at + "/brush", job.brush});
+      inputs.push_back({at + (job.kind == BatchJobKind::kPreview ? "/preview" : "/brush"), job.brush});
       inputs.push_back({at + "/trajectory", job.trajectory});
     }
     checkOutputs({{"--log", args.log}}, inputs);

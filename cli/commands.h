@@ -102,6 +102,7 @@ struct CompareArgs {
   double max_abs = kUnset, pixel_threshold = kUnset, max_percent_over = kUnset;
   double min_ssim = kUnset, min_psnr_db = kUnset;
   double diff_gain = 16;  // difference x gain of full scale saturates the red ramp
+  std::string align;      // empty: pixel for pixel; "canvas": by the bristle:canvas text
   bool json = false;
   static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 };

@@ -1,7 +1,10 @@
 // `bristle compare A B`: are two PNGs the same picture, and if not, by how much
 // do they differ against a tolerance (render/image_compare.h). Exit 0 within
 // tolerance, 1 not (also for images of different sizes); --json prints one
-// object with every metric, the tolerance and the verdict.
+// object with every metric, the tolerance and the verdict. --align canvas
+// compares two renders where their canvases overlap, by the placement the
+// renderer writes into each PNG (bristle:canvas), so that renders of one
+// stroke on canvases of different extent compare.
 
 #include <cmath>
 #include <cstdio>
@@ -15,6 +18,7 @@
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
+#include "engine/text_file.h"
 #include "render/image_compare.h"
 #include "render/png_io.h"
 
@@ -101,25 +105,44 @@ void printLine(const std::string& label, const std::string& value, const Toleran
 
 void printHuman(const CompareArgs& args, const ImageComparison& c, const CompareTolerance& t,
                 const std::vector<ToleranceCheck>& checks, bool pass,
-                const render::PngFormat& fa, const render::PngFormat& fb) {
+                const render::PngFormat& fa, const render::PngFormat& fb,
+                const render::AlignedComparison* aligned) {
+  const std::string where = aligned ? " in the canvas overlap" : "";
   if (c.identical) {
-    std::printf("%s and %s: identical pixels (%dx%d, fnv1a64 %s); tolerance %s: pass\n",
-                args.a.c_str(), args.b.c_str(), c.width, c.height, hex64(c.hash_a).c_str(),
-                t.name.c_str());
+    std::printf("%s and %s: identical pixels%s (%dx%d, fnv1a64 %s); tolerance %s: pass\n",
+                args.a.c_str(), args.b.c_str(), where.c_str(), c.width, c.height,
+                hex64(c.hash_a).c_str(), t.name.c_str());
     return;
   }
-  std::printf("%s and %s: %dx%d, pixels differ; tolerance %s: %s\n", args.a.c_str(),
-              args.b.c_str(), c.width, c.height, t.name.c_str(), pass ? "pass" : "FAIL");
+  std::printf("%s and %s: %dx%d%s, pixels differ; tolerance %s: %s\n", args.a.c_str(),
+              args.b.c_str(), c.width, c.height, where.c_str(), t.name.c_str(),
+              pass ? "pass" : "FAIL");
   printLine("files", formatName(fa) + " vs " + formatName(fb), nullptr);
-  printLine("pixel hash", hex64(c.hash_a) + " vs " + hex64(c.hash_b), findCheck(checks, "hash"));
+  std::int64_t pixels = std::int64_t(c.width) * c.height;
+  if (aligned != nullptr) {
+    printLine("overlap (canvas mm)", "from (" + number(aligned->overlap_x0_mm) + ", " +
+                                         number(aligned->overlap_y0_mm) + "); b at (" +
+                                         std::to_string(aligned->offset_x_px) + ", " +
+                                         std::to_string(aligned->offset_y_px) + ") px from a",
+              nullptr);
+    printLine("ink outside overlap", std::to_string(aligned->ink_outside_a) + " px of a, " +
+                                         std::to_string(aligned->ink_outside_b) + " px of b",
+              nullptr);
+    pixels = aligned->pixels;
+  }
+  // Aligned, equal hashes of the overlap still fail "exact" when ink lies outside it.
+  const std::int64_t outside = aligned ? aligned->ink_outside_a + aligned->ink_outside_b : 0;
+  printLine(aligned ? "pixel hash of overlap" : "pixel hash",
+            hex64(c.hash_a) + " vs " + hex64(c.hash_b) +
+                (outside ? ", ink outside" : ""),
+            findCheck(checks, "hash"));
   const double largest = std::max({c.max_abs[0], c.max_abs[1], c.max_abs[2], c.max_abs[3]});
   printLine("max abs difference", number(largest) + "/255 (R " + number(c.max_abs[0]) + ", G " +
                                       number(c.max_abs[1]) + ", B " + number(c.max_abs[2]) +
                                       ", A " + number(c.max_abs[3]) + ")",
             findCheck(checks, "max_abs"));
   printLine("pixels over " + number(c.pixel_threshold) + "/255",
-            std::to_string(c.pixels_over) + " of " +
-                std::to_string(std::int64_t(c.width) * c.height) + " (" +
+            std::to_string(c.pixels_over) + " of " + std::to_string(pixels) + " (" +
                 number(c.percent_over, 4) + "%)",
             findCheck(checks, "percent_over"));
   printLine("pixels differing", std::to_string(c.pixels_differing), nullptr);
@@ -147,20 +170,90 @@ nlohmann::json imageJson(const std::string& path, const render::Image16& image,
           {"channels", f.channels}};
 }
 
+// Where `image` lies on the canvas, from its bristle:canvas text; 65 naming the
+// file when the text is missing, malformed, or not of this image's size.
+render::CanvasPlacement placementOf(const std::string& path, const render::PngText& text,
+                                    const render::Image16& image) {
+  const std::string name = path == "-" ? std::string(kStdinName) : path;
+  for (const auto& [key, value] : text) {
+    if (key != render::kCanvasTextKey) continue;
+    render::CanvasPlacement p;
+    if (!render::parseCanvasPlacement(value, &p))
+      throw Error(ExitCode::kDataError,
+                  name + ": " + render::kCanvasTextKey + " \"" + value +
+                      "\": not \"x0_mm=X y0_mm=Y px_per_mm=S width_px=W height_px=H\"");
+    if (p.width_px != image.width || p.height_px != image.height)
+      throw Error(ExitCode::kDataError,
+                  name + ": " + render::kCanvasTextKey + ": says " + std::to_string(p.width_px) +
+                      "x" + std::to_string(p.height_px) + " px, but the image is " +
+                      std::to_string(image.width) + "x" + std::to_string(image.height));
+    return p;
+  }
+  throw Error(ExitCode::kDataError,
+              name + ": no " + render::kCanvasTextKey +
+                  " text chunk, which --align canvas needs (bristle render writes it for a "
+                  "stroke or a scene; a preview or a sheet has none)");
+}
+
+std::string mmRange(const render::CanvasPlacement& p) {
+  return "x " + number(p.x0_mm) + ".." + number(p.x0_mm + p.width_px / p.px_per_mm) + " mm, y " +
+         number(p.y0_mm) + ".." + number(p.y0_mm + p.height_px / p.px_per_mm) + " mm";
+}
+
 }  // namespace
 
 int runCompare(const CompareArgs& args) {
   const CompareTolerance tolerance = toleranceOf(args);
   checkCliFiles({{"--diff", args.diff}}, {{"a", args.a}, {"b", args.b}}, {}, {"a", "b"});
   render::PngFormat fa, fb;
-  const render::Image16 a = render::readPngRgba16(args.a, &fa);
-  const render::Image16 b = render::readPngRgba16(args.b, &fb);
+  render::PngText ta, tb;
+  const render::Image16 a = render::readPngRgba16(args.a, &fa, &ta);
+  const render::Image16 b = render::readPngRgba16(args.b, &fb, &tb);
   const auto fail = static_cast<int>(ExitCode::kCheckFailed);
 
   nlohmann::json j{{"a", imageJson(args.a, a, fa)},
                    {"b", imageJson(args.b, b, fb)},
                    {"tolerance", toleranceJson(tolerance)}};
-  if (a.width != b.width || a.height != b.height) {
+  render::CanvasPlacement pa, pb;
+  render::AlignedComparison aligned;
+  if (args.align == "canvas") {
+    pa = placementOf(args.a, ta, a);
+    pb = placementOf(args.b, tb, b);
+    const std::string both = args.a + " and " + args.b + ": --align canvas: ";
+    int dx = 0, dy = 0;
+    if (std::fabs(pa.px_per_mm - pb.px_per_mm) > 1e-6 * std::max(pa.px_per_mm, pb.px_per_mm))
+      throw Error(ExitCode::kDataError,
+                  both + "the scales differ (" + number(pa.px_per_mm, 6) + " and " +
+                      number(pb.px_per_mm, 6) +
+                      " px/mm); render both at one --px-per-mm (no resampling is done)");
+    if (!render::canvasOffsetPx(pa, pb, &dx, &dy))
+      throw Error(ExitCode::kDataError,
+                  both + "the canvases' pixel grids do not coincide (b's corner is not a whole "
+                         "number of pixels from a's)");
+    aligned = render::compareAligned(a, pa, b, pb, tolerance.pixel_threshold);
+    j["align"] = {{"mode", "canvas"},
+                  {"a_canvas_mm", mmRange(pa)},
+                  {"b_canvas_mm", mmRange(pb)},
+                  {"px_per_mm", pa.px_per_mm},
+                  {"b_offset_px", {dx, dy}},
+                  {"overlap_x0_mm", aligned.overlap_x0_mm},
+                  {"overlap_y0_mm", aligned.overlap_y0_mm},
+                  {"overlap_width_px", aligned.overlap_width_px},
+                  {"overlap_height_px", aligned.overlap_height_px},
+                  {"ink_outside_a", aligned.ink_outside_a},
+                  {"ink_outside_b", aligned.ink_outside_b}};
+    if (aligned.overlap_width_px == 0) {
+      const std::string why = "canvases do not overlap: " + args.a + " covers " + mmRange(pa) +
+                              ", " + args.b + " covers " + mmRange(pb);
+      if (args.json) {
+        j["verdict"] = "fail";
+        j["reason"] = why;
+        std::cout << j.dump(2) << "\n";
+      }
+      printError(why);
+      return fail;
+    }
+  } else if (a.width != b.width || a.height != b.height) {
     const std::string why = "images differ in size: " + args.a + " is " +
                             std::to_string(a.width) + "x" + std::to_string(a.height) + ", " +
                             args.b + " is " + std::to_string(b.width) + "x" +
@@ -174,11 +267,15 @@ int runCompare(const CompareArgs& args) {
     return fail;
   }
 
-  const ImageComparison c = render::compareImages(a, b, tolerance.pixel_threshold);
+  const bool align = args.align == "canvas";
+  const ImageComparison c =
+      align ? aligned.c : render::compareImages(a, b, tolerance.pixel_threshold);
   const std::vector<ToleranceCheck> checks = render::checkTolerance(c, tolerance);
   const bool pass = render::allPass(checks);
   if (!args.diff.empty()) {
-    render::writePng(args.diff, render::differenceImage(a, b, args.diff_gain),
+    render::writePng(args.diff,
+                     align ? render::alignedDifferenceImage(a, pa, b, pb, args.diff_gain)
+                           : render::differenceImage(a, b, args.diff_gain),
                      {{"Software", "bristle compare"},
                       {"bristle:compare", args.a + " vs " + args.b}});
   }
@@ -190,7 +287,8 @@ int runCompare(const CompareArgs& args) {
     j["max_abs"] = {{"r", c.max_abs[0]}, {"g", c.max_abs[1]}, {"b", c.max_abs[2]},
                     {"a", c.max_abs[3]}};
     j["pixel_threshold"] = c.pixel_threshold;
-    j["pixels"] = std::int64_t(c.width) * c.height;
+    // Aligned: the overlap's pixels plus the ink outside it (percent_over's whole).
+    j["pixels"] = align ? aligned.pixels : std::int64_t(c.width) * c.height;
     j["pixels_differing"] = c.pixels_differing;
     j["pixels_over"] = c.pixels_over;
     j["percent_over"] = c.percent_over;
@@ -209,7 +307,7 @@ int runCompare(const CompareArgs& args) {
     j["verdict"] = pass ? "pass" : "fail";
     std::cout << j.dump(2) << "\n";
   } else {
-    printHuman(args, c, tolerance, checks, pass, fa, fb);
+    printHuman(args, c, tolerance, checks, pass, fa, fb, align ? &aligned : nullptr);
     if (!args.diff.empty()) std::printf("  %-22s %s\n", "difference image", args.diff.c_str());
   }
   std::fflush(stdout);

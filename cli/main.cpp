@@ -325,13 +325,22 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  bristle compare golden/round-s-curve.png new.png --tolerance strict --diff d.png\n"
       "  bristle compare a.png b.png --json --max-abs 4 --min-ssim 0.995\n"
+      "  bristle compare golden/round-s-curve.png new.png --align canvas --tolerance strict\n"
       "Differences are in 8-bit steps (1/255 of full scale) whatever the bit depth.\n"
       "Presets: exact (equal pixels; the default), strict (max abs <= 2, <= 0.1% of pixels\n"
       "over 1), loose (SSIM >= 0.99, <= 1% of pixels over 8). Exit 0 within tolerance, 1 not\n"
-      "(also when the sizes differ). See docs/golden-tests.md.");
+      "(also when the sizes differ).\n"
+      "--align canvas compares two renders (strokes or scenes) where their canvases overlap,\n"
+      "by the bristle:canvas text each PNG carries, so renders on canvases of different\n"
+      "extent compare; ink outside the overlap counts as differing pixels. Both must have\n"
+      "one px/mm; a PNG without the text is refused (65). See docs/golden-tests.md.");
   compare->add_option("a", cmp.a, "First PNG (the reference); - reads stdin")->required();
   compare->add_option("b", cmp.b, "Second PNG; - reads stdin")->required();
   compare->add_option("--diff", cmp.diff, "Write the amplified difference image (PNG)");
+  compare->add_option("--align", cmp.align,
+                      "canvas: compare two renders where their canvases overlap, by the "
+                      "bristle:canvas text each PNG carries")
+      ->check(CLI::IsMember({"canvas"}));
   compare->add_option("--diff-gain", cmp.diff_gain, "Amplification of --diff")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 65535.0));

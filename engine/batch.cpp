@@ -55,12 +55,13 @@ enum class OptionType {
   kStrings,  // a string, or a non-empty list of them (repeatable NAME=VALUE)
 };
 
-// The options of `render` and `sheet` (cli/main.cpp) a job may set, with their
+// The options of `render`, `sheet` and `preview` (cli/main.cpp) a job may set, with their
 // types. Whether the job's command accepts an option (a scene sets its own
 // paint) is the command's to say: the job then fails with its usage error.
 const std::map<std::string, OptionType>& knownOptions() {
   static const std::map<std::string, OptionType> kOptions = {
-      {"amount", OptionType::kNumber},          {"background", OptionType::kString},
+      {"amount", OptionType::kNumber},          {"at", OptionType::kNumber},
+      {"background", OptionType::kString},      {"height", OptionType::kNumber},
       {"bits", OptionType::kNumber},            {"color", OptionType::kString},
       {"colour", OptionType::kString},          {"contact-band-mm", OptionType::kNumber},
       {"impasto", OptionType::kFlag},           {"ipopt-option", OptionType::kStrings},
@@ -70,7 +71,7 @@ const std::map<std::string, OptionType>& knownOptions() {
       {"paper-scale", OptionType::kNumber},     {"paper-seed", OptionType::kNumber},
       {"paper-tooth", OptionType::kNumber},     {"px-per-mm", OptionType::kNumber},
       {"solver", OptionType::kString},          {"solver-max-iterations", OptionType::kNumber},
-      {"tip-length", OptionType::kNumber},
+      {"tip-length", OptionType::kNumber},      {"width", OptionType::kNumber},
   };
   return kOptions;
 }
@@ -154,6 +155,7 @@ const char* batchJobKindName(BatchJobKind kind) {
     case BatchJobKind::kScene: return "scene";
     case BatchJobKind::kSheet: return "sheet";
     case BatchJobKind::kStroke: return "stroke";
+    case BatchJobKind::kPreview: return "preview";
   }
   return "?";
 }
@@ -189,24 +191,33 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
     job.index = static_cast<int>(i);
     job.pointer = o.pointer();
 
-    const bool scene = o.has("scene"), sheet = o.has("sheet");
-    const bool stroke = o.has("brush") || o.has("trajectory");
-    if (int(scene) + int(sheet) + int(stroke) != 1)
-      o.fail(o.pointer(), "a job renders exactly one of: \"scene\", \"sheet\", or "
-                          "\"brush\" with \"trajectory\"");
+    // A preview names its brush in "preview" and may take a trajectory (the
+    // brush deformed at --at); a stroke is a brush with a trajectory.
+    const bool scene = o.has("scene"), sheet = o.has("sheet"), preview = o.has("preview");
+    const bool stroke = o.has("brush") || (o.has("trajectory") && !preview);
+    if (int(scene) + int(sheet) + int(stroke) + int(preview) != 1)
+      o.fail(o.pointer(), "a job renders exactly one of: \"scene\", \"sheet\", \"preview\" "
+                          "(with an optional \"trajectory\"), or \"brush\" with \"trajectory\"");
+    const auto brushAt = [&](const std::string& key) {
+      const std::string brush = o.string(key);
+      return isBrushName(brush) ? findBrushByName(brush, path + ": " + o.childPointer(key))
+                                : resolve(base_dir, brush);
+    };
     if (scene) {
       job.kind = BatchJobKind::kScene;
       job.input = resolve(base_dir, o.string("scene"));
     } else if (sheet) {
       job.kind = BatchJobKind::kSheet;
       job.input = resolve(base_dir, o.string("sheet"));
+    } else if (preview) {
+      job.kind = BatchJobKind::kPreview;
+      job.brush = brushAt("preview");
+      if (o.has("trajectory")) job.trajectory = resolve(base_dir, o.string("trajectory"));
     } else {
       job.kind = BatchJobKind::kStroke;
       if (!o.has("brush") || !o.has("trajectory"))
         o.fail(o.pointer(), "a stroke job needs both \"brush\" and \"trajectory\"");
-      const std::string brush = o.string("brush");
-      job.brush = isBrushName(brush) ? findBrushByName(brush, path + ": " + o.pointer() + "/brush")
-                                     : resolve(base_dir, brush);
+      job.brush = brushAt("brush");
       job.trajectory = resolve(base_dir, o.string("trajectory"));
     }
 
@@ -314,6 +325,10 @@ std::vector<std::string> batchJobArguments(const BatchJob& job) {
     case BatchJobKind::kStroke:
       args = {"render", "--brush", job.brush, "--trajectory", job.trajectory};
       break;
+    case BatchJobKind::kPreview:
+      args = {"preview", job.brush};
+      if (!job.trajectory.empty()) args.insert(args.end(), {"--trajectory", job.trajectory});
+      break;
   }
   // nlohmann's object keeps keys sorted: the same options give the same line.
   for (const auto& [name, value] : job.options.items()) {
@@ -357,6 +372,11 @@ std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& 
       return loadSheet(job.input).inputs;
     case BatchJobKind::kStroke:
       requireReadable(manifest, job.pointer + "/brush", job.brush);
+      requireReadable(manifest, job.pointer + "/trajectory", job.trajectory);
+      return {job.brush, job.trajectory};
+    case BatchJobKind::kPreview:
+      requireReadable(manifest, job.pointer + "/preview", job.brush);
+      if (job.trajectory.empty()) return {job.brush};
       requireReadable(manifest, job.pointer + "/trajectory", job.trajectory);
       return {job.brush, job.trajectory};
   }

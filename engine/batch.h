@@ -14,7 +14,7 @@
 
 namespace bristle {
 
-enum class BatchJobKind { kScene, kSheet, kStroke };
+enum class BatchJobKind { kScene, kSheet, kStroke, kPreview };
 const char* batchJobKindName(BatchJobKind kind);
 
 struct BatchJob {
@@ -23,7 +23,8 @@ struct BatchJob {
   std::string id;       // unique; defaults to the output's stem
   BatchJobKind kind = BatchJobKind::kScene;
   std::string input;    // scene or sheet file (resolved against the manifest's folder)
-  std::string brush, trajectory;  // a stroke's files (resolved)
+  std::string brush, trajectory;  // a stroke's or a preview's files (resolved; a
+                                  // preview's trajectory may be empty: at rest)
   std::string output;   // relative to the batch's output folder; defaults to id + ".png"
   // Options passed to the render command, already merged with the manifest's
   // defaults: key (the long option without "--") -> value.
@@ -65,8 +66,8 @@ Shard shardFromEnvironment(const std::function<const char*(const char*)>& env,
 std::vector<int> jobsOfShard(int n, const Shard& shard);
 
 // The command line of a job, without the program name and without the output
-// option: e.g. {"render", "scene.json", "--impasto"}. The caller adds
-// {"-o", path, "--quiet"}.
+// option: e.g. {"render", "scene.json", "--impasto"} or {"preview", "b.json",
+// "--trajectory", "t.csv", "--at", "1.2"}. The caller adds {"-o", path, "--quiet"}.
 std::vector<std::string> batchJobArguments(const BatchJob& job);
 
 // Every file the job reads (the scene or sheet first, then what it references),

@@ -24,7 +24,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         bristle::parseBatchManifest(bristle::fuzz::text(data, size), "m.json", "/nonexistent");
     for (const bristle::BatchJob& job : m.jobs) {
       const std::vector<std::string> args = bristle::batchJobArguments(job);
-      const std::size_t fixed = job.kind == bristle::BatchJobKind::kStroke ? 5 : 2;
+      // The words the job's kind fixes: the command and its inputs.
+      const std::size_t fixed = job.kind == bristle::BatchJobKind::kStroke ? 5
+                                : job.kind == bristle::BatchJobKind::kPreview && !job.trajectory.empty()
+                                    ? 4
+                                    : 2;
       for (std::size_t i = fixed; i < args.size(); ++i) {
         const std::string& a = args[i];
         for (const char c : a)

@@ -8,9 +8,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <cstdio>
+#include <map>
 #include <stdexcept>
 
+#include "engine/canvas.h"
+#include "engine/error.h"
 #include "engine/fnv1a64.h"
+#include "render/compose.h"
 
 namespace bristle::render {
 
@@ -296,6 +301,199 @@ Image8 differenceImage(const Image16& a, const Image16& b, double gain) {
     }
   }
   return out;
+}
+
+// ---- Comparing renders by where they lie on the canvas ---------------------
+
+bool parseCanvasPlacement(const std::string& text, CanvasPlacement* out) {
+  CanvasPlacement p;
+  int consumed = -1;
+  // %n after the last field: nothing may follow the five fields.
+  if (std::sscanf(text.c_str(), "x0_mm=%lf y0_mm=%lf px_per_mm=%lf width_px=%d height_px=%d%n",
+                  &p.x0_mm, &p.y0_mm, &p.px_per_mm, &p.width_px, &p.height_px, &consumed) != 5 ||
+      consumed != static_cast<int>(text.size()))
+    return false;
+  if (!std::isfinite(p.x0_mm) || !std::isfinite(p.y0_mm) || !std::isfinite(p.px_per_mm) ||
+      p.px_per_mm <= 0 || p.width_px <= 0 || p.height_px <= 0)
+    return false;
+  *out = p;
+  return true;
+}
+
+bool canvasOffsetPx(const CanvasPlacement& a, const CanvasPlacement& b, int* dx, int* dy) {
+  if (std::fabs(a.px_per_mm - b.px_per_mm) > 1e-6 * std::max(a.px_per_mm, b.px_per_mm))
+    return false;
+  const double fx = (b.x0_mm - a.x0_mm) * a.px_per_mm, fy = (b.y0_mm - a.y0_mm) * a.px_per_mm;
+  // Far beyond any canvas (64 Mpx) is not an offset to round into an int.
+  if (!(std::fabs(fx) < 1e9 && std::fabs(fy) < 1e9)) return false;
+  const double rx = std::round(fx), ry = std::round(fy);
+  if (std::fabs(fx - rx) > 1e-3 || std::fabs(fy - ry) > 1e-3) return false;
+  *dx = static_cast<int>(rx);
+  *dy = static_cast<int>(ry);
+  return true;
+}
+
+namespace {
+
+using Paper = std::array<std::uint8_t, 3>;
+
+std::uint8_t to8(std::uint16_t v) { return static_cast<std::uint8_t>((v + 128) / 257); }
+
+// Ink by compose.h's rule, on the 16-bit samples scaled to 8-bit levels.
+bool isInk16(const std::uint16_t* px, const Paper& paper) {
+  double d = 0;
+  for (int ch = 0; ch < 3; ++ch) d += std::fabs(px[ch] / 257.0 - paper[ch]);
+  return d > kInkLevels;
+}
+
+// A rectangle of pixels in a's frame: columns x0..x1-1, rows counted upwards
+// from a's bottom edge y0..y1-1 (the canvas's y axis).
+struct Box {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+  int width() const { return std::max(0, x1 - x0); }
+  int height() const { return std::max(0, y1 - y0); }
+};
+
+struct Frames {
+  Box a, b, overlap, both;  // a's and b's pixels, their intersection and union
+};
+
+Frames framesOf(const Image16& a, const CanvasPlacement& pa, const Image16& b,
+                const CanvasPlacement& pb) {
+  int dx = 0, dy = 0;
+  if (!canvasOffsetPx(pa, pb, &dx, &dy))
+    throw std::invalid_argument("the canvases are not on one pixel grid");
+  if (pa.width_px != a.width || pa.height_px != a.height || pb.width_px != b.width ||
+      pb.height_px != b.height)
+    throw std::invalid_argument("a canvas placement's size is not its image's");
+  if (a.channels != 4 || b.channels != 4) throw std::invalid_argument("RGBA images needed");
+  Frames f;
+  f.a = {0, 0, a.width, a.height};
+  f.b = {dx, dy, dx + b.width, dy + b.height};
+  f.overlap = {std::max(f.a.x0, f.b.x0), std::max(f.a.y0, f.b.y0), std::min(f.a.x1, f.b.x1),
+               std::min(f.a.y1, f.b.y1)};
+  f.both = {std::min(f.a.x0, f.b.x0), std::min(f.a.y0, f.b.y0), std::max(f.a.x1, f.b.x1),
+            std::max(f.a.y1, f.b.y1)};
+  return f;
+}
+
+// The RGBA pixel of an image at (x, y) of a's frame, the image lying in `box`.
+const std::uint16_t* pixelAt(const Image16& image, const Box& box, int x, int y) {
+  const int col = x - box.x0, row = image.height - 1 - (y - box.y0);
+  return &image.pixels[4 * (std::size_t(row) * image.width + col)];
+}
+
+Image16 crop(const Image16& image, const Box& box, const Box& region) {
+  Image16 out{region.width(), region.height(), 4, {}};
+  out.pixels.reserve(std::size_t(out.width) * out.height * 4);
+  for (int y = region.y1 - 1; y >= region.y0; --y)  // the top row first
+    for (int x = region.x0; x < region.x1; ++x) {
+      const std::uint16_t* p = pixelAt(image, box, x, y);
+      out.pixels.insert(out.pixels.end(), p, p + 4);
+    }
+  return out;
+}
+
+std::int64_t inkOutside(const Image16& image, const Box& box, const Box& overlap,
+                        const Paper& paper) {
+  std::int64_t n = 0;
+  for (int y = box.y0; y < box.y1; ++y)
+    for (int x = box.x0; x < box.x1; ++x)
+      if (!overlap.contains(x, y) && isInk16(pixelAt(image, box, x, y), paper)) ++n;
+  return n;
+}
+
+}  // namespace
+
+std::array<std::uint8_t, 3> borderPaperColour(const Image16& image) {
+  std::map<Paper, std::int64_t> counts;
+  const auto count = [&](int col, int row) {
+    const std::uint16_t* p = &image.pixels[4 * (std::size_t(row) * image.width + col)];
+    ++counts[Paper{to8(p[0]), to8(p[1]), to8(p[2])}];
+  };
+  for (int col = 0; col < image.width; ++col) {
+    count(col, 0);
+    if (image.height > 1) count(col, image.height - 1);
+  }
+  for (int row = 1; row + 1 < image.height; ++row) {
+    count(0, row);
+    if (image.width > 1) count(image.width - 1, row);
+  }
+  Paper best{};
+  std::int64_t most = -1;
+  for (const auto& [colour, n] : counts)  // ascending: a tie keeps the smaller colour
+    if (n > most) best = colour, most = n;
+  return best;
+}
+
+AlignedComparison compareAligned(const Image16& a, const CanvasPlacement& pa, const Image16& b,
+                                 const CanvasPlacement& pb, double pixel_threshold) {
+  const Frames f = framesOf(a, pa, b, pb);
+  AlignedComparison r;
+  r.offset_x_px = f.b.x0;
+  r.offset_y_px = f.b.y0;
+  r.paper_a = borderPaperColour(a);
+  r.paper_b = borderPaperColour(b);
+  r.overlap_width_px = f.overlap.width();
+  r.overlap_height_px = f.overlap.height();
+  r.overlap_x0_mm = pa.x0_mm + f.overlap.x0 / pa.px_per_mm;
+  r.overlap_y0_mm = pa.y0_mm + f.overlap.y0 / pa.px_per_mm;
+  r.ink_outside_a = inkOutside(a, f.a, f.overlap, r.paper_a);
+  r.ink_outside_b = inkOutside(b, f.b, f.overlap, r.paper_b);
+  if (r.overlap_width_px == 0 || r.overlap_height_px == 0) {
+    r.overlap_width_px = r.overlap_height_px = 0;
+    return r;
+  }
+  r.c = compareImages(crop(a, f.a, f.overlap), crop(b, f.b, f.overlap), pixel_threshold);
+  const std::int64_t outside = r.ink_outside_a + r.ink_outside_b;
+  r.pixels = std::int64_t(r.overlap_width_px) * r.overlap_height_px + outside;
+  r.c.pixels_differing += outside;
+  r.c.pixels_over += outside;
+  r.c.percent_over = 100.0 * double(r.c.pixels_over) / double(r.pixels);
+  r.c.identical = r.c.identical && outside == 0;
+  return r;
+}
+
+Image8 alignedDifferenceImage(const Image16& a, const CanvasPlacement& pa, const Image16& b,
+                              const CanvasPlacement& pb, double gain) {
+  const Frames f = framesOf(a, pa, b, pb);
+  const Paper paper_a = borderPaperColour(a), paper_b = borderPaperColour(b);
+  // Both images over the union; where one of them has no pixel, it gets the
+  // other's pixel when that is bare paper (no difference) and its own paper
+  // colour when it is ink (a difference); where neither has one, both are black.
+  const int w = f.both.width(), h = f.both.height();
+  // Two canvases far apart would make a vast image of nothing: the limit of
+  // any image bristle reads or writes holds for this one too.
+  constexpr std::int64_t kMaxDiffPixels = kMaxCanvasPixels;
+  if (std::int64_t(w) * h > kMaxDiffPixels)
+    throw Error(ExitCode::kDataError,
+                "--diff: the two canvases together span " + std::to_string(w) + " x " +
+                    std::to_string(h) + " px, over the limit of " +
+                    std::to_string(kMaxDiffPixels) + " px (64 Mpx) of a difference image");
+  Image16 ua{w, h, 4, std::vector<std::uint16_t>(std::size_t(w) * h * 4, 0)}, ub = ua;
+  const auto paper16 = [](const Paper& p, std::uint16_t* o) {
+    for (int ch = 0; ch < 3; ++ch) o[ch] = static_cast<std::uint16_t>(p[ch] * 257);
+    o[3] = 65535;
+  };
+  for (int y = f.both.y0; y < f.both.y1; ++y) {
+    for (int x = f.both.x0; x < f.both.x1; ++x) {
+      const std::size_t i = 4 * (std::size_t(f.both.y1 - 1 - y) * w + (x - f.both.x0));
+      std::uint16_t* oa = &ua.pixels[i];
+      std::uint16_t* ob = &ub.pixels[i];
+      const bool in_a = f.a.contains(x, y), in_b = f.b.contains(x, y);
+      if (in_a) std::copy_n(pixelAt(a, f.a, x, y), 4, oa);
+      if (in_b) std::copy_n(pixelAt(b, f.b, x, y), 4, ob);
+      if (in_a && !in_b) {
+        if (isInk16(oa, paper_a)) paper16(paper_b, ob);
+        else std::copy_n(oa, 4, ob);
+      } else if (in_b && !in_a) {
+        if (isInk16(ob, paper_b)) paper16(paper_a, oa);
+        else std::copy_n(ob, 4, oa);
+      }
+    }
+  }
+  return differenceImage(ua, ub, gain);
 }
 
 }  // namespace bristle::render

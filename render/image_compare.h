@@ -91,4 +91,66 @@ inline bool allPass(const std::vector<ToleranceCheck>& checks) {
 inline constexpr int kDifferenceMarkerPx = 3;
 Image8 differenceImage(const Image16& a, const Image16& b, double gain);
 
+// ---- Comparing renders by where they lie on the canvas (compare --align canvas)
+
+// Where an image lies on the canvas, as the renderer records it in the PNG
+// text "bristle:canvas" (cli canvasText): the bottom-left corner of the image
+// in canvas millimetres, the scale, and the size. Row 0 of the image is its top.
+struct CanvasPlacement {
+  double x0_mm = 0, y0_mm = 0, px_per_mm = 0;
+  int width_px = 0, height_px = 0;
+};
+inline constexpr const char* kCanvasTextKey = "bristle:canvas";
+// Parses "x0_mm=X y0_mm=Y px_per_mm=S width_px=W height_px=H" (the five fields
+// in that order, finite, S > 0, W and H > 0). Returns false when it is not that.
+bool parseCanvasPlacement(const std::string& text, CanvasPlacement* out);
+
+// Two renders at one scale whose canvases cover different regions, compared
+// over the region both cover. The images' pixel grids must coincide: b's
+// corner lies a whole number of pixels from a's (bristle snaps every canvas
+// corner to its pixel grid, so renders at one px-per-mm always do).
+struct AlignedComparison {
+  ImageComparison c;      // the metrics over the overlap, with the ink outside it
+                          // counted in (see compareAligned)
+  int offset_x_px = 0, offset_y_px = 0;  // b's bottom-left corner from a's (px, y up)
+  double overlap_x0_mm = 0, overlap_y0_mm = 0;  // bottom-left corner of the overlap
+  int overlap_width_px = 0, overlap_height_px = 0;  // 0 x 0: the canvases do not meet
+  std::int64_t ink_outside_a = 0, ink_outside_b = 0;  // ink pixels outside the overlap
+  std::int64_t pixels = 0;  // overlap pixels + ink outside: percent_over's whole
+  std::array<std::uint8_t, 3> paper_a{}, paper_b{};   // each image's paper colour (8-bit)
+};
+
+// The whole number of pixels b's corner lies from a's along each axis; false
+// when the scales differ (relative 1e-6) or the offset is off the pixel grid
+// by more than 1e-3 px (the text's 6 decimals are far finer).
+bool canvasOffsetPx(const CanvasPlacement& a, const CanvasPlacement& b, int* dx, int* dy);
+
+// The paper colour of a render: the most frequent 8-bit RGB colour of its
+// outermost ring of pixels (a stroke's canvas has a margin of bare paper all
+// round; ties go to the smallest colour).
+std::array<std::uint8_t, 3> borderPaperColour(const Image16& image);
+
+// Compares a and b where their canvases overlap. Within the overlap, every
+// metric is compareImages' on the two crops. A pixel outside the overlap is
+// ink when its R, G, B differ from its own image's paper colour by more than
+// kInkLevels (6) 8-bit levels summed (render/compose.h, the rule of the batch's
+// painted_pixels and of the sheets): the other image has no such mark, so each
+// such pixel counts as one differing pixel and one pixel over the threshold;
+// percent_over is then over the overlap's pixels plus these; the images are
+// identical only when the crops are and no ink lies outside. Max abs, RMSE,
+// PSNR and SSIM are of the overlap alone. Bare paper outside the overlap does
+// not count: that is the point of aligning. Preconditions (else
+// std::invalid_argument): canvasOffsetPx holds, and each placement's size is
+// its image's. When the canvases do not overlap, c is left empty and
+// overlap_width_px is 0.
+AlignedComparison compareAligned(const Image16& a, const CanvasPlacement& pa, const Image16& b,
+                                 const CanvasPlacement& pb, double pixel_threshold);
+
+// The difference image of an aligned comparison, over the union of both
+// canvases: the overlap as differenceImage draws it; outside it, a pixel
+// that is ink in the image covering it is a difference (full red), bare paper is
+// context grey; what neither canvas covers is black.
+Image8 alignedDifferenceImage(const Image16& a, const CanvasPlacement& pa, const Image16& b,
+                              const CanvasPlacement& pb, double gain);
+
 }  // namespace bristle::render

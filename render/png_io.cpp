@@ -348,6 +348,21 @@ struct Decoder {
   ~Decoder() { png_destroy_read_struct(&png, &info, nullptr); }
 };
 
+// The text chunks a finished decode saw, before and after the image data.
+PngText textOf(const Decoder& decoder) {
+  png_textp chunks = nullptr;
+  const int count = png_get_text(decoder.png, decoder.info, &chunks, nullptr);
+  PngText text;
+  for (int i = 0; i < count; ++i) {
+    // iTXt carries its length in itxt_length; tEXt/zTXt in text_length.
+    const std::size_t length =
+        chunks[i].compression >= PNG_ITXT_COMPRESSION_NONE ? chunks[i].itxt_length
+                                                           : chunks[i].text_length;
+    text.emplace_back(chunks[i].key, std::string(chunks[i].text, length));
+  }
+  return text;
+}
+
 // What the decoder turns the file's pixels into.
 enum class Decode { kNative, kRgba8, kRgba16 };
 
@@ -465,10 +480,11 @@ Image8 readPngRgba8(const std::string& path) {
   return Image8{decoded.width, decoded.height, 4, std::move(decoded.bytes)};
 }
 
-Image16 readPngRgba16(const std::string& path, PngFormat* format) {
+Image16 readPngRgba16(const std::string& path, PngFormat* format, PngText* text) {
   Decoder decoder;
   Decoded decoded;
   decodePng(path, Decode::kRgba16, &decoder, &decoded);
+  if (text != nullptr) *text = textOf(decoder);
   Image16 image{decoded.width, decoded.height, 4, {}};
   image.pixels.resize(decoded.bytes.size() / 2);
   std::memcpy(image.pixels.data(), decoded.bytes.data(), decoded.bytes.size());
@@ -479,18 +495,9 @@ Image16 readPngRgba16(const std::string& path, PngFormat* format) {
 PngText readPngText(const std::string& path) {
   Decoder decoder;
   decodePng(path, Decode::kNative, &decoder, nullptr);
-  png_textp chunks = nullptr;
-  const int count = png_get_text(decoder.png, decoder.info, &chunks, nullptr);
-  PngText text;
-  for (int i = 0; i < count; ++i) {
-    // iTXt carries its length in itxt_length; tEXt/zTXt in text_length.
-    const std::size_t length =
-        chunks[i].compression >= PNG_ITXT_COMPRESSION_NONE ? chunks[i].itxt_length
-                                                           : chunks[i].text_length;
-    text.emplace_back(chunks[i].key, std::string(chunks[i].text, length));
-  }
-  return text;
+  return textOf(decoder);
 }
+
 
 }  // namespace bristle::render
 

@@ -48,8 +48,10 @@ struct PngFormat {
 // Reads any PNG into 16-bit RGBA, samples in host order: 8-bit samples v become
 // v * 257 (0..255 onto 0..65535 exactly), grey and palette are expanded, a file
 // without alpha is opaque (65535). `format`, when given, receives the file's own
-// layout. Throws as readPngRgba8.
-Image16 readPngRgba16(const std::string& path, PngFormat* format = nullptr);
+// layout; `text`, when given, its text chunks (one read: standard input can be
+// read only once). Throws as readPngRgba8.
+Image16 readPngRgba16(const std::string& path, PngFormat* format = nullptr,
+                      PngText* text = nullptr);
 
 // The text chunks of a PNG (for tests and `bristle compare`).
 PngText readPngText(const std::string& path);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "engine/atomic_output.h"
 #include "engine/batch.h"
@@ -90,6 +91,38 @@ TEST_CASE("batch manifest: jobs, defaults and resolved paths", "[batch]") {
   CHECK(m.jobs[1].trajectory == "/abs/t.csv");
   CHECK(m.jobs[2].kind == BatchJobKind::kSheet);
   CHECK(m.jobs[2].pointer == "/jobs/2");
+}
+
+TEST_CASE("batch manifest: preview jobs, at rest and along a trajectory", "[batch]") {
+  const BatchManifest m = parse(R"({"format": "bristle-batch/1", "jobs": [
+      {"id": "rest", "preview": "b.json"},
+      {"id": "bent", "preview": "b.json", "trajectory": "t.csv", "options": {"at": 1.2}}]})");
+  REQUIRE(m.jobs.size() == 2);
+  CHECK(m.jobs[0].kind == BatchJobKind::kPreview);
+  CHECK(std::string(batchJobKindName(m.jobs[0].kind)) == "preview");
+  CHECK(m.jobs[0].brush == "/data/batch/b.json");
+  CHECK(m.jobs[0].trajectory.empty());
+  CHECK(batchJobArguments(m.jobs[0]) == std::vector<std::string>{"preview", "/data/batch/b.json"});
+  CHECK(batchJobArguments(m.jobs[1]) ==
+        std::vector<std::string>{"preview", "/data/batch/b.json", "--trajectory",
+                                 "/data/batch/t.csv", "--at", "1.2"});
+
+  // Only strokes and previews take a trajectory; a preview names its brush
+  // once, in "preview".
+  const std::string head = R"({"format": "bristle-batch/1", "jobs": [)";
+  for (const auto& [job, pointer, rule] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {R"({"id": "a", "preview": "b.json", "brush": "b.json", "trajectory": "t.csv"})",
+            "/jobs/0", "exactly one of"},
+           {R"({"id": "a", "scene": "s.json", "trajectory": "t.csv"})", "/jobs/0",
+            "exactly one of"},
+           {R"({"id": "a", "preview": "b.json", "options": {"at": "1.2"}})", "/jobs/0/options/at",
+            "must be a number"}}) {
+    INFO(job);
+    const auto [code, message] = parseError(head + job + "]}");
+    CHECK(code == 65);
+    CHECK_THAT(message, Contains("jobs.json: " + pointer));
+    CHECK_THAT(message, Contains(rule));
+  }
 }
 
 TEST_CASE("batch manifest: every broken rule is a data error naming its field", "[batch][errors]") {
@@ -265,6 +298,12 @@ TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]
   // One byte of one input changes it.
   b.write("t.csv", "t_s\n1\n");
   CHECK(batchJobKey(jb, batchJobInputs(jb, "m.json")) != key);
+  // A preview of the same files is another render: another key.
+  const BatchJob jp = parseBatchManifest(
+      R"({"format": "bristle-batch/1", "jobs": [{"id": "x", "preview": "b.json",
+          "trajectory": "t.csv"}]})", (a.dir / "m.json").string(), a.dir.string()).jobs[0];
+  CHECK(batchJobInputs(jp, "m.json") == batchJobInputs(ja, "m.json"));
+  CHECK(batchJobKey(jp, batchJobInputs(jp, "m.json")) != key);
   // A missing input is the job's own error (66), naming the manifest field.
   fs::remove(b.dir / "b.json");
   try {

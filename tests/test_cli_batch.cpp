@@ -394,3 +394,106 @@ TEST_CASE("batch --dry-run ends with a summary line, also when all is up to date
   CHECK(after.out == "batch: 2 jobs (shard 0/1): 0 would render, 2 up to date, 0 failed (dry run)\n");
   CHECK(runBristle("batch '" + jobs + "' --out '" + out + "' --dry-run -q").out.empty());
 }
+
+TEST_CASE("batch: a preview job is the preview command's picture, keyed by its brush and trajectory",
+          "[cli][batch][preview]") {
+  TempDir dir;
+  dir.write("dab.csv", dab(2));
+  const json m = {{"format", "bristle-batch/1"},
+                  {"jobs",
+                   {{{"id", "rest"}, {"preview", "round"}, {"options", {{"width", 200}, {"height", 150}}}},
+                    {{"id", "bent"},
+                     {"preview", kRound},
+                     {"trajectory", "dab.csv"},
+                     {"options", {{"at", 0.25}, {"width", 200}, {"height", 150}}}}}}};
+  const std::string path = writeManifest(dir, m);
+  const std::string out = dir.file("out");
+  RunResult r = runBristle("batch '" + path + "' --out '" + out + "' --json --jobs 2");
+  REQUIRE(r.code == 0);
+  auto lines = jsonLines(r.out);
+  CHECK(lines.at("rest")["kind"] == "preview");
+  CHECK(lines.at("bent")["status"] == "rendered");
+  CHECK(lines.at("bent")["warnings"] == json::array());
+  CHECK_FALSE(lines.at("bent").contains("figures"));  // `preview` reports none
+  REQUIRE(runBristle("preview round --width 200 --height 150 -q -o '" + dir.file("rest.png") + "'")
+              .code == 0);
+  REQUIRE(runBristle("preview '" + kRound + "' --trajectory '" + dir.file("dab.csv") +
+                     "' --at 0.25 --width 200 --height 150 -q -o '" + dir.file("bent.png") + "'")
+              .code == 0);
+  CHECK(pixelHash(out + "/rest.png") == pixelHash(dir.file("rest.png")));
+  CHECK(pixelHash(out + "/bent.png") == pixelHash(dir.file("bent.png")));
+  CHECK(pixelHash(out + "/rest.png") != pixelHash(out + "/bent.png"));
+
+  r = runBristle("batch '" + path + "' --out '" + out + "' --json");
+  CHECK(jsonLines(r.out).at("summary")["skipped"] == 2);
+  // The trajectory changes: only the deformed preview renders again.
+  dir.write("dab.csv", dab(5));
+  r = runBristle("batch '" + path + "' --out '" + out + "' --json");
+  lines = jsonLines(r.out);
+  CHECK(lines.at("rest")["status"] == "skipped");
+  CHECK(lines.at("bent")["status"] == "rendered");
+}
+
+// scripts/demo renders through scenes/batch/demo.json so that a second run
+// renders nothing. The whole manifest takes minutes, so: every job of it must
+// resolve (a dry run), and one job of each shape it holds (kind, trajectory or
+// not, option names), with quick inputs in place of the long ones, must render
+// once and then be skipped, its file untouched.
+TEST_CASE("batch: the demo's manifest resolves, and a second run renders nothing",
+          "[cli][batch][demo]") {
+  TempDir dir;
+  const std::string demo = sourcePath("scenes/batch/demo.json");
+  RunResult r = runBristle("batch '" + demo + "' --out '" + dir.file("dry") + "' --dry-run --json");
+  REQUIRE(r.code == 0);
+  const json full = json::parse(readAll(demo));
+  CHECK(jsonLines(r.out).at("summary")["jobs"] == full["jobs"].size());
+  CHECK(jsonLines(r.out).at("summary")["failed"] == 0);
+
+  // The quick variant: one job per shape, its paths made absolute, a dab for
+  // each trajectory and a 1 x 1 sheet for each sheet.
+  dir.write("dab.csv", dab(2));
+  const json sheet = {{"format", "bristle-sheet/1"}, {"name", "quick"}, {"brushes", {kRound}},
+                      {"trajectories", {"dab.csv"}}, {"px_per_mm", 4}, {"solver", "slsqp"}};
+  dir.write("quick-sheet.json", sheet.dump());
+  std::set<std::string> shapes;
+  json jobs = json::array();
+  for (json job : full["jobs"]) {
+    std::string shape;
+    for (const auto& [key, value] : job.items()) shape += key == "id" ? "" : key + ",";
+    const json options = job.value("options", json::object());
+    for (const auto& [key, value] : options.items()) shape += key + ",";
+    if (!shapes.insert(shape).second) continue;
+    for (const char* key : {"brush", "preview"})
+      if (job.contains(key))
+        job[key] = sourcePath("scenes/batch/" + job[key].get<std::string>());
+    if (job.contains("trajectory")) job["trajectory"] = dir.file("dab.csv");
+    if (job.contains("sheet")) job["sheet"] = dir.file("quick-sheet.json");
+    if (job.contains("options") && job["options"].contains("at")) job["options"]["at"] = 0.25;
+    jobs.push_back(job);
+  }
+  // A sheet, strokes with and without a lift, a preview at rest and one along a trajectory.
+  REQUIRE(jobs.size() == 5);
+  const std::string path = writeManifest(dir, {{"format", "bristle-batch/1"}, {"jobs", jobs}});
+  const std::string out = dir.file("out");
+  r = runBristle("batch '" + path + "' --out '" + out + "' --json --jobs 2");
+  REQUIRE(r.code == 0);
+  CHECK(jsonLines(r.out).at("summary")["rendered"] == jobs.size());
+  std::map<std::string, std::pair<std::string, fs::file_time_type>> first;
+  for (const std::string& png : pngsIn(out))
+    first[png] = {readAll(out + "/" + png), fs::last_write_time(out + "/" + png)};
+  REQUIRE(first.size() == jobs.size());
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // mtime granularity
+
+  r = runBristle("batch '" + path + "' --out '" + out + "' --json --jobs 2");
+  REQUIRE(r.code == 0);
+  const auto lines = jsonLines(r.out);
+  CHECK(lines.at("summary")["rendered"] == 0);
+  CHECK(lines.at("summary")["skipped"] == jobs.size());
+  for (const json& job : jobs) CHECK(lines.at(job["id"].get<std::string>())["status"] == "skipped");
+  CHECK(pngsIn(out).size() == first.size());
+  for (const auto& [png, before] : first) {
+    INFO(png);
+    CHECK(readAll(out + "/" + png) == before.first);
+    CHECK(fs::last_write_time(out + "/" + png) == before.second);
+  }
+}

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -296,4 +297,49 @@ TEST_CASE("compare: tolerance presets are what the docs say", "[compare]") {
   CHECK(loose.pixel_threshold == 8);
   CHECK(*loose.max_percent_over == 1.0);
   CHECK_THROWS_AS(tolerancePreset("fuzzy"), std::invalid_argument);
+}
+
+TEST_CASE("aligned compare: the canvas text, the pixel grid and the paper colour", "[compare][align]") {
+  CanvasPlacement p;
+  REQUIRE(parseCanvasPlacement(
+      "x0_mm=-11.750000 y0_mm=-2.750000 px_per_mm=8.000000 width_px=1068 height_px=684", &p));
+  CHECK(p.x0_mm == -11.75);
+  CHECK(p.y0_mm == -2.75);
+  CHECK(p.px_per_mm == 8);
+  CHECK(p.width_px == 1068);
+  CHECK(p.height_px == 684);
+  // Anything else is not a placement: missing or extra fields, junk after
+  // them, a scale or size that is not positive, a value that is not finite.
+  for (const char* bad :
+       {"", "x0_mm=0 y0_mm=0 px_per_mm=8 width_px=4", "x0_mm=0 y0_mm=0 px_per_mm=8 width_px=4 "
+        "height_px=4 z=1", "x0_mm=0 y0_mm=0 px_per_mm=0 width_px=4 height_px=4",
+        "x0_mm=0 y0_mm=0 px_per_mm=8 width_px=-4 height_px=4",
+        "x0_mm=nan y0_mm=0 px_per_mm=8 width_px=4 height_px=4",
+        "y0_mm=0 x0_mm=0 px_per_mm=8 width_px=4 height_px=4"}) {
+    INFO(bad);
+    CHECK_FALSE(parseCanvasPlacement(bad, &p));
+  }
+
+  const CanvasPlacement a{-11.75, -2.75, 8, 100, 50};
+  int dx = 0, dy = 0;
+  REQUIRE(canvasOffsetPx(a, CanvasPlacement{-10.5, -3.0, 8, 10, 10}, &dx, &dy));
+  CHECK(dx == 10);
+  CHECK(dy == -2);
+  // 6 px/mm corners printed with 6 decimals still land on the grid.
+  REQUIRE(canvasOffsetPx(CanvasPlacement{0, 0, 6, 1, 1},
+                         CanvasPlacement{0.166667, -0.333333, 6, 1, 1}, &dx, &dy));
+  CHECK(dx == 1);
+  CHECK(dy == -2);
+  CHECK_FALSE(canvasOffsetPx(a, CanvasPlacement{-11.75, -2.75, 6, 10, 10}, &dx, &dy));
+  CHECK_FALSE(canvasOffsetPx(a, CanvasPlacement{-11.6875, -2.75, 8, 10, 10}, &dx, &dy));  // 0.5 px
+
+  // The paper is the commonest colour of the outermost ring, whatever lies inside.
+  Image16 im{5, 4, 4, {}};
+  for (int i = 0; i < 5 * 4; ++i)
+    for (const std::uint16_t v : {std::uint16_t(246 * 257), std::uint16_t(241 * 257),
+                                  std::uint16_t(230 * 257), std::uint16_t(65535)})
+      im.pixels.push_back(v);
+  for (const int i : {6, 7, 8, 11, 12, 13, 0})  // the inside, and one corner
+    for (int c = 0; c < 3; ++c) im.pixels[4 * i + c] = 0;
+  CHECK(borderPaperColour(im) == std::array<std::uint8_t, 3>{246, 241, 230});
 }

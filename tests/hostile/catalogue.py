@@ -807,6 +807,52 @@ case("png-text", "a text file named .png", ["compare", "a.png", "b.png"], 65,
 case("png-empty", "an empty file named .png", ["compare", "a.png", "b.png"], 65,
      "a.png: not a PNG file", all_of(lambda d: write(d, "a.png", ""), copy(GOLD, "b.png")))
 
+# -- compare --align canvas: where an image lies, from its bristle:canvas text --
+def small_png(name, canvas=None, width=2, height=2):
+    """A setup step: a valid white 8-bit RGB PNG, with a bristle:canvas text
+    chunk holding `canvas` when given (what bristle render writes)."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data +
+                struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff))
+
+    def step(d):
+        ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+        rows = b"".join(b"\0" + b"\xff" * 3 * width for _ in range(height))
+        text = chunk(b"tEXt", b"bristle:canvas\0" + canvas.encode()) if canvas else b""
+        (d / name).write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + text +
+                               chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+    return step
+
+
+ALIGN = ["compare", "a.png", "b.png", "--align", "canvas"]
+case("compare-align-no-canvas", "`compare --align canvas` of a PNG without a bristle:canvas chunk",
+     ALIGN, 65, "b.png: no bristle:canvas text chunk, which --align canvas needs (bristle "
+     "render writes it for a stroke or a scene; a preview or a sheet has none)",
+     all_of(copy(GOLD, "a.png"), small_png("b.png")))
+case("compare-align-scales-differ", "`compare --align canvas` of renders at 8 and 6 px/mm",
+     ALIGN, 65, "a.png and b.png: --align canvas: the scales differ (8 and 6 px/mm); render both "
+     "at one --px-per-mm (no resampling is done)",
+     all_of(copy(GOLD, "a.png"), small_png(
+         "b.png", "x0_mm=0.000000 y0_mm=0.000000 px_per_mm=6.000000 width_px=2 height_px=2")))
+case("compare-align-off-grid", "`compare --align canvas`: b's corner half a pixel off a's grid",
+     ALIGN, 65, "a.png and b.png: --align canvas: the canvases' pixel grids do not coincide "
+     "(b's corner is not a whole number of pixels from a's)",
+     all_of(copy(GOLD, "a.png"), small_png(
+         "b.png", "x0_mm=0.062500 y0_mm=0.000000 px_per_mm=8.000000 width_px=2 height_px=2")))
+case("compare-align-canvas-junk", "`compare --align canvas`: a bristle:canvas chunk that is not "
+     "the five fields", ALIGN, 65,
+     'b.png: bristle:canvas "x0_mm=0 y0_mm=nan": not "x0_mm=X y0_mm=Y px_per_mm=S width_px=W '
+     'height_px=H"',
+     all_of(copy(GOLD, "a.png"), small_png("b.png", "x0_mm=0 y0_mm=nan")))
+case("compare-align-canvas-size", "`compare --align canvas`: a bristle:canvas chunk of another "
+     "size than the image", ALIGN, 65,
+     "b.png: bristle:canvas: says 4x2 px, but the image is 2x2",
+     all_of(copy(GOLD, "a.png"), small_png(
+         "b.png", "x0_mm=0.000000 y0_mm=0.000000 px_per_mm=8.000000 width_px=4 height_px=2")))
+
 # -- more outputs, through every command that writes -------------------------
 case("preview-out-devnull", "`preview -o /dev/null`", ["preview", "b.json", "-o", "/dev/null"],
      73, "/dev/null: cannot create output: is a character device" + NOT_REG_OUT, brush())
@@ -967,17 +1013,17 @@ case("batch-option-newline", "an option's value holding a newline and a fake mes
      "does not start with '-' and holds no control character",
      all_of(STROKE, folder("out"), job_options({"paint": "red\nbristle: fake"})))
 case("batch-option-unknown", "an option no job command has", BATCH_DRY, 65,
-     "m.json: /jobs/0/options/frobnicate: unknown option 'frobnicate' (known: amount, "
-     "background, bits, color, colour, contact-band-mm, impasto, ipopt-option, load, "
+     "m.json: /jobs/0/options/frobnicate: unknown option 'frobnicate' (known: amount, at, "
+     "background, bits, color, colour, contact-band-mm, height, impasto, ipopt-option, load, "
      "max-step-mm, min-rate-hz, mix, offset-mm, paint, paper-scale, paper-seed, paper-tooth, "
-     "px-per-mm, solver, solver-max-iterations, tip-length)",
+     "px-per-mm, solver, solver-max-iterations, tip-length, width)",
      all_of(STROKE, folder("out"), job_options({"frobnicate": 1})))
 case("batch-defaults-option-unknown", "an unknown option in the manifest's defaults",
      BATCH_DRY, 65,
-     "m.json: /defaults/options/quiet-paper: unknown option 'quiet-paper' (known: amount, "
-     "background, bits, color, colour, contact-band-mm, impasto, ipopt-option, load, "
+     "m.json: /defaults/options/quiet-paper: unknown option 'quiet-paper' (known: amount, at, "
+     "background, bits, color, colour, contact-band-mm, height, impasto, ipopt-option, load, "
      "max-step-mm, min-rate-hz, mix, offset-mm, paint, paper-scale, paper-seed, paper-tooth, "
-     "px-per-mm, solver, solver-max-iterations, tip-length)",
+     "px-per-mm, solver, solver-max-iterations, tip-length, width)",
      all_of(STROKE, folder("out"),
             manifest(edit=lambda m: m.update(defaults={"options": {"quiet-paper": False}}))))
 case("batch-option-flag-not-bool", "a flag given a number", BATCH_DRY, 65,
