@@ -149,11 +149,8 @@ TEST_CASE("a flat dragged broadside is at least three times wider than edge-on",
   CHECK(broad >= 10);  // about the 12 mm of the brush
 }
 
-TEST_CASE("a fan brush's footprint is many separate marks", "[library][footprint]") {
-  ::unsetenv("GALLIUM_DRIVER");
-  const Brush brush = library("fan");
-  BrushGeometry geo(brush);
-  render::StrokeRenderer r;
+// The fan tilted 0.4 rad and pressed 5 mm past first contact.
+static BrushState pressedFan(const Brush& brush) {
   Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
   Pose start = at(0, 0, brush.reachMm() + 1);
   start.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX());
@@ -161,15 +158,23 @@ TEST_CASE("a fan brush's footprint is many separate marks", "[library][footprint
   Pose down = start;
   down.position_mm.z() = hairLength(brush) * std::cos(0.4) - 5;
   moveTo(sim, down);
+  return sim.state();
+}
+
+TEST_CASE("a fan brush's footprint is many separate marks", "[library][footprint]") {
+  ::unsetenv("GALLIUM_DRIVER");
+  const Brush brush = library("fan");
+  BrushGeometry geo(brush);
+  render::StrokeRenderer r;
   render::FootprintImage fp;
-  REQUIRE(r.footprint(geo, sim.state(), window(), 0.1, &fp));
+  REQUIRE(r.footprint(geo, pressedFan(brush), window(), 0.1, &fp));
   const int n = marks(fp);
   INFO(n << " separate marks");
   CHECK(n >= 10);
 }
 
 // Runs of covered pixels down each column of a footprint (lengths in px).
-std::vector<int> columnRuns(const render::FootprintImage& fp) {
+static std::vector<int> columnRuns(const render::FootprintImage& fp) {
   std::vector<int> runs;
   for (int c = 0; c < fp.window.width_px; ++c) {
     int run = 0;
@@ -199,14 +204,7 @@ TEST_CASE("a step's footprint is swept: a hair finer than a pixel draws a line, 
   const Brush brush = library("fan");
   BrushGeometry geo(brush);
   render::StrokeRenderer r;
-  Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
-  Pose start = at(0, 0, brush.reachMm() + 1);
-  start.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX());
-  sim.reset(start, 0);
-  Pose down = start;
-  down.position_mm.z() = hairLength(brush) * std::cos(0.4) - 5;
-  moveTo(sim, down);
-  const BrushState from = sim.state();
+  const BrushState from = pressedFan(brush);
   BrushState to = from;
   const Eigen::Vector3d shift(0, kShiftMm, 0);
   to.handle.position_mm += shift;
