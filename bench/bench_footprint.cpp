@@ -192,6 +192,29 @@ void BM_BrushGeometry(benchmark::State& state) {
 BENCHMARK(BM_BrushGeometry)->ArgName("strips200")->Arg(0)->Arg(1)->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 
+// Times `render` (one footprint into its argument, false when nothing touched)
+// once per benchmark iteration; reports the window size and the percentiles,
+// and returns the last footprint.
+template <typename Render>
+FootprintImage timeFootprints(benchmark::State& state, Render&& render) {
+  FootprintImage fp;
+  std::vector<double> us;
+  for (auto _ : state) {
+    const Clock::time_point t0 = Clock::now();
+    const bool touched = render(&fp);
+    const double dt = seconds(t0, Clock::now());
+    if (!touched) {
+      state.SkipWithError("no footprint");
+      break;
+    }
+    state.SetIterationTime(dt);
+    us.push_back(1e6 * dt);
+  }
+  state.counters["window_px"] = double(fp.window.width_px) * fp.window.height_px;
+  reportPercentiles(state, us, "");
+  return fp;
+}
+
 // Geometry + footprint render + readback of the pressed calligraphy brush with
 // 200 strips; range(0) = px per mm, which sets the footprint window's size.
 void BM_GeometryAndFootprint(benchmark::State& state) {
@@ -203,23 +226,11 @@ void BM_GeometryAndFootprint(benchmark::State& state) {
   grid.x0_mm = grid.y0_mm = -40;
   grid.width_px = grid.height_px = static_cast<int>(80 * grid.px_per_mm);
   StrokeRenderer renderer;
-  FootprintImage fp;
-  std::vector<double> us;
-  for (auto _ : state) {
-    const Clock::time_point t0 = Clock::now();
-    const bool touched = renderer.footprint(geometry, st, grid, kClipMm, &fp);
-    const double dt = seconds(t0, Clock::now());
-    if (!touched) {
-      state.SkipWithError("no footprint");
-      break;
-    }
-    state.SetIterationTime(dt);
-    us.push_back(1e6 * dt);
-  }
-  state.counters["window_px"] = double(fp.window.width_px) * fp.window.height_px;
+  const FootprintImage fp = timeFootprints(state, [&](FootprintImage* out) {
+    return renderer.footprint(geometry, st, grid, kClipMm, out);
+  });
   state.counters["window_w"] = fp.window.width_px;
   state.counters["window_h"] = fp.window.height_px;
-  reportPercentiles(state, us, "");
 }
 BENCHMARK(BM_GeometryAndFootprint)->ArgName("px_per_mm")->Arg(8)->Arg(16)->Arg(32)->Arg(56)
     ->UseManualTime()->Unit(benchmark::kMicrosecond);
@@ -241,22 +252,9 @@ void BM_SweptFootprint(benchmark::State& state) {
   for (SpineState& s : from.spines)
     for (Eigen::Vector3d& p : s.joints_mm) p += back;
   StrokeRenderer renderer;
-  FootprintImage fp;
-  std::vector<double> us;
-  for (auto _ : state) {
-    const Clock::time_point t0 = Clock::now();
-    const bool touched =
-        renderer.sweptFootprint(geometry, from, to, grid, kClipMm, 1 / grid.px_per_mm, &fp);
-    const double dt = seconds(t0, Clock::now());
-    if (!touched) {
-      state.SkipWithError("no footprint");
-      break;
-    }
-    state.SetIterationTime(dt);
-    us.push_back(1e6 * dt);
-  }
-  state.counters["window_px"] = double(fp.window.width_px) * fp.window.height_px;
-  reportPercentiles(state, us, "");
+  timeFootprints(state, [&](FootprintImage* out) {
+    return renderer.sweptFootprint(geometry, from, to, grid, kClipMm, 1 / grid.px_per_mm, out);
+  });
 }
 BENCHMARK(BM_SweptFootprint)->ArgName("moved_px")->Arg(0)->Arg(2)->Arg(4)->UseManualTime()
     ->Unit(benchmark::kMicrosecond);

@@ -214,6 +214,17 @@ int runCompare(const CompareArgs& args) {
   nlohmann::json j{{"a", imageJson(args.a, a, fa)},
                    {"b", imageJson(args.b, b, fb)},
                    {"tolerance", toleranceJson(tolerance)}};
+  // Images that cannot be compared pixel by pixel fail the check (exit 1), with
+  // the reason on stderr and, under --json, in the object.
+  auto incomparable = [&](const std::string& why) {
+    if (args.json) {
+      j["verdict"] = "fail";
+      j["reason"] = why;
+      std::cout << j.dump(2) << "\n";
+    }
+    printError(why);
+    return fail;
+  };
   render::CanvasPlacement pa, pb;
   render::AlignedComparison aligned;
   if (args.align == "canvas") {
@@ -243,28 +254,13 @@ int runCompare(const CompareArgs& args) {
                   {"ink_outside_a", aligned.ink_outside_a},
                   {"ink_outside_b", aligned.ink_outside_b}};
     if (aligned.overlap_width_px == 0) {
-      const std::string why = "canvases do not overlap: " + args.a + " covers " + mmRange(pa) +
-                              ", " + args.b + " covers " + mmRange(pb);
-      if (args.json) {
-        j["verdict"] = "fail";
-        j["reason"] = why;
-        std::cout << j.dump(2) << "\n";
-      }
-      printError(why);
-      return fail;
+      return incomparable("canvases do not overlap: " + args.a + " covers " + mmRange(pa) +
+                          ", " + args.b + " covers " + mmRange(pb));
     }
   } else if (a.width != b.width || a.height != b.height) {
-    const std::string why = "images differ in size: " + args.a + " is " +
-                            std::to_string(a.width) + "x" + std::to_string(a.height) + ", " +
-                            args.b + " is " + std::to_string(b.width) + "x" +
-                            std::to_string(b.height);
-    if (args.json) {
-      j["verdict"] = "fail";
-      j["reason"] = why;
-      std::cout << j.dump(2) << "\n";
-    }
-    printError(why);
-    return fail;
+    return incomparable("images differ in size: " + args.a + " is " + std::to_string(a.width) +
+                        "x" + std::to_string(a.height) + ", " + args.b + " is " +
+                        std::to_string(b.width) + "x" + std::to_string(b.height));
   }
 
   const bool align = args.align == "canvas";
