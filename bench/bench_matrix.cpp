@@ -77,6 +77,7 @@ struct Row {
   std::vector<double> step_ms;
   double light_s = 0, heavy_s = 0;
   int light_steps = 0, heavy_steps = 0;
+  long light_spines = 0, heavy_spines = 0;  // spine-steps with contact
   double wall_s = 0;
 };
 
@@ -159,7 +160,7 @@ int main(int argc, char** argv) {
     }
     csv << "solver,brush,kind,press_fraction,tilt_deg,speed_mm_s,clamped,depth_mm,steps,"
            "failed_steps,failed_spine_solves,longest_failed_run,wall_s,ms_per_step,"
-           "median_ms,p95_ms\n";
+           "median_ms,p95_ms,iterations,resolves,split_steps,contact_spine_steps\n";
   }
 
   const Matrix matrix = quick ? quickMatrix() : fullMatrix();
@@ -200,10 +201,12 @@ int main(int argc, char** argv) {
         if (c.press_fraction <= 0.2 + 1e-9) {
           row.light_s += r.wall_s;
           row.light_steps += r.steps;
+          row.light_spines += r.contact_spine_steps;
         }
         if (c.press_fraction >= 0.6 - 1e-9) {
           row.heavy_s += r.wall_s;
           row.heavy_steps += r.steps;
+          row.heavy_spines += r.contact_spine_steps;
         }
         std::vector<double> ms;
         ms.reserve(r.step_s.size());
@@ -213,12 +216,13 @@ int main(int argc, char** argv) {
           const double med = bench::percentile(ms, 50), p95 = bench::percentile(ms, 95);
           char line[512];
           std::snprintf(line, sizeof line,
-                        "%s,%s,%s,%.2f,%g,%g,%d,%.4f,%d,%d,%d,%d,%.6f,%.4f,%.4f,%.4f\n",
+                        "%s,%s,%s,%.2f,%g,%g,%d,%.4f,%d,%d,%d,%d,%.6f,%.4f,%.4f,%.4f,%ld,%d,%d,%ld\n",
                         solver.c_str(), name.c_str(), toString(c.kind), c.press_fraction,
                         c.tilt_deg, c.kind == CaseKind::kPull ? c.speed_mm_s : 0.0,
                         int(r.clamped), r.depth_mm, r.steps, r.failed_steps,
                         r.failed_spine_solves, r.longest_failed_run, r.wall_s,
-                        r.s_per_step * 1e3, med, p95);
+                        r.s_per_step * 1e3, med, p95, r.iterations, r.resolves,
+                        r.split_steps, r.contact_spine_steps);
           csv << line;
           csv.flush();
         }
@@ -237,23 +241,32 @@ int main(int argc, char** argv) {
   if (progress) std::fprintf(stderr, "\r\033[K");
 
   std::printf("solver %s%s, %s matrix; ms/step: median and p95 over every step, light (press "
-              "<= 0.2) and heavy (>= 0.6) = wall / steps\n",
+              "<= 0.2) and heavy (>= 0.6) = wall / steps; us/spine: wall per spine-step with\n"
+              "contact, light and heavy\n",
               solver.c_str(), fallback ? " (fallback: the other)" : " alone",
               quick ? "quick" : "full");
-  std::printf("%-12s %5s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s  %s\n", "brush", "cases",
-              "clamped", "steps", "failed", "f.cases", "f.run", "rescued", "median", "p95",
-              "light", "heavy", "worst case (failed/steps)");
+  std::printf("%-12s %5s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %8s %8s  %s\n", "brush",
+              "cases", "clamped", "steps", "failed", "f.cases", "f.run", "rescued", "median",
+              "p95", "light", "heavy", "us/sp.L", "us/sp.H", "worst case (failed/steps)");
   int total_failed = 0, total_steps = 0;
   for (Row& r : rows) {
     total_failed += r.failed_steps;
     total_steps += r.steps;
-    std::printf("%-12s %5d %7d %7d %7d %7d %7d %7d %7s %7s %7s %7s  %s\n", r.brush.c_str(),
+    auto perSpine = [](double s, long n) {
+      char buf[32];
+      if (n <= 0) return std::string("-");
+      std::snprintf(buf, sizeof buf, "%.1f", s * 1e6 / static_cast<double>(n));
+      return std::string(buf);
+    };
+    std::printf("%-12s %5d %7d %7d %7d %7d %7d %7d %7s %7s %7s %7s %8s %8s  %s\n", r.brush.c_str(),
                 r.cases, r.clamped, r.steps, r.failed_steps, r.failed_cases, r.longest_failed_run,
                 r.rescued,
                 fmtMs(bench::percentile(r.step_ms, 50) / 1e3).c_str(),
                 fmtMs(bench::percentile(r.step_ms, 95) / 1e3).c_str(),
                 r.light_steps ? fmtMs(r.light_s / r.light_steps).c_str() : "-",
-                r.heavy_steps ? fmtMs(r.heavy_s / r.heavy_steps).c_str() : "-", r.worst.c_str());
+                r.heavy_steps ? fmtMs(r.heavy_s / r.heavy_steps).c_str() : "-",
+                perSpine(r.light_s, r.light_spines).c_str(),
+                perSpine(r.heavy_s, r.heavy_spines).c_str(), r.worst.c_str());
   }
   std::printf("total: %d failed of %d steps\n", total_failed, total_steps);
   return total_failed > 0 ? 1 : 0;

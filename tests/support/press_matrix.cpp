@@ -150,6 +150,9 @@ CaseResult runCase(const Brush& brush, const Case& c, const std::string& solver,
     const double dt = std::chrono::duration<double>(b - a).count();
     r.step_s.push_back(dt);
     r.wall_s += dt;
+    for (const SpineState& sp : sim.state().spines)
+      r.contact_spine_steps += std::find(sp.contact.begin(), sp.contact.end(), true) !=
+                               sp.contact.end();
     if (sim.stats().failed_steps > failed_before) {
       r.longest_failed_run = std::max(r.longest_failed_run, ++run);
     } else {
@@ -161,6 +164,9 @@ CaseResult runCase(const Brush& brush, const Case& c, const std::string& solver,
   r.failed_steps = st.failed_steps;
   r.failed_spine_solves = st.failed_spine_solves;
   r.fallback_solves = st.fallback_solves;
+  r.iterations = st.iterations;
+  r.resolves = st.resolves;
+  r.split_steps = st.split_steps;
   r.s_per_step = r.steps > 0 ? r.wall_s / r.steps : 0;
   return r;
 }

@@ -85,6 +85,12 @@ struct CaseResult {
   bool clamped = false;
   double depth_mm = 0;
   std::vector<double> step_s;  // wall time of every step, in order
+  // What the steps cost: solver iterations (SimStats::iterations), solves redone
+  // after a stick -> slip, pieces of steps redone in halves, and spine-steps
+  // with some joint on the canvas (the solves a step could not skip).
+  long iterations = 0;
+  int resolves = 0, split_steps = 0;
+  long contact_spine_steps = 0;
 };
 
 // Runs the simulation over planStepTimes with default SimOptions and `solver`
