@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <utility>
 
@@ -171,6 +172,44 @@ Eigen::VectorXd solveStripWeights(const Eigen::MatrixXd& roots, const Eigen::Vec
   return w.cwiseMax(0.0) / w.cwiseMax(0.0).sum();
 }
 
+namespace {
+
+// Wet hair clumps: seeds picked by a partial Fisher-Yates shuffle, each strip
+// to the nearest seed's root (ties to the lower seed), and each bunch's weights
+// the mean of its strips' (so its eq. 16 centre line is their mean).
+void assignClumps(const StripSpec& spec, StripLayout* l) {
+  const int n = std::min(spec.clumps, l->count);
+  if (n <= 0 || spec.clumping <= 0) return;
+  // 0x636c756d7073 = "clumps": a generator of its own, so the roots stay put.
+  std::mt19937_64 rng(spec.seed ^ 0x636c756d7073ULL);
+  std::vector<int> pick(l->count);
+  for (int j = 0; j < l->count; ++j) pick[j] = j;
+  for (int g = 0; g < n; ++g) {
+    const int r = g + static_cast<int>(uniform01(rng) * (l->count - g));
+    std::swap(pick[g], pick[std::min(r, l->count - 1)]);
+  }
+  l->clump.assign(l->count, 0);
+  l->clump_weights.assign(static_cast<size_t>(n) * l->spines, 0.0);
+  std::vector<int> members(n, 0);
+  for (int j = 0; j < l->count; ++j) {
+    int best = 0;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int g = 0; g < n; ++g) {
+      const double d = (l->roots_mm[j] - l->roots_mm[pick[g]]).squaredNorm();
+      if (d < best_d) best_d = d, best = g;
+    }
+    l->clump[j] = best;
+    ++members[best];
+    for (int i = 0; i < l->spines; ++i)
+      l->clump_weights[static_cast<size_t>(best) * l->spines + i] += l->weight(j, i);
+  }
+  for (int g = 0; g < n; ++g)  // every seed is its own member: members[g] >= 1
+    for (int i = 0; i < l->spines; ++i)
+      l->clump_weights[static_cast<size_t>(g) * l->spines + i] /= members[g];
+}
+
+}  // namespace
+
 StripLayout layoutStrips(const Brush& brush) {
   StripLayout l;
   const int ns = static_cast<int>(brush.spines.size());
@@ -250,6 +289,7 @@ StripLayout layoutStrips(const Brush& brush) {
     l.weights.insert(l.weights.end(), w.data(), w.data() + ns);
     l.length_factor.push_back(1 - uniform01(rng) * brush.strips.length_jitter);
   }
+  assignClumps(brush.strips, &l);
   return l;
 }
 
@@ -293,7 +333,8 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
   fallback.normalize();
 
   const StripSpec& spec = brush.strips;
-  Eigen::Vector3d c[kMaxStripSamples];  // one strip's centre line
+  Eigen::Vector3d c[kMaxStripSamples];   // one strip's centre line
+  Eigen::Vector3d cg[kMaxStripSamples];  // its bunch's (clumping)
   for (int o = 0; o < count; ++o) {
     const int j = order[o].second;
     const double f = layout.length_factor[j];
@@ -301,9 +342,15 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
     // eq. 16: p(s) = sum_i w_i p_i(s), each spine a polyline parameterised by
     // arc length. Spine by spine, the samples (increasing s) and the joints
     // are merged like two sorted lists.
+    // A clumped strip also follows its bunch's centre line (the same f, so the
+    // two end together) and is drawn towards it by clumping * s below.
+    const bool clumped = !layout.clump.empty();
+    const double* wg =
+        clumped ? &layout.clump_weights[static_cast<size_t>(layout.clump[j]) * ns] : nullptr;
     std::fill(c, c + samples, Eigen::Vector3d::Zero());
+    if (clumped) std::fill(cg, cg + samples, Eigen::Vector3d::Zero());
     for (int i = 0; i < ns; ++i) {
-      if (w[i] == 0) continue;
+      if (w[i] == 0 && (!clumped || wg[i] == 0)) continue;
       const double* js = &layout.joint_s[layout.joint_begin[i]];
       const double* inv = &layout.joint_inv_ds[layout.joint_begin[i]];
       const int last_seg = layout.joint_begin[i + 1] - layout.joint_begin[i] - 2;
@@ -313,9 +360,13 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
         const double s = f * layout.sample_s[k];
         while (a < last_seg && js[a + 1] < s) ++a;
         const double t = std::min((s - js[a]) * inv[a], 1.0);
-        c[k] += w[i] * (x[a] + t * (x[a + 1] - x[a]));
+        const Eigen::Vector3d p = x[a] + t * (x[a + 1] - x[a]);
+        c[k] += w[i] * p;
+        if (clumped) cg[k] += wg[i] * p;
       }
     }
+    if (clumped)
+      for (int k = 0; k < samples; ++k) c[k] += spec.clumping * layout.sample_s[k] * (cg[k] - c[k]);
     const float u = static_cast<float>((j + 0.5) / layout.count);
     auto vert = [u](const Eigen::Vector3d& p, float v) {
       return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),

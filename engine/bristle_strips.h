@@ -59,6 +59,11 @@ struct StripLayout {
   std::vector<Eigen::Vector2d> roots_mm;  // (count) brush frame x-y
   std::vector<double> weights;            // (count x spines) row-major, eqs. 17-19
   std::vector<double> length_factor;      // (count) the strip ends at s = this (<= 1)
+  // Clumps (StripSpec::clumps): each strip's bunch, and per bunch the mean of
+  // its strips' weights, whose centre line (eq. 16) is the bunch's mean centre
+  // line. Empty without clumping.
+  std::vector<int> clump;                 // (count)
+  std::vector<double> clump_weights;      // (clumps x spines) row-major
 
   // Arc-length parameters s in [0, 1] at which a full-length strip is sampled;
   // a strip with length factor f is sampled at f * sample_s (same count).
@@ -79,7 +84,9 @@ struct StripLayout {
 
 // Places brush.strips.count strips (§4.2.2) with a seeded generator: the same
 // brush gives the same layout bit for bit. An empty layout when the brush has
-// no strips.
+// no strips. With clumps, `clumps` strips picked at random (a second generator
+// from the same seed, so the roots do not move) are the bunches' seeds, and
+// every strip joins the bunch whose seed's root is nearest its own.
 StripLayout layoutStrips(const Brush& brush);
 
 // Weights of eqs. 17-20 for a root p among spine roots (the columns of `roots`,
@@ -99,7 +106,8 @@ Eigen::Vector2d stripBendDirection(const StripLayout& layout, const BrushState& 
 // linearly from root_width_mm to tip_width_mm, flat side towards the canvas,
 // wound counter-clockwise as seen from the canvas (geometric normal towards -z).
 // u = (strip + 0.5) / count is the strip's texture row, v = s the arc-length
-// parameter along the spines. Allocates nothing but the growth of `triangles`.
+// parameter along the spines. A clumped strip's centre line is drawn towards
+// its bunch's by clumping * s. Allocates nothing but the growth of `triangles`.
 void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState& state,
                  std::vector<BrushVertex>* triangles);
 

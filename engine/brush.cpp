@@ -178,6 +178,11 @@ void parseStrips(const JsonObject& o, StripSpec* out) {
             "placement", "must be \"auto\", \"line\" or \"area\"");
   st.length_jitter = o.number("length_jitter", 0.0);
   o.require(st.length_jitter >= 0 && st.length_jitter < 1, "length_jitter", "must be in [0, 1)");
+  st.clumps = o.integer("clumps", 0);
+  o.require(st.clumps >= 0 && st.clumps <= st.count, "clumps", "must be in [0, count]");
+  st.clumping = o.number("clumping", st.clumps > 0 ? 0.8 : 0.0);
+  o.require(st.clumping >= 0 && st.clumping <= 1, "clumping", "must be in [0, 1]");
+  o.require(st.clumping == 0 || st.clumps > 0, "clumping", "needs clumps >= 1");
   o.rejectUnknownKeys();
 }
 

@@ -77,6 +77,11 @@ struct StripSpec {
   std::uint64_t seed = 1;        // placement is random but reproducible
   std::string placement = "auto";  // auto (OBB decides) | line (1-D) | area (2-D)
   double length_jitter = 0;      // strips end at (1 - U(0, jitter)) of the spine
+  // Wet hair clumps (paper Fig. 2): the strips gather into `clumps` bunches,
+  // each strip drawn towards its bunch's mean centre line by clumping * s (0 at
+  // the ferrule, `clumping` at the tip). 0 clumps = none.
+  int clumps = 0;
+  double clumping = 0;           // [0, 1]
   bool present() const { return count > 0; }
 };
 

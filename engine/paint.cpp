@@ -110,6 +110,8 @@ BrushTexelMap::BrushTexelMap(const Brush& brush) {
   if (brush.strips.present()) {
     const StripLayout layout = layoutStrips(brush);
     strips_ = layout.count;
+    strip_root_width_mm_ = static_cast<float>(brush.strips.root_width_mm);
+    strip_tip_width_mm_ = static_cast<float>(brush.strips.tip_width_mm);
     for (int k = 0; k < layout.count; ++k) strip_w_.push_back(lateral(layout.roots_mm[k].x()));
   }
 
@@ -344,8 +346,10 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   const BrushTexelMap& map = brush.map();
   const double area_px = canvas.pixelAreaMm2();
   const double texel_area = map.texelAreaMm2();
-  const float valley_reach =
-      static_cast<float>(canvas.paper().tooth_depth_mm * params.hair_bridging);
+  const float tooth_depth = static_cast<float>(canvas.paper().tooth_depth_mm);
+  const float bridging = static_cast<float>(std::max(params.hair_bridging, 1.0));
+  const float valley_reach = tooth_depth * bridging;
+  const float inv_scale = static_cast<float>(1.0 / canvas.paper().tooth_scale_mm);
   const float inv_clip = static_cast<float>(1.0 / params.clip_mm);
 
   // Per texel: how far it has run dry -> the contact it needs before it deposits.
@@ -384,8 +388,13 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
       // depth), so a light touch catches only the peaks.
       // Contact saturates (x (2 - x)): hairs bend and spread as they press, so a
       // hair half-way into the band already lays down three quarters of its paint.
-      const float x = std::clamp(
-          (px[2] - valley_reach * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
+      // A hair strip narrower than the grain bridges it less (hair_bridging).
+      const float strip_w = map.stripWidthMm(px[0], px[1]);
+      const float reach =
+          strip_w > 0 ? tooth_depth * (1 + (bridging - 1) * std::min(1.0f, strip_w * inv_scale))
+                      : valley_reach;
+      const float x =
+          std::clamp((px[2] - reach * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
       const float contact = x * (2 - x);
       if (contact <= 0) continue;
       const int t = map.texel(px[0], px[1]);

@@ -57,6 +57,17 @@ class BrushTexelMap {
   float across(float u, float v) const;
   // Texel of a geometry texture coordinate (u, v).
   int texel(float u, float v) const;
+  // Width (mm) of the hair strip a texture coordinate lies on, at its place v
+  // along the hair (the strips taper linearly from root to tip, §4.2); 0 for the
+  // surface and the spines' tubes, which are bundles, not single strips. A
+  // strip shortened by length_jitter reaches v = f < 1 at its tip, so v
+  // over-states how far along it a point is: the width given is at most the
+  // true one's taper ahead, i.e. never narrower than the strip.
+  float stripWidthMm(float u, float v) const {
+    if (u < kStripTextureOffsetU || u >= kSpineTextureOffsetU || strips_ == 0) return 0;
+    return strip_root_width_mm_ +
+           (strip_tip_width_mm_ - strip_root_width_mm_) * std::clamp(v, 0.0f, 1.0f);
+  }
   static float columnCentre(int col) { return (col + 0.5f) / kColumns; }
   static float rowCentre(int row) { return (row + 0.5f) / kRows; }
   // Area (mm^2) one texel of the brush's paint texture stands for.
@@ -70,6 +81,7 @@ class BrushTexelMap {
   double x0_ = 0, x1_ = 1;
   double texel_area_mm2_ = 1;
   int spines_ = 0, strips_ = 0;
+  float strip_root_width_mm_ = 0, strip_tip_width_mm_ = 0;
   std::vector<float> spine_w_;    // per spine: w of its root
   std::vector<float> spine_dw_;   // per spine: its width at the root, in w
   std::vector<float> strip_w_;    // per strip texture row: w of its root
@@ -213,6 +225,11 @@ struct TransferParams {
   // and bends into a valley only under load; 8x lets a firm stroke (depth
   // ~1 mm where spines press) fill the grain while a stroke that barely touches
   // (depth ~0.1 - 0.3 mm) marks only its peaks on a 0.05 mm grain.
+  // That is a bundle's bridging (the surface, the spines' tubes). A hair strip
+  // narrower than the grain's features sinks into a valley wider than itself:
+  // its bridging falls from this towards 1 (the grain's own depth) in
+  // proportion to its width over the grain's feature size (docs/paint.md,
+  // "A single hair follows the grain").
   double hair_bridging = 8.0;
   // Per step, a touching texel hands this fraction of a full load's film to each
   // pixel under it, in proportion to contact, while it has paint (at most

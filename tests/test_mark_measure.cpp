@@ -179,6 +179,22 @@ TEST_CASE("mark_measure: ink beyond a canvas x", "[mark]") {
   CHECK(inkBeyondMm(Coverage(10, 10), 0.0, -1) == 0);
 }
 
+TEST_CASE("mark_measure: lines down a column, with one-pixel breaks bridged", "[mark]") {
+  // Rows 2-4, 6-7 (one uninked row between: the same line), 10 (two rows
+  // after: a new line) and 14-15 of column 3 are inked, every other column not.
+  Coverage img(8, 20);
+  for (int r : {2, 3, 4, 6, 7, 10, 14, 15}) img.at(3, r) = 1.0f;
+  CHECK(lineCount(img, 3) == 3);
+  CHECK(lineCount(img, 3, 0.1, 0) == 4);  // no bridging: 2-4 and 6-7 are two
+  CHECK(lineCount(img, 3, 0.1, 2) == 2);  // 6-7 and 10 are two rows apart: one line
+  CHECK(lineCount(img, 3, 0.1, 3) == 1);  // and 10 and 14 three
+  CHECK(lineCount(img, 2) == 0);
+  CHECK(lineCount(img, -1) == 0);
+  CHECK(lineCount(img, 8) == 0);
+  CHECK(inkedPixels(img) == 8);
+  CHECK(inkedPixels(img, 1.0) == 0);  // inked means above the threshold
+}
+
 TEST_CASE("mark_measure: coverage from RGBA, against the paper or from alpha", "[mark]") {
   // Paper #f6f1e6 at the top-left, black paint, and paint at half the paper's luminance.
   std::vector<std::uint8_t> px = {0xf6, 0xf1, 0xe6, 255, 0, 0, 0, 255, 0x7b, 0x79, 0x73, 255};

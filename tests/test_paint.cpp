@@ -371,6 +371,60 @@ TEST_CASE("Transfer: light pressure on toothy paper catches the peaks only",
   CHECK(light_toothy < 0.6 * firm_toothy);
 }
 
+TEST_CASE("Transfer: a single hair follows the grain that a bundle bridges",
+          "[paint][transfer]") {
+  // The same shallow contact (0.06 mm into the 0.1 mm band) from a strip
+  // (u in [2, 4)) and from a spine's tube (u >= 4). A pixel takes paint where
+  // depth > reach * (1 - tooth): reach is the grain's depth times the bridging,
+  // 8 for a bundle and 1 + 7 w / scale for a strip of width w (0.14 mm at the
+  // root tapering to 0.05 mm; at v = 0.85, w = 0.0635 mm).
+  Brush brush = fivesSpineBrush();
+  brush.strips.count = 20;
+  brush.strips.root_width_mm = 0.14;
+  brush.strips.tip_width_mm = 0.05;
+  constexpr float kV = 0.85f, kDepth = 0.06f;
+  constexpr double kTooth = 0.05, kScale = 0.4;
+  const double w = 0.14 + (0.05 - 0.14) * kV;
+  const TransferParams params;
+  const double strip_reach = kTooth * (1 + (params.hair_bridging - 1) * w / kScale);
+  const double bundle_reach = kTooth * params.hair_bridging;
+  auto touched = [&](bool strip, long* predicted) {
+    BrushPaint paint(brush);
+    paint.load(solid("ivory-black"), MixModel::kKubelkaMunk, "t");
+    PaperSpec paper;
+    paper.tooth_depth_mm = kTooth;
+    paper.tooth_scale_mm = kScale;
+    PaintCanvas canvas(grid(64, 64), paper, MixModel::kKubelkaMunk);
+    Footprint fp(48, 48, kV, kDepth);
+    if (strip)
+      for (size_t t = 0; t < fp.texels.size(); t += 4)
+        fp.texels[t] += kStripTextureOffsetU - kSpineTextureOffsetU;
+    transfer(fp.at(8, 8), paint, canvas, params);
+    const double reach = strip ? strip_reach : bundle_reach;
+    long actual = 0;
+    *predicted = 0;
+    for (int r = 8; r < 56; ++r)
+      for (int c = 8; c < 56; ++c) {
+        const size_t i = canvas.index(c, r);
+        actual += canvas.wet(i).volume_mm3 > 0;
+        *predicted += kDepth - reach * (1 - canvas.tooth(i)) > 1e-6;
+      }
+    return actual;
+  };
+  long strip_predicted = 0, bundle_predicted = 0;
+  const long strip_px = touched(true, &strip_predicted);
+  const long bundle_px = touched(false, &bundle_predicted);
+  INFO("strip " << strip_px << " (predicted " << strip_predicted << "), bundle " << bundle_px
+                << " (predicted " << bundle_predicted << ") of 2304");
+  // Exactly the pixels the rule predicts, but for a pixel or two whose tooth
+  // lies within float rounding of the threshold (1e-6 mm of depth).
+  CHECK(std::abs(strip_px - strip_predicted) <= 2);
+  CHECK(std::abs(bundle_px - bundle_predicted) <= 2);
+  // The hair catches far more of the grain than the bundle at the same depth:
+  // tooth above 0.43 against above 0.85 (value noise puts most pixels between).
+  CHECK(strip_px > 3 * bundle_px);
+}
+
 TEST_CASE("Transfer and paper are deterministic", "[paint][transfer]") {
   const Brush brush = fivesSpineBrush();
   auto run = [&] {

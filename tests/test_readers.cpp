@@ -830,6 +830,14 @@ TEST_CASE("bad surface and strips sections are 65 naming the field", "[readers][
   CHECK_BRUSH_ERROR(geometryWith("/strips/tip_width_mm", 1.0), "/strips/tip_width_mm",
                     "root_width_mm");
   CHECK_BRUSH_ERROR(geometryWith("/strips/placement", "grid"), "/strips/placement", "auto");
+  // Clumps: at most one per strip (40 here), a strength in [0, 1], and no
+  // strength without clumps to apply it to.
+  CHECK_BRUSH_ERROR(geometryWith("/strips/clumps", 41), "/strips/clumps", "[0, count]");
+  CHECK_BRUSH_ERROR(geometryWith("/strips/clumps", -1), "/strips/clumps", "[0, count]");
+  CHECK_BRUSH_ERROR(geometryWith("/strips/clumping", 0.5), "/strips/clumping", "clumps >= 1");
+  nlohmann::json clumped = nlohmann::json::parse(geometryWith("/strips/clumps", 4));
+  clumped["strips"]["clumping"] = 1.5;
+  CHECK_BRUSH_ERROR(clumped.dump(), "/strips/clumping", "[0, 1]");
   // A degenerate root layout: every root in one point.
   nlohmann::json doc = nlohmann::json::parse(brushWithGeometry());
   doc["spines"][1]["root_mm"] = {0, 0, 0};

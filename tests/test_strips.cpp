@@ -297,6 +297,59 @@ TEST_CASE("at rest every strip lies on the segment field of its spines", "[strip
   }
 }
 
+TEST_CASE("clumped strips are drawn towards their bunch's centre line by clumping * s",
+          "[strips]") {
+  Brush round = roundBrush();
+  round.strips.length_jitter = 0.25;  // a bunch's strips end at their own lengths
+  Brush clumped = round;
+  clumped.strips.clumps = 9;
+  clumped.strips.clumping = 0.7;
+  const StripLayout plain = layoutStrips(round), l = layoutStrips(clumped);
+  // Clumping moves no root and changes no weight: a second generator picks the
+  // bunches.
+  REQUIRE(l.count == plain.count);
+  for (int j = 0; j < l.count; ++j) CHECK(l.roots_mm[j] == plain.roots_mm[j]);
+  CHECK(l.weights == plain.weights);
+  REQUIRE(l.clump.size() == static_cast<size_t>(l.count));
+  // Every bunch has at least one strip (its seed).
+  std::vector<int> members(clumped.strips.clumps, 0);
+  for (int g : l.clump) {
+    REQUIRE(g >= 0);
+    REQUIRE(g < clumped.strips.clumps);
+    ++members[g];
+  }
+  for (int m : members) CHECK(m >= 1);
+  // A bunch's weights are its strips' mean, so they sum to 1 (eq. 18).
+  for (int g = 0; g < clumped.strips.clumps; ++g) {
+    double sum = 0;
+    for (int i = 0; i < l.spines; ++i) sum += l.clump_weights[g * l.spines + i];
+    CHECK(std::abs(sum - 1) < kWeightSumTol);
+  }
+
+  Pose pose = poseAt(30, 40, 25);
+  pose.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 0).normalized());
+  const BrushState st = restState(clumped, pose);
+  std::vector<BrushVertex> tris;
+  buildStrips(clumped, l, st, &tris);
+  const std::vector<Emitted> strips = decode(l, tris);
+  for (const Emitted& e : strips) {
+    const int j = e.strip, g = l.clump[j];
+    for (int k = 0; k < l.samples(); ++k) {
+      const double s = l.length_factor[j] * l.sample_s[k];
+      Eigen::Vector3d own = Eigen::Vector3d::Zero(), bunch = Eigen::Vector3d::Zero();
+      for (int i = 0; i < l.spines; ++i) {
+        const Eigen::Vector3d p = spineAt(round.spines[i], st.spines[i].joints_mm, s);
+        own += l.weight(j, i) * p;  // eq. 16
+        bunch += l.clump_weights[g * l.spines + i] * p;
+      }
+      // The closed form: own + 0.7 s (bunch - own), s along the strip's own
+      // length (0 at the root: roots stay put; 0.7 of the way at the tip).
+      const Eigen::Vector3d expect = own + 0.7 * l.sample_s[k] * (bunch - own);
+      CHECK((e.centre(k) - expect).norm() < kFloatTolMm);
+    }
+  }
+}
+
 TEST_CASE("strips between parallel spines are parallel to them", "[strips]") {
   const Brush b = brushAt({{-2, -1}, {2, -1}, {0, 1.5}, {0.5, -0.2}}, 50);
   const StripLayout l = layoutStrips(b);

@@ -208,6 +208,26 @@ bool inkXRangeMm(const Coverage& img, double threshold, double* min_x_mm, double
   return true;
 }
 
+int lineCount(const Coverage& img, int column, double threshold, int merge_gap_px) {
+  if (column < 0 || column >= img.w) return 0;
+  int lines = 0, gap = -1;  // gap < 0: no line yet
+  for (int r = 0; r < img.h; ++r) {
+    if (img.at(column, r) > threshold) {
+      if (gap < 0 || gap > merge_gap_px) ++lines;
+      gap = 0;
+    } else if (gap >= 0) {
+      ++gap;
+    }
+  }
+  return lines;
+}
+
+long inkedPixels(const Coverage& img, double threshold) {
+  long n = 0;
+  for (float v : img.v) n += v > threshold;
+  return n;
+}
+
 double inkBeyondMm(const Coverage& img, double x_mm, int side, double threshold) {
   double lo = 0, hi = 0;
   if (!inkXRangeMm(img, threshold, &lo, &hi)) return 0;

@@ -87,6 +87,14 @@ BlotStats blotStats(const Coverage& img, double threshold = 0.1, int min_compone
 // the handle's x where the contact ends and compare with the mark's own reach).
 double inkBeyondMm(const Coverage& img, double x_mm, int side = -1, double threshold = 0.1);
 
+// Lines across a stroke that runs along x: the runs of inked pixels down one
+// column, where runs apart by at most merge_gap_px uninked pixels are one line
+// (the paper's grain breaks a line without making it two). 0 outside the image.
+int lineCount(const Coverage& img, int column, double threshold = 0.1, int merge_gap_px = 1);
+
+// Inked pixels of the whole image.
+long inkedPixels(const Coverage& img, double threshold = 0.1);
+
 // Canvas x (mm) of the rear-most and front-most inked column edges; false without ink.
 bool inkXRangeMm(const Coverage& img, double threshold, double* min_x_mm, double* max_x_mm);
 
