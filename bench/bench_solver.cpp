@@ -30,7 +30,7 @@ using bench::Clock;
 using bench::percentile;
 using bench::seconds;
 
-// The spine of SOLVER-NOTES.md's probes and of the paper's §6 anchor: 4 mm
+// The probe spine of docs/design.md ("Solver notes") and of the paper's §6 anchor: 4 mm
 // segments, K 10 -> 5 N mm/rad root to tip, D 0.005 N mm, mu 0.4, handle tilted
 // 20 degrees towards the motion, 60 steps of pressing, 140 of dragging 0.2 mm.
 constexpr double kSegmentMm = 4;

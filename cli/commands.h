@@ -1,5 +1,6 @@
 #pragma once
-// One function per subcommand, each returning its exit code (STYLE.md item 12).
+// One function per subcommand, each returning its exit code (docs/design.md,
+// "Style habits", item 12).
 // cli/main.cpp owns the command line (CLI11) and nothing else.
 
 #include <limits>

@@ -1,5 +1,6 @@
 // bristle: the command line. This file owns CLI11 (slow to compile: keep it in
-// one translation unit) and maps errors to the exit codes of ARCHITECTURE.md.
+// one translation unit) and maps errors to the exit codes of docs/design.md,
+// "Exit codes".
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>

@@ -3,7 +3,7 @@
 #
 # Why not find_package(OpenSubdiv): Debian's OpenSubdivConfig.cmake names
 # libosdCPU.a, which libosd-dev does not ship, so the config fails
-# (design/DEBIAN-DEPENDENCIES.md). libosdCPU.so pulls in libgomp by itself and
+# (docs/design.md, "Debian dependencies"). libosdCPU.so pulls in libgomp by itself and
 # needs no GL.
 #
 # Result: OpenSubdivDebian_FOUND, OpenSubdiv_INCLUDE_DIR, OpenSubdiv_CPU_LIBRARY

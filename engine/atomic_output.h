@@ -1,8 +1,8 @@
 #pragma once
 // An output file that appears only when complete: it is written to a temporary
 // file beside the target and renamed into place on commit(). A run that fails
-// (or throws) before commit() leaves no partial file (ARCHITECTURE.md), and
-// neither does SIGINT or SIGTERM (engine/temp_files.h).
+// (or throws) before commit() leaves no partial file (docs/design.md, "Atomic
+// output"), and neither does SIGINT or SIGTERM (engine/temp_files.h).
 //
 // An output is a new file or an existing regular file. Through a symbolic link
 // to a regular file the link's target is replaced and the link kept; a

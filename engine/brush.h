@@ -1,5 +1,5 @@
 #pragma once
-// Brush description, JSON format `bristle-brush/1` (ARCHITECTURE.md, "Formats";
+// Brush description, JSON format `bristle-brush/1` (docs/design.md, "Formats";
 // docs/brush-format.md). A brush is a few simulated spines (paper §3) in the
 // brush frame: origin at the ferrule mouth, hairs hanging along -z at rest.
 

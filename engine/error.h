@@ -1,6 +1,6 @@
 #pragma once
 // Errors that reach the user: each carries the sysexits code the CLI exits with
-// (ARCHITECTURE.md, "Exit codes") and a one-line message that names the file,
+// (docs/design.md, "Exit codes") and a one-line message that names the file,
 // the field (JSON pointer or CSV line/column) and the broken rule.
 
 #include <stdexcept>

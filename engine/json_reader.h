@@ -1,7 +1,7 @@
 #pragma once
 // Strict reading of JSON input files: every key is either used or reported as
 // unknown, and every bad value is reported as `file: /json/pointer = value: rule`
-// (STYLE.md item 3). Readers throw bristle::Error with kDataError.
+// (docs/design.md, "Style habits", item 3). Readers throw bristle::Error with kDataError.
 
 #include <nlohmann/json.hpp>
 #include <set>

@@ -1,6 +1,6 @@
 #pragma once
 // A handle pose maps the brush frame to the world (canvas) frame
-// (ARCHITECTURE.md, "Frames and units"): identity rotation holds the brush
+// (docs/design.md, "Frames and units"): identity rotation holds the brush
 // vertically above the canvas with its hairs hanging along -z.
 
 #include <Eigen/Core>

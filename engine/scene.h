@@ -1,5 +1,5 @@
 #pragma once
-// A painting as data: JSON format `bristle-scene/1` (ARCHITECTURE.md, "Formats";
+// A painting as data: JSON format `bristle-scene/1` (docs/design.md, "Formats";
 // docs/scene-format.md). A scene is a canvas (size, resolution, paper) and a list
 // of strokes, each a brush moved along a trajectory with a paint loading and an
 // optional placement on the canvas. Strokes are painted in order onto one canvas.

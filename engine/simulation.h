@@ -17,7 +17,7 @@ struct SimOptions {
   double max_step_mm = 0.25;  // no spine root moves further than this per step
   double min_rate_hz = 120;   // and steps come at least this often
   // Canvas multipliers below this are grazing contact, not contact
-  // (SOLVER-NOTES.md: grazing joints show 1e-6..3e-4 N).
+  // (docs/design.md, "Solver notes": grazing joints show 1e-6..3e-4 N).
   double contact_threshold_n = 1e-3;
   // Stiction with hysteresis (§3.4.1): a sticking joint that moves further than
   // slip_mm in a step has slipped and the step is solved again with mu_kinetic;

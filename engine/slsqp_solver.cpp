@@ -159,7 +159,8 @@ class SlsqpSolver : public SpineSolver {
     }
     try {
       return solveAll(problems, solutions);
-    } catch (...) {  // e.g. bad_alloc: a summary, never an exception (STYLE.md item 5)
+    } catch (...) {  // e.g. bad_alloc: a summary, never an exception
+      // (docs/design.md, "Style habits", item 5)
       SolveSummary failed;
       failed.status = SolveStatus::kFailed;
       failed.message = "exception outside NLopt";
@@ -219,7 +220,7 @@ class SlsqpSolver : public SpineSolver {
     made->opt.add_inequality_mconstraint(canvasCallback, &made->callbacks,
                                          std::vector<double>(nv / 2, settings_.constraint_tol_mm));
     // No xtol_rel: it is relative to |q|, so it never triggers at q = 0 (a straight
-    // spine) and every no-contact step would run to maxeval (SOLVER-NOTES.md).
+    // spine) and every no-contact step would run to maxeval (docs/design.md, "Solver notes").
     made->opt.set_ftol_abs(settings_.ftol_abs_nmm);
     made->opt.set_maxeval(settings_.max_evaluations);
     o = std::move(made);

@@ -1,7 +1,8 @@
 #pragma once
 // Smooth stand-ins for the non-smooth terms of the spine energy. Ipopt needs a
 // twice-differentiable objective: unsmoothed, the optimum sits on a kink (a
-// sticking joint has dx = 0) and Ipopt runs to max_iter (SOLVER-NOTES.md).
+// sticking joint has dx = 0) and Ipopt runs to max_iter (docs/design.md,
+// "Solver notes").
 
 #include <Eigen/Core>
 #include <algorithm>

@@ -23,7 +23,7 @@
 
 namespace bristle {
 
-// Smoothing widths (SOLVER-NOTES.md): energies at the smoothed optimum differ from
+// Smoothing widths (docs/design.md, "Solver notes"): energies at the smoothed optimum differ from
 // the exact minimum by a few 1e-6 N mm; a sticking joint creeps by about eps.
 inline constexpr double kSmoothMm = 1e-3;
 // The damping term (eq. 4) is smoothed much more finely: smoothed, joint

@@ -1,7 +1,8 @@
 #pragma once
 // Solvers for the per-step spine problems (paper §3.1 step 3). A solver returns
-// a summary, never throws per step (STYLE.md item 5): a failed step is counted,
-// reported, and the caller continues from the last good state.
+// a summary, never throws per step (docs/design.md, "Style habits", item 5): a
+// failed step is counted, reported, and the caller continues from the last good
+// state.
 
 #include <memory>
 #include <span>
@@ -62,7 +63,7 @@ class SpineSolver {
 };
 
 struct IpoptSettings {
-  double tol = 1e-8;             // ~3e-5 mm joint accuracy (SOLVER-NOTES.md)
+  double tol = 1e-8;             // ~3e-5 mm joint accuracy (docs/design.md, "Solver notes")
   double acceptable_tol = 1e-5;
   int max_iterations = 200;
   // Further Ipopt options as name/value text, applied last (e.g. for tuning
@@ -76,7 +77,7 @@ std::unique_ptr<SpineSolver> makeIpoptSolver(const IpoptSettings& settings = {})
 
 namespace bristle {
 
-// NLopt SLSQP backend (SOLVER-NOTES.md, "SLSQP"): one dense SQP per spine, with
+// NLopt SLSQP backend (docs/design.md, "Solver notes"): one dense SQP per spine, with
 // the spine energy's gradient only (no Hessian). NLopt returns no multipliers:
 // normal forces come from the KKT conditions over the joints on the canvas.
 // Its SolveSummary::iterations counts energy evaluations; its status is

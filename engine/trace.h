@@ -1,6 +1,7 @@
 #pragma once
 // The per-step trace (`--trace FILE.jsonl`): one JSON object per simulation step
-// with the keys fixed in ARCHITECTURE.md ("Trace"). Tests and people read it.
+// with the keys fixed in docs/design.md, "Formats" (described in docs/formats.md,
+// "Trace"). Tests and people read it.
 
 #include <string>
 

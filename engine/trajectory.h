@@ -1,6 +1,6 @@
 #pragma once
 // Recorded 6-DOF stylus trajectory, CSV format `bristle-trajectory/1`
-// (ARCHITECTURE.md, "Formats"), and pose interpolation at any time.
+// (docs/formats.md, "Trajectory"), and pose interpolation at any time.
 
 #include <optional>
 #include <limits>

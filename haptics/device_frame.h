@@ -1,7 +1,7 @@
 #pragma once
 // Device frame <-> canvas frame. A Phantom reports its stylus in its own frame
 // (mm, origin at the workspace centre, x right, y up, z towards the user) and
-// takes forces in it (N). The canvas frame (ARCHITECTURE.md) has the paper on
+// takes forces in it (N). The canvas frame (docs/design.md, "Frames and units") has the paper on
 // the table: x right, y away from the user, z up. So
 //   canvas = M device + origin,   M = [1 0 0; 0 0 -1; 0 1 0]
 // and the brush frame is the stylus frame: the hairs (-z of the brush) point

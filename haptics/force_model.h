@@ -67,7 +67,7 @@ struct SpineForceModel {
 
 struct ForceModelOptions {
   // One-sided difference step of the handle. Large against the solver's joint
-  // accuracy (~3e-5 mm, SOLVER-NOTES.md) so the difference is not round-off,
+  // accuracy (~3e-5 mm, docs/design.md, "Solver notes") so the difference is not round-off,
   // small against a segment (3.5-6 mm) so the spine stays near-linear.
   double probe_mm = 0.05;
   double radius_mm = 1.0;  // see ForceModel::radius_mm

@@ -1,6 +1,6 @@
 #pragma once
-// What stands between the force model and the motors (openhaptics-hdapi.md,
-// "Safety that users expect"). Pure logic on the servo tick's time, so tests
+// What stands between the force model and the motors (docs/design.md,
+// "The haptic device API"). Pure logic on the servo tick's time, so tests
 // drive it with simulated time, no threads:
 //   - zero force on NaN/inf and on any device error; afterwards forces ramp in
 //     again from zero;
@@ -18,7 +18,7 @@
 namespace bristle::haptics {
 
 struct SafetyLimits {
-  double nominal_max_n = 3.3;     // Touch / Omni (openhaptics-hdapi.md)
+  double nominal_max_n = 3.3;     // Touch / Omni (docs/design.md, "The haptic device API")
   double continuous_max_n = 0.88;
   double ramp_s = 0.25;           // gain 0 -> 1 at start and after an error
   double fade_s = 0.05;           // gain 1 -> 0 when the model goes stale

@@ -15,7 +15,7 @@ namespace bristle::haptics {
 
 struct NoneDeviceOptions {
   double rate_hz = 1000;
-  double nominal_max_n = 3.3;  // as a Touch / Omni (openhaptics-hdapi.md)
+  double nominal_max_n = 3.3;  // as a Touch / Omni (docs/design.md, "The haptic device API")
   double continuous_max_n = 0.88;
 };
 

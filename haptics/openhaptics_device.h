@@ -1,8 +1,8 @@
 #pragma once
 // A Phantom (Touch, Omni, Desktop, Premium) through OpenHaptics' HDAPI,
 // loaded at run time (haptics/hdapi.h). The call sequence is the one mature
-// drivers share (openhaptics-hdapi.md): hdInitDevice -> calibration check ->
-// hdEnable(FORCE_OUTPUT, MAX_FORCE_CLAMPING, FORCE_RAMPING) ->
+// drivers share (docs/design.md, "The haptic device API"): hdInitDevice ->
+// calibration check -> hdEnable(FORCE_OUTPUT, MAX_FORCE_CLAMPING, FORCE_RAMPING) ->
 // hdScheduleAsynchronous(servo, max priority) -> hdSetSchedulerRate(1000) ->
 // hdStartScheduler; each tick hdBeginFrame, read pose and buttons, set the
 // force, hdEndFrame, hdGetError; shutdown hdStopScheduler -> hdUnschedule ->

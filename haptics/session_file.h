@@ -1,6 +1,6 @@
 #pragma once
 // Live sessions on disk. A session is a `bristle-trajectory/1` CSV with the
-// optional buttons and fx_n,fy_n,fz_n columns (ARCHITECTURE.md, "Formats"),
+// optional buttons and fx_n,fy_n,fz_n columns (docs/formats.md, "Session"),
 // written as it goes: line-buffered, and flushed at least every 100 ms, so a
 // killed process loses at most the last 100 ms and leaves a file that replays
 // up to its last complete line. Header comments record the device model, the

@@ -1,6 +1,6 @@
 #pragma once
 // A whole stroke, end to end: trajectory -> simulation steps -> brush geometry
-// -> footprint (OSMesa) -> paint on the canvas (ARCHITECTURE.md, data flow).
+// -> footprint (OSMesa) -> paint on the canvas (docs/design.md, "Where to start").
 
 #include <functional>
 #include <memory>

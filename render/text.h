@@ -14,7 +14,7 @@
 
 namespace bristle::render {
 
-// fonts-dejavu-core (DEBIAN-DEPENDENCIES.md).
+// fonts-dejavu-core (docs/design.md, "Debian dependencies").
 inline constexpr const char* kDefaultFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
 struct Rgb8 {

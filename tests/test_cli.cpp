@@ -1,5 +1,6 @@
 // End to end through the command line: a stroke from the demo files, the trace,
-// determinism, and the exit codes and messages of bad input (ARCHITECTURE.md).
+// determinism, and the exit codes and messages of bad input (docs/design.md,
+// "Exit codes").
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -94,7 +95,7 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
   const Placement place = placementOf(png);
   REQUIRE(place.px_per_mm == Approx(8));
 
-  // Trace: one line per step, numbered from 0, with the ARCHITECTURE.md keys.
+  // Trace: one line per step, numbered from 0, with the keys of docs/design.md, "Formats".
   std::istringstream lines(readAll(trace));
   std::string line;
   int count = 0;

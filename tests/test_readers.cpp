@@ -1,6 +1,6 @@
 // Input validation of the brush JSON (`bristle-brush/1`) and trajectory CSV
 // (`bristle-trajectory/1`) readers: every bad input throws bristle::Error with
-// the sysexits code of ARCHITECTURE.md and a one-line message that names the
+// the sysexits code of docs/design.md ("Exit codes") and a one-line message that names the
 // file, the field (JSON pointer, or CSV line and column) and the broken rule.
 
 #include <stdlib.h>  // mkdtemp

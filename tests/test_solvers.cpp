@@ -1,6 +1,7 @@
 // The spine solver backends against each other and against a closed form: the
 // SLSQP backend must reach Ipopt's optimum (Ipopt is the reference,
-// SOLVER-NOTES.md), and Ipopt's whole-brush NLP must reach its per-spine optima.
+// docs/design.md, "Solver notes"), and Ipopt's whole-brush NLP must reach its
+// per-spine optima.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -27,8 +28,9 @@ namespace {
 constexpr double kJointTolMm = 1e-3;
 // The same problem from the same start, no history: Ipopt (tol 1e-8) lands
 // within ~3e-5 mm of the optimum and SLSQP (ftol_abs 1e-13) within ~6e-5 mm of
-// Ipopt on SOLVER-NOTES.md's probe scenes. (At ftol_abs 1e-10 SLSQP stopped up
-// to 1.3e-3 mm short during a steady drag; this catches that.)
+// Ipopt on the probe scenes of docs/design.md, "Solver notes". (At ftol_abs
+// 1e-10 SLSQP stopped up to 1.3e-3 mm short during a steady drag; this catches
+// that.)
 constexpr double kSolverAgreeMm = 2e-4;
 // Energies are O(0.1-1 N mm); a joint moved by kJointTolMm against canvas forces
 // of O(0.1 N) changes E by O(1e-4 N mm).
@@ -177,10 +179,10 @@ struct PressedSpine {
 
 }  // namespace
 
-// SOLVER-NOTES.md's probe: 4 joints of 4 mm, K 10 -> 5 N mm/rad, D 0.005 N mm,
-// mu 0.4, handle tilted 20 degrees; from 0.5 mm above the first touch, 60 steps
-// pressing the root 6.4 mm below it (path[0..60]), then 140 steps dragging 0.2 mm
-// each (path[61..200]).
+// The probe spine of docs/design.md, "Solver notes": 4 joints of 4 mm,
+// K 10 -> 5 N mm/rad, D 0.005 N mm, mu 0.4, handle tilted 20 degrees; from
+// 0.5 mm above the first touch, 60 steps pressing the root 6.4 mm below it
+// (path[0..60]), then 140 steps dragging 0.2 mm each (path[61..200]).
 struct SpineProbe {
   Brush brush;
   std::vector<Pose> path;
@@ -295,9 +297,9 @@ TEST_CASE("one whole-brush Ipopt NLP and per-spine Ipopt solves reach the same o
   std::unique_ptr<SpineSolver> whole_solver = makeIpoptSolver();
   std::unique_ptr<SpineSolver> spine_solver = makeIpoptSolver();
   std::unique_ptr<SpineSolver> slsqp_solver = makeSlsqpSolver();
-  // Ipopt's tol 1e-8 puts each optimum within ~3e-5 mm (SOLVER-NOTES.md); the
-  // whole-brush NLP tests convergence on all spines at once, with one barrier
-  // parameter, so allow 1e-4 mm between the two.
+  // Ipopt's tol 1e-8 puts each optimum within ~3e-5 mm (docs/design.md, "Solver
+  // notes"); the whole-brush NLP tests convergence on all spines at once, with
+  // one barrier parameter, so allow 1e-4 mm between the two.
   constexpr double kIpoptAgreeMm = 1e-4;
   // Multipliers inherit that accuracy times stiffness / lever arm (~1 N/mm).
   constexpr double kIpoptForceTolN = 1e-4;

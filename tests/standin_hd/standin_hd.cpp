@@ -1,5 +1,5 @@
 // A stand-in for OpenHaptics' libHD.so, built by the tests: the same C ABI
-// (haptics/hdapi.h, openhaptics-hdapi.md), no hardware. It
+// (haptics/hdapi.h; docs/design.md, "The haptic device API"), no hardware. It
 //   - plays a scripted stylus path at the scheduler rate (1 kHz): a
 //     bristle-trajectory/1 CSV in the canvas frame (STANDIN_HD_PATH), turned
 //     into device-frame transforms with bristle's own DeviceMapping, so the
