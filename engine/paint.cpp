@@ -319,6 +319,13 @@ bool PaintCanvas::blank() const {
 
 // ---------------------------------------------------------------- transfer
 
+double compoundFraction(double fraction, double exposure) {
+  const double f = std::clamp(fraction, 0.0, 1.0);
+  if (!(exposure > 0)) return 0;
+  if (f >= 1) return 1;
+  return -std::expm1(exposure * std::log1p(-f));  // 1 - (1 - f)^exposure, exact near 0
+}
+
 TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& canvas,
                        const TransferParams& params) {
   struct Touch {
@@ -414,7 +421,12 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   }
 
   // 2. Deposit and pickup per pixel, from the texels' paint at the start of the step.
-  const double rate = params.deposit_rate * brush.flow();
+  // Rates are per reference step of contact (TransferParams::exposure): an
+  // amount per step scales with the exposure, a fraction taken per step
+  // compounds as 1 - (1 - f)^exposure.
+  const double exposure = std::max(params.exposure, 0.0);
+  const double rate = params.deposit_rate * exposure * brush.flow();
+  const double max_out = compoundFraction(params.max_out_fraction, exposure);
   std::array<float, T> per_pixel;  // deposit per unit of `deposit` contact (mm^3)
   for (int t = 0; t < T; ++t) {
     const double v = brush.cell(t).volume_mm3;
@@ -423,10 +435,10 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
     // has it. So a lightly loaded brush runs out sooner, not thinner.
     const double want = rate * full_film * area_px;
     const double total = want * demand[t];
-    const double cap = params.max_out_fraction * v;
+    const double cap = max_out * v;
     per_pixel[t] = static_cast<float>(total > cap && total > 0 ? want * cap / total : want);
   }
-  const float pickup = static_cast<float>(params.pickup_rate);
+  const float pickup = static_cast<float>(compoundFraction(params.pickup_rate, exposure));
   for (const Touch& h : touches) {
     PaintCell& px = canvas.wet(h.pixel);
     const PaintCell& tex = brush.cell(h.texel);
@@ -465,9 +477,10 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   // paint flows from texels holding more than the column's mean towards those
   // holding less, a fraction reservoir_flow of the difference per step. The
   // givers' paint is pooled, so the receivers get the givers' mixture.
-  if (params.reservoir_flow > 0) {
+  const double flow = compoundFraction(params.reservoir_flow, exposure);
+  if (flow > 0) {
     constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
-    const float phi = static_cast<float>(std::clamp(params.reservoir_flow, 0.0, 1.0));
+    const float phi = static_cast<float>(flow);
     for (int col = 0; col < C; ++col) {
       double mean = 0;
       for (int row = 0; row < R; ++row) mean += brush.cell(row * C + col).volume_mm3;

@@ -253,7 +253,28 @@ struct TransferParams {
   // per step. Strong enough that the hairs in contact do not run dry while the
   // rest of the bundle is full (a contact row drains ~50% per step without it).
   double reservoir_flow = 0.2;
+  // How long this step's contact lasted, in reference steps (the step's time
+  // over kTransferReferenceStepS). The rates above are per reference step:
+  // deposit (an amount) scales with it, and pickup, max_out_fraction and
+  // reservoir_flow (fractions) compound as 1 - (1 - f)^exposure. So paint
+  // transfer depends on how long the brush touched, not on how many steps
+  // the touch was cut into (issue "Marks": --max-step-mm 0.25 / 0.1 / 0.05
+  // laid 71 / 111 / 204 mm^3 on the round's straight pull when the rates were
+  // per step). 1 = one reference step, what a direct call gets by default.
+  double exposure = 1.0;
 };
+
+// Contact time of bristle's reference step: the rates of TransferParams are per
+// this much contact. It is the step the default planner takes on a trajectory
+// sampled at 100 Hz, as the library's are (two steps per 10 ms sample, from
+// SimOptions' min_rate_hz of 120), the steps the rates were tuned on; steps cut
+// finer by --max-step-mm, or a 1 kHz haptic recording, no longer lay more paint.
+inline constexpr double kTransferReferenceStepS = 1.0 / 200;
+
+// A fraction f taken per reference step, over `exposure` reference steps:
+// 1 - (1 - f)^exposure (0 for no exposure, 1 for f >= 1). Splitting a step in
+// two halves of the exposure takes the same fraction in all.
+double compoundFraction(double fraction, double exposure);
 
 struct TransferStats {
   double deposited_mm3 = 0;  // brush -> canvas

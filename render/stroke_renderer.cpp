@@ -191,6 +191,8 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
   view.texels = image_.texels.data();
   TransferParams params = options.transfer;
   params.clip_mm = options.clip_mm;
+  // The step's contact time: the first stamp (no step before it) has none.
+  params.exposure = from ? std::max(state.t_s - from->t_s, 0.0) / kTransferReferenceStepS : 0.0;
   const TransferStats st = transfer(view, *paint, *canvas, params);
   if (st.contact_px > 0) result->touched = true;
   result->deposited_mm3 += st.deposited_mm3;

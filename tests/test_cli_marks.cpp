@@ -5,6 +5,7 @@
 // PNG (tests/support/mark_measure.h).
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -225,4 +226,38 @@ TEST_CASE("marks: a fan's pull draws a few distinct lines on the default paper",
   INFO("inked pixels: " << toothy_px << " with the default tooth, " << smooth_px << " without");
   REQUIRE(smooth_px > 0);
   CHECK(static_cast<double>(toothy_px) >= 0.25 * static_cast<double>(smooth_px));
+}
+
+TEST_CASE("marks: paint laid down converges as the steps shrink", "[marks][transfer]") {
+  // Transfer rates are per unit of contact time, not per step (docs/paint.md,
+  // "Transfer per unit of contact time"). The round's straight pull at
+  // --max-step-mm 0.1 and 0.05 leaves the same paint on the paper to 5 % (the
+  // issue's figure; measured 1.1 %, where per-step rates laid 111 against
+  // 204 mm^3), and the two images agree to an SSIM of 0.99 (the "loose" golden
+  // tolerance of docs/golden-tests.md: saturated strokes differ only at their
+  // edges). What stays on the paper is what the brush laid down less what it
+  // picked back up: the wet paint it lays and lifts again under the same pass
+  // churns by a step-dependent amount (gross 50.7 against 53.3 mm^3, 4.9 %).
+  TempDir dir;
+  auto onPaper = [&](const std::string& step) {
+    const std::string png = dir.file("pull-" + step + ".png");
+    const std::string stats = dir.file("pull-" + step + ".json");
+    const RunResult r = runBristle(
+        "render -q --solver slsqp --brush '" + sourcePath("scenes/brushes/round.json") +
+        "' --trajectory '" + sourcePath("scenes/trajectories/straight-pull.csv") +
+        "' --max-step-mm " + step + " -o '" + png + "' --stats '" + stats + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    std::ifstream f(stats);
+    const nlohmann::json j = nlohmann::json::parse(f);
+    return j.at("paint_laid_mm3").get<double>() - j.at("paint_picked_up_mm3").get<double>();
+  };
+  const double coarse = onPaper("0.1"), fine = onPaper("0.05");
+  INFO("on the paper: " << coarse << " mm^3 at 0.1 mm steps, " << fine << " at 0.05");
+  REQUIRE(fine > 0);
+  CHECK(std::abs(coarse - fine) <= 0.05 * fine);
+  const RunResult cmp = runBristle("compare '" + dir.file("pull-0.1.png") + "' '" +
+                                   dir.file("pull-0.05.png") + "' --min-ssim 0.99");
+  INFO(cmp.out << cmp.err);
+  CHECK(cmp.code == 0);
 }

@@ -425,6 +425,39 @@ TEST_CASE("Transfer: a single hair follows the grain that a bundle bridges",
   CHECK(strip_px > 3 * bundle_px);
 }
 
+TEST_CASE("Transfer: rates are per unit of contact time", "[paint][transfer]") {
+  // A fraction per reference step compounds: two half steps take what one
+  // whole step takes, exactly (up to rounding, 1e-15).
+  for (double f : {0.0, 0.03, 0.2, 0.5, 0.999}) {
+    const double half = compoundFraction(f, 0.5);
+    CHECK(1 - (1 - half) * (1 - half) == Approx(f).margin(1e-15));
+    CHECK(compoundFraction(f, 1) == Approx(f).margin(1e-15));
+    CHECK(compoundFraction(f, 0) == 0);
+  }
+  CHECK(compoundFraction(1.0, 0.3) == 1);
+  CHECK(compoundFraction(0.2, 3) == Approx(1 - 0.8 * 0.8 * 0.8).margin(1e-15));
+
+  // Deposit is an amount per unit time: on a clean canvas (nothing to pick
+  // up), with the brush well loaded (no cap, no running dry), a step twice as
+  // long lays twice the paint; no time, no paint.
+  const Brush brush = fivesSpineBrush();
+  auto laid = [&](double exposure) {
+    BrushPaint paint(brush);
+    paint.load(solid("ivory-black"), MixModel::kKubelkaMunk, "t");
+    PaintCanvas canvas(grid(64, 32), PaperSpec{}, MixModel::kKubelkaMunk);
+    const Footprint fp(48, 8, 0.85f, 0.6f);
+    TransferParams params;
+    params.exposure = exposure;
+    return transfer(fp.at(8, 8), paint, canvas, params).deposited_mm3;
+  };
+  const double one = laid(1.0);
+  REQUIRE(one > 0);
+  // Float sums over 384 pixels: 1e-6 relative.
+  CHECK(laid(2.0) == Approx(2 * one).epsilon(1e-6));
+  CHECK(laid(0.5) == Approx(0.5 * one).epsilon(1e-6));
+  CHECK(laid(0.0) == 0);
+}
+
 TEST_CASE("Transfer and paper are deterministic", "[paint][transfer]") {
   const Brush brush = fivesSpineBrush();
   auto run = [&] {
