@@ -383,8 +383,10 @@ std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& 
   return {};
 }
 
-std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& inputs) {
+std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& inputs,
+                          std::uint64_t program) {
   std::uint64_t h = fnv1a64(std::string(kFormat) + "\n" + kVersion + "\n");
+  h = fnv1a64(std::to_string(program) + "\n", h);
   for (const std::string& a : batchJobArguments(job)) {
     // Input paths are replaced by their contents below; only the options count.
     if (a == job.input || a == job.brush || a == job.trajectory) continue;

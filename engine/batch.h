@@ -77,9 +77,14 @@ std::vector<std::string> batchJobArguments(const BatchJob& job);
 // `manifest: /jobs/N/field: ...`.
 std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& manifest);
 
-// The up-to-date key of a job: FNV-1a 64 over the bristle version, the job's
-// command line (batchJobArguments) and the bytes of every input file. Paths do
-// not enter it, so a checkout moved elsewhere keeps its outputs.
-std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& inputs);
+// The up-to-date key of a job: FNV-1a 64 over the bristle version, the program
+// that renders, the job's command line (batchJobArguments) and the bytes of
+// every input file. `program` identifies the renderer's code: the command line
+// passes the FNV-1a 64 of its own executable, so a rebuilt bristle (same
+// version, changed code) renders every job again instead of keeping pixels an
+// older build made. Paths do not enter the key, so a checkout moved elsewhere
+// keeps its outputs.
+std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& inputs,
+                          std::uint64_t program = 0);
 
 }  // namespace bristle

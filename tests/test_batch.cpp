@@ -304,6 +304,11 @@ TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]
           "trajectory": "t.csv"}]})", (a.dir / "m.json").string(), a.dir.string()).jobs[0];
   CHECK(batchJobInputs(jp, "m.json") == batchJobInputs(ja, "m.json"));
   CHECK(batchJobKey(jp, batchJobInputs(jp, "m.json")) != key);
+  // The program that renders is part of the key: a rebuilt bristle of the same
+  // version renders again.
+  CHECK(batchJobKey(ja, batchJobInputs(ja, "m.json"), 1) != key);
+  CHECK(batchJobKey(ja, batchJobInputs(ja, "m.json"), 1) ==
+        batchJobKey(ja, batchJobInputs(ja, "m.json"), 1));
   // A missing input is the job's own error (66), naming the manifest field.
   fs::remove(b.dir / "b.json");
   try {

@@ -179,6 +179,32 @@ TEST_CASE("batch: up-to-date outputs are skipped; a changed input or --overwrite
   CHECK(jsonLines(r.out).at("summary")["rendered"] == 3);
 }
 
+TEST_CASE("batch: a rebuilt bristle renders again what an older build made", "[cli][batch]") {
+  // The same version, other code: a copy of the executable with one byte
+  // appended (ELF ignores trailing bytes, so it runs as before). Its outputs
+  // must not be taken as up to date, or a fix would never reach them.
+  TempDir dir;
+  const std::string m = writeManifest(dir, manifest(dir, 1));
+  const std::string out = dir.file("out");
+  REQUIRE(runBristle("batch '" + m + "' --out '" + out + "' --quiet").code == 0);
+  const std::string rebuilt = dir.file("bristle-rebuilt");
+  fs::copy_file(BRISTLE_BIN, rebuilt);
+  std::ofstream(rebuilt, std::ios::binary | std::ios::app) << '\n';
+  fs::permissions(rebuilt, fs::perms::owner_exec, fs::perm_options::add);
+  const RunResult again = runCaptured("env -u GALLIUM_DRIVER '" + rebuilt + "' batch '" + m +
+                                          "' --out '" + out + "' --json",
+                                      dir.file("again.out"), dir.file("again.err"));
+  INFO(again.err);
+  REQUIRE(again.code == 0);
+  CHECK(jsonLines(again.out).at("dab0")["status"] == "rendered");
+  // And the same build again keeps it.
+  const RunResult same = runCaptured("env -u GALLIUM_DRIVER '" + rebuilt + "' batch '" + m +
+                                         "' --out '" + out + "' --json",
+                                     dir.file("same.out"), dir.file("same.err"));
+  REQUIRE(same.code == 0);
+  CHECK(jsonLines(same.out).at("dab0")["status"] == "skipped");
+}
+
 TEST_CASE("batch: a broken job fails alone, is logged, and sets the exit code", "[cli][batch][errors]") {
   TempDir dir;
   json m = manifest(dir, 3);
