@@ -193,9 +193,12 @@ int main(int argc, char** argv) {
       "The inset shows the footprint: what of the brush touches the paper.");
   preview->add_option("brush", pv.brush, "Brush: a library name (round) or a file (bristle-brush/1 JSON)")->required();
   preview->add_option("-o,--output", pv.output, "Output PNG; - writes it to stdout")->required();
-  preview->add_option("--trajectory", pv.trajectory, "Simulate along this trajectory (- reads stdin) ...");
-  preview->add_option("--at", pv.at_s, "... up to this time (s)")->capture_default_str();
-  preview->add_option("--offset-mm", pv.offset_mm, "Shift the trajectory by X Y Z mm")->expected(3);
+  CLI::Option* pv_traj =
+      preview->add_option("--trajectory", pv.trajectory, "Simulate along this trajectory (- reads stdin) ...");
+  // Without a trajectory there is no time to go to and nothing to shift: refused
+  // (exit 64), not silently ignored.
+  preview->add_option("--at", pv.at_s, "... up to this time (s)")->capture_default_str()->needs(pv_traj);
+  preview->add_option("--offset-mm", pv.offset_mm, "Shift the trajectory by X Y Z mm")->expected(3)->needs(pv_traj);
   preview->add_option("--width", pv.width_px, "Image width (px)")->capture_default_str()->check(CLI::Range(64, 4096));
   preview->add_option("--height", pv.height_px, "Image height (px)")->capture_default_str()->check(CLI::Range(64, 4096));
   preview->add_option("--px-per-mm", pv.px_per_mm, "Footprint resolution")->capture_default_str()->check(CLI::Range(0.5, 100.0));

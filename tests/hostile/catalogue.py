@@ -919,6 +919,12 @@ case("replay-session-quaternion-1e200", "a session with a quaternion of 1e200, r
 case("preview-offset-1e308", "`preview --offset-mm 1e308 0 0`",
      ["preview", "b.json", "--trajectory", "t.csv", "--offset-mm", "1e308", "0", "0", "-o",
       "o.png"], 64, "--offset-mm: must be within +-100000 mm (the limit)", STROKE)
+case("preview-at-without-trajectory", "`preview --at` with no trajectory to go along",
+     ["preview", "b.json", "--at", "1.2", "-o", "o.png"], 64,
+     "--at requires --trajectory (see bristle --help)", brush())
+case("preview-offset-without-trajectory", "`preview --offset-mm` with no trajectory to shift",
+     ["preview", "b.json", "--offset-mm", "0", "0", "2", "-o", "o.png"], 64,
+     "--offset-mm requires --trajectory (see bristle --help)", brush())
 case("preview-span-1e7", "`preview` along two samples 1e7 s apart",
      ["preview", "b.json", "--trajectory", "t.csv", "--at", "1", "-o", "o.png"], 65,
      "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 "
