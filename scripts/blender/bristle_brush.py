@@ -86,6 +86,8 @@ OBJECT_PROPS = {
     "strips_seed": (int, lambda v: v >= 0, ">= 0"),
     "strips_placement": (str, lambda v: v in ("auto", "line", "area"), "auto, line or area"),
     "strips_length_jitter": (float, lambda v: 0 <= v < 1, "in [0, 1)"),
+    "strips_clumps": (int, lambda v: v >= 0, ">= 0"),
+    "strips_clumping": (float, lambda v: 0 <= v <= 1, "in [0, 1]"),
     "paint_capacity": (float, lambda v: v > 0, "> 0"),
 }
 OBJECT_PROP_PREFIXES = ("mu_", "anisotropy_", "strips_", "paint_")
@@ -476,7 +478,8 @@ class _Export:
 
         strip_keys = {"strips_root_width_mm": "root_width_mm", "strips_tip_width_mm": "tip_width_mm",
                       "strips_seed": "seed", "strips_placement": "placement",
-                      "strips_length_jitter": "length_jitter"}
+                      "strips_length_jitter": "length_jitter", "strips_clumps": "clumps",
+                      "strips_clumping": "clumping"}
         if "strips_count" in props:
             strips = {"count": props["strips_count"]}
             for key, name in strip_keys.items():
@@ -693,7 +696,8 @@ def import_brush(context, brush, set_units=True):
     if strips is not None:
         arm["strips_count"] = int(strips["count"])
         for key, kind in (("root_width_mm", float), ("tip_width_mm", float), ("seed", int),
-                          ("placement", str), ("length_jitter", float)):
+                          ("placement", str), ("length_jitter", float), ("clumps", int),
+                          ("clumping", float)):
             if key in strips:
                 arm["strips_" + key] = kind(strips[key])
     paint = brush.get("paint")
