@@ -19,15 +19,19 @@ double smoothstep(double x) {
 // Half-width (in w) of the blend between two paints loaded side by side: a
 // painter dabs a double-loaded brush back and forth on the palette, which works
 // the two colours into each other over a band in the middle of the brush.
-constexpr double kAcrossBlendHalfWidth = 0.1;
+constexpr double kAcrossBlendHalfWidth = 0.15;
 // Half-width (in v) of the blend between body and tip paint.
 constexpr double kTipBlendHalfWidth = 0.05;
 // How much a fully diluted paint (dilution 1) thins its pigment: K and S scaled
 // by 1 - this, and how much faster it flows (flow = 1 + dilution).
 constexpr double kDilutionThinning = 0.7;
-// Spread of the hairs' paint-holding (see transfer) and the width of the tooth
-// band over which a drying texel goes from no paint to full paint.
-constexpr double kHairVariation = 0.6;
+// How far apart the hairs' dry thresholds lie (see transfer): a fully dry
+// texel's barest hair (hair noise 0) needs tooth 0.9 + 1.0, which no paper
+// has, and its best (1) needs 0.9 - 1.0, which all has; so a spent brush
+// draws the lines of its best hairs, broken by the grain, not the grain's
+// dots (docs/paint.md, "Hair streaks").
+constexpr float kHairVariation = 2.0f;
+// The width of the tooth band over which a drying hair goes from no paint to full paint.
 constexpr float kInvDryEdge = 1 / 0.15f;
 // Volumes below this (mm^3) are treated as no paint (float noise, ~1e-6 of a pixel's film).
 constexpr float kVolumeEpsMm3 = 1e-12f;
@@ -68,6 +72,35 @@ double valueNoise(double x, double y, std::uint64_t seed) {
   const double c = latticeValue(ix, iy + 1, seed), d = latticeValue(ix + 1, iy + 1, seed);
   return (a + (b - a) * tx) * (1 - ty) + (c + (d - c) * tx) * ty;
 }
+
+// Hair noise at s mm along a row of hairs `span` mm long: two octaves of value
+// noise, features kHairStreakMm and half that wide, stretched so that the
+// hairs range from nearly bare to fully loaded (value noise of two octaves
+// keeps mostly to its middle). `periodic`: the row closes on itself (around a
+// cross-section), so its noise wraps with no seam.
+double hairRowNoise(double s, double span, bool periodic, std::uint64_t seed) {
+  double sum = 0;
+  const double weights[2] = {0.6, 0.4};
+  for (int octave = 0; octave < 2; ++octave) {
+    const double feature = BrushTexelMap::kHairStreakMm / (1 << octave);
+    const std::int64_t cells =
+        std::max<std::int64_t>(1, std::llround(span / feature));
+    const double x = s / span * static_cast<double>(cells);
+    const double fx = std::floor(x);
+    std::int64_t i0 = static_cast<std::int64_t>(fx), i1 = i0 + 1;
+    if (periodic) {
+      i0 = ((i0 % cells) + cells) % cells;
+      i1 = ((i1 % cells) + cells) % cells;
+    }
+    const double a = latticeValue(i0, octave, seed), b = latticeValue(i1, octave, seed);
+    sum += weights[octave] * (a + (b - a) * smoothstep(x - fx));
+  }
+  return smoothstep((sum - 0.2) / 0.6);
+}
+
+constexpr std::uint64_t kHairSeedAround = 0x68616972'61726fULL;
+constexpr std::uint64_t kHairSeedAcross = 0x68616972'616372ULL;
+constexpr std::uint64_t kHairSeedStrips = 0x68616972'737472ULL;
 
 }  // namespace
 
@@ -112,7 +145,18 @@ BrushTexelMap::BrushTexelMap(const Brush& brush) {
     strips_ = layout.count;
     strip_root_width_mm_ = static_cast<float>(brush.strips.root_width_mm);
     strip_tip_width_mm_ = static_cast<float>(brush.strips.tip_width_mm);
-    for (int k = 0; k < layout.count; ++k) strip_w_.push_back(lateral(layout.roots_mm[k].x()));
+    for (int k = 0; k < layout.count; ++k) {
+      strip_w_.push_back(lateral(layout.roots_mm[k].x()));
+      strip_hair_.push_back(static_cast<float>(
+          smoothstep((latticeValue(k, 0, kHairSeedStrips) - 0.1) / 0.8)));
+    }
+  }
+  const double width = x1_ - x0_;
+  if (spines_ > 0) {
+    const size_t n = static_cast<size_t>(std::ceil(width / kHairTableStepMm));
+    for (size_t i = 0; i <= n; ++i)
+      hair_across_.push_back(static_cast<float>(
+          hairRowNoise(width * static_cast<double>(i) / n, width, false, kHairSeedAcross)));
   }
 
   // Surface: mean rest x of the refined vertices in each (u, v) bin; an empty
@@ -142,7 +186,85 @@ BrushTexelMap::BrushTexelMap(const Brush& brush) {
         surface_w_[b] = static_cast<float>(n[b] > 0 ? sum[b] / n[b] : col);
       }
     }
+    buildSurfaceHair(*surface);
   }
+}
+
+// The rest cross-section as a closed curve in u: the mean rest (x, y) of the
+// refined vertices in each populated u bin, in order of u. Arc length along it
+// gives each surface hair its place in the bundle in mm.
+void BrushTexelMap::buildSurfaceHair(const BrushSurface& surface) {
+  struct Bin {
+    double u = 0, x = 0, y = 0;
+    int n = 0;
+  };
+  std::vector<Bin> bins(kSurfaceBinsU);
+  for (int i = 0; i < surface.refinedVertexCount(); ++i) {
+    const double u = surface.uv(i).x() - std::floor(surface.uv(i).x());
+    Bin& b = bins[std::min(kSurfaceBinsU - 1, static_cast<int>(u * kSurfaceBinsU))];
+    const Eigen::Vector3d p = surface.refinedRestPosition(i);
+    b.u += u;
+    b.x += p.x();
+    b.y += p.y();
+    ++b.n;
+  }
+  std::vector<Bin> ring;
+  for (Bin& b : bins)
+    if (b.n > 0) {
+      b.u /= b.n;
+      b.x /= b.n;
+      b.y /= b.n;
+      ring.push_back(b);
+    }
+  if (ring.size() < 3) return;
+  // Cumulative arc length at each populated bin, and the closed perimeter.
+  const size_t m = ring.size();
+  std::vector<double> arc(m, 0.0);
+  double run = 0;
+  for (size_t k = 1; k < m; ++k) {
+    run += std::hypot(ring[k].x - ring[k - 1].x, ring[k].y - ring[k - 1].y);
+    arc[k] = run;
+  }
+  const double perimeter = run + std::hypot(ring[0].x - ring[m - 1].x, ring[0].y - ring[m - 1].y);
+  if (!(perimeter > 1e-6)) return;
+  // Arc length at each bin edge u = e / kSurfaceBinsU, interpolated between
+  // populated bins (wrapping past the last to the first plus the perimeter).
+  surface_s_.assign(kSurfaceBinsU + 1, 0);
+  for (int e = 0; e <= kSurfaceBinsU; ++e) {
+    const double u = static_cast<double>(e) / kSurfaceBinsU;
+    size_t hi = 0;
+    while (hi < ring.size() && ring[hi].u < u) ++hi;
+    double u0, s0, u1, s1;
+    if (hi == 0) {
+      u0 = ring[m - 1].u - 1;
+      s0 = run - perimeter;
+      u1 = ring[0].u;
+      s1 = 0;
+    } else if (hi == m) {
+      u0 = ring[m - 1].u;
+      s0 = run;
+      u1 = ring[0].u + 1;
+      s1 = perimeter;
+    } else {
+      u0 = ring[hi - 1].u;
+      s0 = arc[hi - 1];
+      u1 = ring[hi].u;
+      s1 = arc[hi];
+    }
+    const double t = u1 > u0 ? (u - u0) / (u1 - u0) : 0;
+    double s = s0 + t * (s1 - s0);
+    s = std::fmod(s + perimeter, perimeter);  // in [0, perimeter)
+    surface_s_[e] = static_cast<float>(s);
+  }
+  // A bin straddling the seam would interpolate from near the perimeter back
+  // to near 0: unwrap so that each bin's edges increase.
+  for (int e = 1; e <= kSurfaceBinsU; ++e)
+    while (surface_s_[e] < surface_s_[e - 1]) surface_s_[e] += static_cast<float>(perimeter);
+  const size_t n = static_cast<size_t>(std::ceil(perimeter / kHairTableStepMm));
+  for (size_t i = 0; i < n; ++i)
+    hair_around_.push_back(static_cast<float>(hairRowNoise(
+        perimeter * static_cast<double>(i) / n, perimeter, true, kHairSeedAround)));
+  inv_step_around_ = static_cast<float>(n / perimeter);
 }
 
 float BrushTexelMap::lateral(double x_mm) const {
@@ -358,23 +480,15 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   const float valley_reach = tooth_depth * bridging;
   const float inv_scale = static_cast<float>(1.0 / canvas.paper().tooth_scale_mm);
   const float inv_clip = static_cast<float>(1.0 / params.clip_mm);
+  const float streaks = static_cast<float>(std::clamp(params.hair_streaks, 0.0, 2.0));
+  const float dry_threshold = static_cast<float>(params.dry_threshold);
 
   // Per texel: how far it has run dry -> the contact it needs before it deposits.
-  // Hairs differ in how much paint they keep as the brush runs dry: a fixed
-  // offset per texel column (one lateral position of the bundle), in
-  // [-kHairVariation / 2, kHairVariation / 2], so that dry marks streak along the stroke.
-  static const std::array<float, BrushTexelMap::kColumns> hair_bias = [] {
-    std::array<float, BrushTexelMap::kColumns> b{};
-    for (int c = 0; c < BrushTexelMap::kColumns; ++c)
-      b[c] = static_cast<float>(kHairVariation * (latticeValue(c, 0, 0x6861697273ULL) - 0.5));
-    return b;
-  }();
-  std::array<float, T> threshold;
+  std::array<float, T> dryness;
   const double full_film = std::max(brush.fullFilmMm(), 1e-12);
   for (int t = 0; t < T; ++t) {
     const double load = brush.cell(t).volume_mm3 / texel_area / full_film;
-    const double dryness = std::clamp(1 - load / params.dry_load, 0.0, 1.0);
-    threshold[t] = static_cast<float>(params.dry_threshold * dryness);
+    dryness[t] = static_cast<float>(std::clamp(1 - load / params.dry_load, 0.0, 1.0));
   }
 
   // 1. Who touches what, and how hard.
@@ -405,14 +519,18 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
       const float contact = x * (2 - x);
       if (contact <= 0) continue;
       const int t = map.texel(px[0], px[1]);
-      // A texel running dry gives paint only where the paper stands high enough
-      // (tooth) and its hair still holds some (hair_bias): broken, streaky marks.
-      const float gate = std::clamp(
-          (canvas.tooth(i) + hair_bias[t % BrushTexelMap::kColumns] - threshold[t]) *
-                  kInvDryEdge +
-              1.0f,
-          0.0f, 1.0f);
-      const float dep = contact * gate;
+      // Hairs differ (hairNoise, fixed per hair, so its effects streak along
+      // the stroke): a hair holding less lays a thinner film (streaks), and
+      // as its texel runs dry it gives paint only where the paper stands
+      // higher (tooth) than a threshold that grows with the dryness, sooner
+      // for the barer hairs: streaks along travel, broken by the grain's
+      // valleys (dry brush). A texel that is not running dry is not gated.
+      const float hair = map.hairNoise(px[0], px[1]);
+      const float d = dryness[t];
+      const float need = d * (dry_threshold - d * kHairVariation * (hair - 0.5f));
+      const float gate =
+          std::clamp((canvas.tooth(i) - need) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
+      const float dep = contact * gate * (1 + streaks * (hair - 0.5f));
       touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), contact,
                          dep});
       demand[t] += dep;

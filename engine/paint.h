@@ -28,6 +28,8 @@
 
 namespace bristle {
 
+class BrushSurface;
+
 // One cell of paint: a brush texel or a canvas pixel's wet layer.
 struct PaintCell {
   float volume_mm3 = 0;
@@ -68,6 +70,16 @@ class BrushTexelMap {
     return strip_root_width_mm_ +
            (strip_tip_width_mm_ - strip_root_width_mm_) * std::clamp(v, 0.0f, 1.0f);
   }
+  // Which hair a texture coordinate lies on, as a value in [0, 1] fixed per
+  // hair: hairs differ in how much paint they hold and lay down, and a hair
+  // keeps its place in the bundle, so what depends on this value streaks
+  // along the direction of travel (docs/paint.md, "Hair streaks"). It is
+  // smooth value noise over the hair's place in the bundle, in mm: around the
+  // rest surface's cross-section for the surface (so a round streaks whichever
+  // way it moves), across the width for the spines' tubes, and one value per
+  // hair strip. Features are kHairStreakMm wide and half that.
+  float hairNoise(float u, float v) const;
+  static constexpr double kHairStreakMm = 0.5;
   static float columnCentre(int col) { return (col + 0.5f) / kColumns; }
   static float rowCentre(int row) { return (row + 0.5f) / kRows; }
   // Area (mm^2) one texel of the brush's paint texture stands for.
@@ -86,6 +98,15 @@ class BrushTexelMap {
   std::vector<float> spine_dw_;   // per spine: its width at the root, in w
   std::vector<float> strip_w_;    // per strip texture row: w of its root
   std::vector<float> surface_w_;  // kSurfaceBinsV x kSurfaceBinsU: w of the rest surface
+  // Hair noise (hairNoise): tables kHairTableStepMm apart over the rest
+  // surface's perimeter (periodic) and over the brush's width, and one value
+  // per strip. surface_s_ is the arc length (mm) around the rest cross-section
+  // at each surface u bin's edge (kSurfaceBinsU + 1 values, 0 to the perimeter).
+  static constexpr double kHairTableStepMm = 0.02;
+  std::vector<float> surface_s_;
+  std::vector<float> hair_around_, hair_across_, strip_hair_;
+  float inv_step_around_ = 0;  // table entries per mm around the surface
+  void buildSurfaceHair(const BrushSurface& surface);
 };
 
 // Inline: called once per touching pixel per step.
@@ -107,6 +128,28 @@ inline float BrushTexelMap::across(float u, float v) const {
   const int bu = std::min(kSurfaceBinsU - 1, static_cast<int>(uw * kSurfaceBinsU));
   const int bv = std::clamp(static_cast<int>(v * kSurfaceBinsV), 0, kSurfaceBinsV - 1);
   return surface_w_[bv * kSurfaceBinsU + bu];
+}
+
+inline float BrushTexelMap::hairNoise(float u, float v) const {
+  (void)v;
+  if (u >= kSpineTextureOffsetU) {
+    if (hair_across_.empty()) return 0.5f;
+    const float w = across(u, v);
+    const size_t n = hair_across_.size() - 1;
+    return hair_across_[std::min(n, static_cast<size_t>(w * n + 0.5f))];
+  }
+  if (u >= kStripTextureOffsetU) {
+    if (strip_hair_.empty()) return 0.5f;
+    const int k = std::clamp(static_cast<int>((u - kStripTextureOffsetU) * strips_), 0,
+                             strips_ - 1);
+    return strip_hair_[k];
+  }
+  if (hair_around_.empty()) return 0.5f;
+  const float uw = (u - std::floor(u)) * kSurfaceBinsU;
+  const int b = std::min(kSurfaceBinsU - 1, static_cast<int>(uw));
+  const float s = surface_s_[b] + (uw - b) * (surface_s_[b + 1] - surface_s_[b]);
+  const size_t n = hair_around_.size();
+  return hair_around_[static_cast<size_t>(s * inv_step_around_ + 0.5f) % n];
 }
 
 inline int BrushTexelMap::texel(float u, float v) const {
@@ -242,10 +285,19 @@ struct TransferParams {
   // A texel hands over at most this fraction of its paint in one step.
   double max_out_fraction = 0.5;
   // Below this fraction of a full load a texel begins to run dry: it deposits only
-  // where the paper's tooth (0 valley .. 1 peak, shifted per hair) exceeds a
-  // threshold growing to dry_threshold when empty, so a spent brush marks only the
-  // paper's peaks and the best-loaded hairs: broken, scratchy marks.
+  // where the paper's tooth (0 valley .. 1 peak) exceeds a threshold growing
+  // with its dryness to about dry_threshold when empty, higher for the barer
+  // hairs and lower for the better loaded (BrushTexelMap::hairNoise), so a
+  // spent brush draws its best hairs' lines, broken where the grain dips:
+  // dry brush.
   double dry_load = 0.25;
+  // How unevenly the hairs lay paint: a hair with hair noise n in [0, 1]
+  // deposits 1 + hair_streaks * (n - 1/2) times what an even bundle would
+  // (the mean stays 1), so the wet film settles (deposit against pickup)
+  // (1 + h/2) / (1 - h/2) = 2.3 times as thick under the best-loaded hairs
+  // as under the barest at h = 0.8: streaks along the stroke (docs/paint.md,
+  // "Hair streaks").
+  double hair_streaks = 0.8;
   double dry_threshold = 0.9;
   // Paint flows within each column of the brush texture (one lateral position of
   // the bundle) towards texels that lost paint, the belly feeding the tip by

@@ -24,12 +24,13 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
   const Eigen::Vector3d brush_x = state.handle.rotation * Eigen::Vector3d::UnitX();
   const size_t ns = brush.spines.size();
   constexpr int F = kTubeFacets;
-  std::vector<Eigen::Vector3d> ring;
+  std::vector<Eigen::Vector3d> ring, sides;
   for (size_t s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush.spines[s];
     const std::vector<Eigen::Vector3d>& x = state.spines[s].joints_mm;
     const int n = spec.jointCount();
     ring.assign((n + 1) * (F + 1), Eigen::Vector3d::Zero());
+    sides.assign(n + 1, Eigen::Vector3d::Zero());
     for (int j = 0; j <= n; ++j) {
       // Tangent at joint j: the mean of the adjacent segment directions.
       Eigen::Vector3d t = Eigen::Vector3d::Zero();
@@ -45,6 +46,7 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
       // "across", engine/paint.h).
       if (side.dot(brush_x) > 0) side = -side;
       side.normalize();
+      sides[j] = side;
       Eigen::Vector3d down = t.cross(side);
       if (down.z() > 0) down = -down;
       // The bundle flattens on the paper (see bundleSpread): the distance to
@@ -57,28 +59,56 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
         ring[j * (F + 1) + k] = x[j] + r * (spread * std::cos(a) * side + std::sin(a) * down);
       }
     }
+    // Where a point of the bundle lies across it, as the texture's u: the
+    // bundle's hair keeps its place across the brush, so a point spread
+    // sideways (bundleSpread) by d mm from the spine stands for the hair
+    // that lies d mm out at rest, u = s + 1/2 + d / width, clamped to the
+    // spine's own [s, s + 1] (its edge hairs). Neighbouring spines then
+    // agree on the hair at a point where their bundles meet, and a double
+    // load blends across the seam instead of changing colour at it.
+    auto acrossU = [&](int j, const Eigen::Vector3d& p) {
+      const double d = -(p - x[j]).dot(sides[j]);  // towards the brush's +x
+      const double width = spec.width_mm[j] > 0 ? spec.width_mm[j] : 1.0;
+      return static_cast<float>((s + std::clamp(0.5 + d / width, 0.0, 1.0)) / ns);
+    };
     auto vtx = [&](int j, int k) {
       const Eigen::Vector3d& p = ring[j * (F + 1) + k];
       return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
-                         static_cast<float>(p.z()), static_cast<float>((s + double(k) / F) / ns),
+                         static_cast<float>(p.z()), acrossU(j, p),
                          static_cast<float>(double(j) / n)};
     };
     // Round the bundle off at every joint with the lower half of a sphere of the
     // same radius: a joint that touches the canvas (a hair tip poking straight
-    // down, say) always shows, however steeply its segments rise.
+    // down, say) always shows, however steeply its segments rise. Its u runs
+    // across the bundle as the tube's does (acrossU), so that the hairs at
+    // the tip keep their place across the brush: a flat's pressed tips carry
+    // both paints of a double load, and each hair its own streak
+    // (engine/paint.h, hairNoise).
     for (int j = 1; j <= n; ++j) {
       const double r = 0.5 * spec.width_mm[j];
       if (r <= 0) continue;
       const double spread = bundleSpread(r, x[j].z());
+      // The hairs of a bundle end together, cut to length: past the last
+      // joint the bundle ends in a face, not a dome. So the tip's cap
+      // reaches only kTipCapDepth of its radius beyond the tip along the
+      // hair, in proportion to how flat the hair lies (a tip poking
+      // straight down keeps its full depth below the joint: that is the
+      // contact, eq. 5). A flat's stroke then starts and ends square.
+      Eigen::Vector2d along = Eigen::Vector2d::Zero();
+      if (j == n) {
+        const Eigen::Vector3d t = (x[n] - x[n - 1]).normalized();
+        along = t.head<2>();  // |along| = cos(elevation)
+      }
+      const double squash = 1 - kTipCapDepth;
       auto cap = [&](int lat, int lon) {  // lat 0 = lowest point .. kCapRings = equator
         const double polar = 0.5 * std::numbers::pi * lat / kCapRings;
         const double az = 2 * std::numbers::pi * lon / (2 * F);
-        const Eigen::Vector3d p =
-            x[j] + r * Eigen::Vector3d(spread * std::sin(polar) * std::cos(az),
-                                       spread * std::sin(polar) * std::sin(az),
-                                       -std::cos(polar));
+        Eigen::Vector2d flat(spread * std::sin(polar) * std::cos(az),
+                             spread * std::sin(polar) * std::sin(az));
+        flat -= squash * flat.dot(along) * along;
+        const Eigen::Vector3d p = x[j] + r * Eigen::Vector3d(flat.x(), flat.y(), -std::cos(polar));
         return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
-                           static_cast<float>(p.z()), static_cast<float>((s + 0.5) / ns),
+                           static_cast<float>(p.z()), acrossU(j, p),
                            static_cast<float>(double(j) / n)};
       };
       for (int lat = 0; lat < kCapRings; ++lat)

@@ -28,6 +28,10 @@ struct BrushVertex {
 inline constexpr int kTubeFacets = 8;
 // Latitude rings of the half sphere that rounds the bundle at each joint.
 inline constexpr int kCapRings = 3;
+// How far the cap at a spine's tip reaches past the tip along a lying hair,
+// as a fraction of the bundle's radius there: the hairs end in a cut face,
+// so a flat bundle's end is nearly square (buildSpineGeometry).
+inline constexpr double kTipCapDepth = 0.3;
 
 // How much a spine's hair bundle widens, pressed against the canvas. At rest
 // the bundle is round, of radius r. The solver keeps the spine itself above

@@ -195,6 +195,57 @@ TEST_CASE("mark_measure: lines down a column, with one-pixel breaks bridged", "[
   CHECK(inkedPixels(img, 1.0) == 0);  // inked means above the threshold
 }
 
+TEST_CASE("mark_measure: streaks along travel by the structure tensor", "[mark]") {
+  // Stripes that vary only across x: every dv/dy is 0 exactly, so the measure
+  // is exactly +1 for travel along y and -1 for travel along x.
+  Coverage stripes(40, 40);
+  for (int r = 0; r < 40; ++r)
+    for (int c = 0; c < 40; ++c) stripes.at(c, r) = (c / 2) % 2 ? 1.0f : 0.2f;
+  CHECK(streakAnisotropy(stripes, 0, 40, 0, 40, Axis::kY) == 1.0);
+  CHECK(streakAnisotropy(stripes, 0, 40, 0, 40, Axis::kX) == -1.0);
+  // A checkerboard of square cells changes as much along x as along y: 0, up
+  // to the window's edges (a 38 x 38 window of 4-pixel cells is symmetric, so
+  // exactly 0 but for float sums: 1e-12).
+  Coverage checks(40, 40);
+  for (int r = 0; r < 40; ++r)
+    for (int c = 0; c < 40; ++c) checks.at(c, r) = ((c / 4) + (r / 4)) % 2 ? 1.0f : 0.0f;
+  CHECK(std::fabs(streakAnisotropy(checks, 0, 40, 0, 40, Axis::kY)) < 1e-12);
+  // Even ink: no streaks at all.
+  Coverage even(20, 20);
+  for (float& v : even.v) v = 0.7f;
+  CHECK(streakAnisotropy(even, 0, 20, 0, 20, Axis::kY) == 0.0);
+  // Out-of-image windows are clipped, not read past the edge.
+  CHECK(streakAnisotropy(stripes, -5, 100, -5, 100, Axis::kY) == 1.0);
+}
+
+TEST_CASE("mark_measure: the spread of a stroke's ends", "[mark]") {
+  // A stroke along x over columns 10..49 and rows 5..24, at 8 px/mm; row 5
+  // (its edge) starts 4 px late and row 12 stops 2 px early.
+  Coverage img(60, 30, 8);
+  for (int r = 5; r < 25; ++r)
+    for (int c = 10; c < 50; ++c) img.at(c, r) = 1;
+  for (int c = 10; c < 14; ++c) img.at(c, 5) = 0;
+  img.at(48, 12) = img.at(49, 12) = 0;
+  const EndSpread e = endSpread(img, Axis::kX);
+  CHECK(e.lanes == 20);
+  CHECK(e.start_mm == Approx(4.0 / 8));
+  CHECK(e.stop_mm == Approx(2.0 / 8));
+  // Trimming 5 % of the 20-row width drops one row on each side: row 5 goes.
+  const EndSpread t = endSpread(img, Axis::kX, 0.05);
+  CHECK(t.lanes == 18);
+  CHECK(t.start_mm == 0.0);
+  CHECK(t.stop_mm == Approx(2.0 / 8));
+  // The same stroke turned to run along y.
+  Coverage turned(30, 60, 8);
+  for (int r = 0; r < 60; ++r)
+    for (int c = 0; c < 30; ++c) turned.at(c, r) = img.at(r, c);
+  const EndSpread u = endSpread(turned, Axis::kY);
+  CHECK(u.start_mm == Approx(4.0 / 8));
+  CHECK(u.stop_mm == Approx(2.0 / 8));
+  // No ink: nothing measured.
+  CHECK(endSpread(Coverage(10, 10), Axis::kX).lanes == 0);
+}
+
 TEST_CASE("mark_measure: coverage from RGBA, against the paper or from alpha", "[mark]") {
   // Paper #f6f1e6 at the top-left, black paint, and paint at half the paper's luminance.
   std::vector<std::uint8_t> px = {0xf6, 0xf1, 0xe6, 255, 0, 0, 0, 255, 0x7b, 0x79, 0x73, 255};

@@ -222,6 +222,64 @@ int lineCount(const Coverage& img, int column, double threshold, int merge_gap_p
   return lines;
 }
 
+double streakAnisotropy(const Coverage& img, int c0, int c1, int r0, int r1, Axis travel) {
+  c0 = std::max(c0, 1);
+  r0 = std::max(r0, 1);
+  c1 = std::min(c1, img.w - 1);
+  r1 = std::min(r1, img.h - 1);
+  double jx = 0, jy = 0;
+  for (int r = r0; r < r1; ++r)
+    for (int c = c0; c < c1; ++c) {
+      const double gx = 0.5 * (img.at(c + 1, r) - img.at(c - 1, r));
+      const double gy = 0.5 * (img.at(c, r + 1) - img.at(c, r - 1));
+      jx += gx * gx;
+      jy += gy * gy;
+    }
+  if (!(jx + jy > 0)) return 0;
+  const double across = travel == Axis::kX ? jy : jx, along = travel == Axis::kX ? jx : jy;
+  return (across - along) / (across + along);
+}
+
+EndSpread endSpread(const Coverage& img, Axis travel, double trim, double threshold) {
+  // Lane k across the stroke, position i along it.
+  const bool along_x = travel == Axis::kX;
+  const int lanes = along_x ? img.h : img.w, length = along_x ? img.w : img.h;
+  auto inked = [&](int k, int i) {
+    return (along_x ? img.at(i, k) : img.at(k, i)) > threshold;
+  };
+  std::vector<int> count(lanes, 0);
+  for (int k = 0; k < lanes; ++k)
+    for (int i = 0; i < length; ++i) count[k] += inked(k, i);
+  int first = -1, last = -1;
+  for (int k = 0; k < lanes; ++k)
+    if (count[k] >= 0.05 * length) {
+      if (first < 0) first = k;
+      last = k;
+    }
+  EndSpread e;
+  if (first < 0) return e;
+  const int drop = static_cast<int>(std::floor(trim * (last - first + 1)));
+  int start_lo = length, start_hi = -1, stop_lo = length, stop_hi = -1;
+  for (int k = first + drop; k <= last - drop; ++k) {
+    int a = -1, b = -1;
+    for (int i = 0; i < length; ++i)
+      if (inked(k, i)) {
+        if (a < 0) a = i;
+        b = i;
+      }
+    if (a < 0) continue;  // a gap across the stroke: no end to measure
+    start_lo = std::min(start_lo, a);
+    start_hi = std::max(start_hi, a);
+    stop_lo = std::min(stop_lo, b);
+    stop_hi = std::max(stop_hi, b);
+    ++e.lanes;
+  }
+  if (e.lanes == 0) return e;
+  e.start_mm = (start_hi - start_lo) / img.px_per_mm;
+  e.stop_mm = (stop_hi - stop_lo) / img.px_per_mm;
+  return e;
+}
+
 long inkedPixels(const Coverage& img, double threshold) {
   long n = 0;
   for (float v : img.v) n += v > threshold;

@@ -92,6 +92,29 @@ double inkBeyondMm(const Coverage& img, double x_mm, int side = -1, double thres
 // (the paper's grain breaks a line without making it two). 0 outside the image.
 int lineCount(const Coverage& img, int column, double threshold = 0.1, int merge_gap_px = 1);
 
+// Streaks along the direction of travel, from the structure tensor of the ink
+// over a window (columns [c0, c1), rows [r0, r1), clipped to the image so that
+// central differences stay inside it): J_x = sum of (dv/dx)^2, J_y = sum of
+// (dv/dy)^2. Returns (J_across - J_along) / (J_across + J_along) for a stroke
+// travelling along `travel`: +1 when the ink changes only across the stroke
+// (streaks exactly along it), -1 when only along it (bands across it), 0 for
+// texture with no direction (a grain's dots) and for a window of even ink.
+double streakAnisotropy(const Coverage& img, int c0, int c1, int r0, int r1, Axis travel);
+
+// How square a stroke's ends are. The stroke runs along `travel` (Axis::kX:
+// along the columns, its ends left and right). Its width is the lanes across
+// it (rows for kX, columns for kY) inked over at least 5 % of their length;
+// `trim` of that width is dropped from each side (a bundle's edge). For each
+// remaining lane, where the ink starts and stops along the stroke; the spread
+// (max - min, mm) of those starts is the start end's raggedness, of the stops
+// the stop end's. A square-ended rectangle gives 0 at both.
+struct EndSpread {
+  double start_mm = 0, stop_mm = 0;
+  int lanes = 0;  // lanes measured (0 without ink)
+};
+EndSpread endSpread(const Coverage& img, Axis travel, double trim = 0.0,
+                    double threshold = 0.1);
+
 // Inked pixels of the whole image.
 long inkedPixels(const Coverage& img, double threshold = 0.1);
 
