@@ -18,19 +18,41 @@ double bundleSpread(double radius_mm, double reach_mm) {
   return area / (area - segment);
 }
 
+double bundlePressDepth(double radius_mm, double load_n) {
+  if (!(radius_mm > 0) || !(load_n > 0)) return 0;
+  return radius_mm * std::min(1.0, load_n / kBundleFlatLoadN);
+}
+
 void buildSpineGeometry(const Brush& brush, const BrushState& state,
                         std::vector<BrushVertex>* triangles) {
   // Fallback side direction for a vertical segment: the brush frame's x axis.
   const Eigen::Vector3d brush_x = state.handle.rotation * Eigen::Vector3d::UnitX();
   const size_t ns = brush.spines.size();
   constexpr int F = kTubeFacets;
-  std::vector<Eigen::Vector3d> ring, sides;
+  std::vector<Eigen::Vector3d> ring, sides, centre;
   for (size_t s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush.spines[s];
     const std::vector<Eigen::Vector3d>& x = state.spines[s].joints_mm;
     const int n = spec.jointCount();
     ring.assign((n + 1) * (F + 1), Eigen::Vector3d::Zero());
     sides.assign(n + 1, Eigen::Vector3d::Zero());
+    // How hard this spine's bundle presses the paper: the canvas forces on its
+    // joints (eq. 5's multipliers). The solver puts the contact load on
+    // whichever joints are held on the canvas, while the hair between them
+    // lies along the paper and shares it, so the load is the spine's, not
+    // the joint's.
+    double load_n = 0;
+    for (double f : state.spines[s].solution.normal_force_n) load_n += f;
+    // Each joint's bundle: its centre raised until the half sphere around it
+    // (the part that reaches lowest) is only as deep below the canvas as the
+    // load presses it, see kBundleFlatLoadN.
+    centre.assign(n + 1, Eigen::Vector3d::Zero());
+    for (int j = 0; j <= n; ++j) {
+      const double r = 0.5 * spec.width_mm[j];
+      const double sunk = r - std::max(x[j].z(), 0.0);  // below the canvas, as placed
+      const double raise = std::max(0.0, sunk - bundlePressDepth(r, load_n));
+      centre[j] = x[j] + raise * Eigen::Vector3d::UnitZ();
+    }
     for (int j = 0; j <= n; ++j) {
       // Tangent at joint j: the mean of the adjacent segment directions.
       Eigen::Vector3d t = Eigen::Vector3d::Zero();
@@ -52,11 +74,12 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
       // The bundle flattens on the paper (see bundleSpread): the distance to
       // the canvas is measured along `down`, the direction the tube reaches it.
       const double r = 0.5 * spec.width_mm[j];
-      const double reach = down.z() < -1e-9 ? x[j].z() / -down.z() : r;
+      const Eigen::Vector3d& c = centre[j];
+      const double reach = down.z() < -1e-9 ? c.z() / -down.z() : r;
       const double spread = bundleSpread(r, reach);
       for (int k = 0; k <= F; ++k) {
         const double a = std::numbers::pi * k / F;
-        ring[j * (F + 1) + k] = x[j] + r * (spread * std::cos(a) * side + std::sin(a) * down);
+        ring[j * (F + 1) + k] = c + r * (spread * std::cos(a) * side + std::sin(a) * down);
       }
     }
     // Where a point of the bundle lies across it, as the texture's u: the
@@ -67,7 +90,7 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
     // agree on the hair at a point where their bundles meet, and a double
     // load blends across the seam instead of changing colour at it.
     auto acrossU = [&](int j, const Eigen::Vector3d& p) {
-      const double d = -(p - x[j]).dot(sides[j]);  // towards the brush's +x
+      const double d = -(p - centre[j]).dot(sides[j]);  // towards the brush's +x
       const double width = spec.width_mm[j] > 0 ? spec.width_mm[j] : 1.0;
       return static_cast<float>((s + std::clamp(0.5 + d / width, 0.0, 1.0)) / ns);
     };
@@ -87,7 +110,8 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
     for (int j = 1; j <= n; ++j) {
       const double r = 0.5 * spec.width_mm[j];
       if (r <= 0) continue;
-      const double spread = bundleSpread(r, x[j].z());
+      const Eigen::Vector3d& c = centre[j];
+      const double spread = bundleSpread(r, c.z());
       // The hairs of a bundle end together, cut to length: past the last
       // joint the bundle ends in a face, not a dome. So the tip's cap
       // reaches only kTipCapDepth of its radius beyond the tip along the
@@ -106,7 +130,7 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
         Eigen::Vector2d flat(spread * std::sin(polar) * std::cos(az),
                              spread * std::sin(polar) * std::sin(az));
         flat -= squash * flat.dot(along) * along;
-        const Eigen::Vector3d p = x[j] + r * Eigen::Vector3d(flat.x(), flat.y(), -std::cos(polar));
+        const Eigen::Vector3d p = c + r * Eigen::Vector3d(flat.x(), flat.y(), -std::cos(polar));
         return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
                            static_cast<float>(p.z()), acrossU(j, p),
                            static_cast<float>(double(j) / n)};

@@ -119,6 +119,13 @@ void blendStates(const BrushState& a, const BrushState& b, double t, BrushState*
                      .toRotationMatrix();
     o.contact = sb.contact;
     o.sliding = sb.sliding;
+    // The canvas loads too: they set how far each bundle is pressed into the
+    // paper (engine/spine_strips.h, kBundleFlatLoadN).
+    const std::vector<double>& fa = sa.solution.normal_force_n;
+    const std::vector<double>& fb = sb.solution.normal_force_n;
+    o.solution.normal_force_n.resize(fb.size());
+    for (size_t j = 0; j < fb.size(); ++j)
+      o.solution.normal_force_n[j] = (j < fa.size() ? fa[j] : 0.0) * (1 - t) + fb[j] * t;
   }
 }
 

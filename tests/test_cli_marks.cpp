@@ -271,10 +271,11 @@ TEST_CASE("marks: a flat's broadside pull starts square", "[marks]") {
   // 0.75 mm for both.
   //
   // The stop end is not square yet: lifted straight up, the hairs spring
-  // back and each spine's tip, pointing down as it leaves, draws a round cap,
-  // so the stop end varies by 1.6-1.75 mm over the whole width. Over the
-  // width less 5 % at each side (0.65 mm: the edge hairs, which lift first)
-  // it varies by under 1 mm, as it did before (0.5 mm; 0.5-0.9 mm now).
+  // back and each spine's tip, pointing down as it leaves, draws a round cap
+  // at the corners, so the stop end varies by 1.5 mm (flat) and 1.9 mm
+  // (bright) over the whole width. Over the width less 5 % at each side
+  // (0.65 mm: the edge hairs, which lift first) it varies by under 1 mm, as
+  // it did before (0.5 mm; 0.875 and 0.375 mm now).
   constexpr double kEdgeTrim = 0.05;
   const char* name = GENERATE("flat", "bright");
   INFO(name);

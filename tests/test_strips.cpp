@@ -512,10 +512,13 @@ TEST_CASE("a spine lying on the paper dresses in a bundle twice as wide", "[stri
   std::vector<SpineSpec> spines = {makeSpine({5, 5, 5}, {8, 6, 4}, 0.005, Eigen::Vector3d::Zero())};
   spines[0].width_mm.assign(4, w);
   const Brush b = makeBrush(spines, 0.4, 0.3);
-  auto lateralSpanAt = [&](double height_mm) {
+  // Pressed with the load that flattens a bundle (kBundleFlatLoadN), shared
+  // by its three joints, unless told.
+  auto lateralSpanAt = [&](double height_mm, double load_n = kBundleFlatLoadN) {
     BrushState st = restState(b, poseAt(0, 0, 20));
     std::vector<Eigen::Vector3d>& x = st.spines[0].joints_mm;
     for (int k = 0; k <= 3; ++k) x[k] = Eigen::Vector3d(5.0 * k, 0, height_mm);
+    st.spines[0].solution.normal_force_n.assign(3, load_n / 3);
     std::vector<BrushVertex> tris;
     buildSpineGeometry(b, st, &tris);
     double lo = 1e9, hi = -1e9, zmin = 1e9;
@@ -540,4 +543,24 @@ TEST_CASE("a spine lying on the paper dresses in a bundle twice as wide", "[stri
   CHECK(half > w + 0.1);
   CHECK(half < 2 * w - 0.1);
   CHECK(half == Approx(w * bundleSpread(w / 2, w / 4)).margin(kSpanTolMm));
+  // Lying on the paper with no load (the solver holds the spine on the canvas
+  // whatever presses it, eq. 5): the bundle rests on the paper, round.
+  const auto [resting, resting_z] = lateralSpanAt(0.0, 0.0);
+  CHECK(resting == Approx(w).margin(kSpanTolMm));
+  CHECK(resting_z == Approx(0).margin(kSpanTolMm));
+  // Half the flattening load presses it half its radius into the paper,
+  // where it spreads as a bundle whose axis is that far above the paper.
+  const auto [light, light_z] = lateralSpanAt(0.0, kBundleFlatLoadN / 2);
+  CHECK(light_z == Approx(-w / 4).margin(kSpanTolMm));
+  CHECK(light == Approx(w * bundleSpread(w / 2, w / 4)).margin(kSpanTolMm));
+}
+
+TEST_CASE("a bundle is pressed into the paper only as far as its load presses it", "[strips]") {
+  const double r = 0.4;
+  CHECK(bundlePressDepth(r, 0.0) == 0.0);
+  CHECK(bundlePressDepth(r, -1.0) == 0.0);
+  CHECK(bundlePressDepth(0.0, 1.0) == 0.0);
+  CHECK(bundlePressDepth(r, kBundleFlatLoadN / 4) == Approx(r / 4).epsilon(1e-12));
+  CHECK(bundlePressDepth(r, kBundleFlatLoadN) == Approx(r).epsilon(1e-12));
+  CHECK(bundlePressDepth(r, 10 * kBundleFlatLoadN) == Approx(r).epsilon(1e-12));  // flat at most
 }
