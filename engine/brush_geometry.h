@@ -43,7 +43,6 @@ class BrushGeometry {
   // the parts fine enough to leave gaps between a step's stamps.
   void buildHair(const BrushState& state, std::vector<BrushVertex>* triangles);
 
-  bool hasSurface() const { return surface_ != nullptr; }
   const Brush& brush() const { return *brush_; }
 
  private:

@@ -219,9 +219,8 @@ class PaintCanvas {
   const PaintCell& wet(size_t i) const { return wet_[i]; }
   // Paper tooth at a pixel: 0 in the deepest valley, 1 on the highest peak.
   float tooth(size_t i) const { return tooth_[i]; }
-  // Linear reflectance of the dry layer (paper and dried paint) and its height (mm).
+  // Linear reflectance of the dry layer (paper and dried paint).
   const std::array<float, 3>& dryReflectance(size_t i) const { return dry_[i]; }
-  float dryHeightMm(size_t i) const { return dry_height_[i]; }
 
   // The wet layer dries onto the dry layer (a scene's dry_before): composited
   // over it, its thickness added to the dry height; the wet layer is emptied.

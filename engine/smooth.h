@@ -10,15 +10,6 @@
 
 namespace bristle {
 
-// |v| ~ sqrt(v^2 + eps^2) - eps, with first and second derivatives.
-struct Smooth1 {
-  double f, df, ddf;
-};
-inline Smooth1 smoothAbs(double v, double eps) {
-  const double r = std::sqrt(v * v + eps * eps);
-  return {r - eps, v / r, eps * eps / (r * r * r)};
-}
-
 // ||v|| of a 2-vector ~ sqrt(v.v + eps^2) - eps, with gradient and Hessian.
 struct Smooth2 {
   double f;

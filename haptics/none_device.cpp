@@ -60,11 +60,8 @@ DeviceStatus NoneDevice::beginFrame(DeviceFrame* out) {
   return {};
 }
 
-DeviceStatus NoneDevice::endFrame(const Eigen::Vector3d& force_n) {
-  forces_.fetch_add(1, std::memory_order_relaxed);
-  const double m = force_n.norm();
-  if (m > max_force_n_.load(std::memory_order_relaxed)) max_force_n_.store(m);
-  return {};
+DeviceStatus NoneDevice::endFrame(const Eigen::Vector3d& /*force_n*/) {
+  return {};  // no motors: the force is logged by the session, not sent anywhere
 }
 
 }  // namespace bristle::haptics

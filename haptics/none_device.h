@@ -33,9 +33,6 @@ class NoneDevice : public Device {
   DeviceStatus beginFrame(DeviceFrame* out) override;
   DeviceStatus endFrame(const Eigen::Vector3d& force_n) override;
 
-  // The forces it was sent: how many, and the largest magnitude.
-  long forcesReceived() const { return forces_.load(); }
-  double maxForceN() const { return max_force_n_.load(); }
   // Whether the servo thread got real-time (SCHED_FIFO) priority.
   bool realtime() const { return realtime_.load(); }
   static constexpr int kRealtimePriority = 80;  // below the kernel's own (99)
@@ -48,8 +45,6 @@ class NoneDevice : public Device {
   std::thread thread_;
   std::atomic<bool> stop_{false};
   long tick_ = 0;  // servo thread only
-  std::atomic<long> forces_{0};
-  std::atomic<double> max_force_n_{0};
   std::atomic<bool> realtime_{false};
 };
 

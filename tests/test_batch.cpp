@@ -15,6 +15,7 @@
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "test_helpers.h"
+#include "temp_dir.h"
 
 using namespace bristle;
 using Catch::Matchers::Contains;
@@ -48,23 +49,7 @@ std::pair<int, std::string> shardError(const std::string& text) {
   return {};
 }
 
-// A scratch folder under the system temp dir, removed at the end.
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    std::string t = (fs::temp_directory_path() / "bristle-batch-XXXXXX").string();
-    dir = ::mkdtemp(t.data());
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    fs::create_directories((dir / name).parent_path());
-    std::ofstream(dir / name) << text;
-    return (dir / name).string();
-  }
-};
+using bristle::testing::TempDir;
 
 }  // namespace
 
@@ -274,13 +259,13 @@ TEST_CASE("batch job command lines: sorted options, flags, lists", "[batch]") {
 }
 
 TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]") {
-  Scratch a, b;
+  TempDir a, b;
   const std::string brush = "{\"brush\": 1}\n", traj = "t_s\n0\n";
-  const auto job = [](const Scratch& s, const std::string& options) {
+  const auto job = [](const TempDir& s, const std::string& options) {
     BatchManifest m = parseBatchManifest(
         R"({"format": "bristle-batch/1", "jobs": [{"id": "x", "brush": "b.json",
             "trajectory": "t.csv", "options": )" + options + "}]}",
-        (s.dir / "m.json").string(), s.dir.string());
+        (s.path() / "m.json").string(), s.path().string());
     return m.jobs[0];
   };
   a.write("b.json", brush);
@@ -301,7 +286,7 @@ TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]
   // A preview of the same files is another render: another key.
   const BatchJob jp = parseBatchManifest(
       R"({"format": "bristle-batch/1", "jobs": [{"id": "x", "preview": "b.json",
-          "trajectory": "t.csv"}]})", (a.dir / "m.json").string(), a.dir.string()).jobs[0];
+          "trajectory": "t.csv"}]})", (a.path() / "m.json").string(), a.path().string()).jobs[0];
   CHECK(batchJobInputs(jp, "m.json") == batchJobInputs(ja, "m.json"));
   CHECK(batchJobKey(jp, batchJobInputs(jp, "m.json")) != key);
   // The program that renders is part of the key: a rebuilt bristle of the same
@@ -310,7 +295,7 @@ TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]
   CHECK(batchJobKey(ja, batchJobInputs(ja, "m.json"), 1) ==
         batchJobKey(ja, batchJobInputs(ja, "m.json"), 1));
   // A missing input is the job's own error (66), naming the manifest field.
-  fs::remove(b.dir / "b.json");
+  fs::remove(b.path() / "b.json");
   try {
     batchJobInputs(jb, "m.json");
     FAIL("missing brush accepted");
@@ -321,15 +306,15 @@ TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]
 }
 
 TEST_CASE("batch outputs are written beneath --out, never through a symbolic link", "[batch][errors]") {
-  Scratch s;
-  const std::string out = (s.dir / "out").string();
-  fs::create_directories(s.dir / "out");
-  fs::create_directories(s.dir / "elsewhere");
+  TempDir s;
+  const std::string out = (s.path() / "out").string();
+  fs::create_directories(s.path() / "out");
+  fs::create_directories(s.path() / "elsewhere");
   // New folders are created beneath --out and the file renamed into place.
   writeFileBeneath(out, "a/b/x.png", "bytes");
-  CHECK(fs::is_regular_file(s.dir / "out/a/b/x.png"));
+  CHECK(fs::is_regular_file(s.path() / "out/a/b/x.png"));
   writeFileBeneath(out, "a/b/x.png", "again");
-  std::ifstream in(s.dir / "out/a/b/x.png");
+  std::ifstream in(s.path() / "out/a/b/x.png");
   std::string text;
   in >> text;
   CHECK(text == "again");
@@ -337,8 +322,8 @@ TEST_CASE("batch outputs are written beneath --out, never through a symbolic lin
   // A link to a folder outside, at any depth, or as the file itself: refused
   // (73), here where the write happens as well as in the check before a run,
   // so a link made between the two does not let a job out either.
-  fs::create_directory_symlink("../../elsewhere", s.dir / "out/a/link");
-  fs::create_symlink("../elsewhere/victim.png", s.dir / "out/file.png");
+  fs::create_directory_symlink("../../elsewhere", s.path() / "out/a/link");
+  fs::create_symlink("../elsewhere/victim.png", s.path() / "out/file.png");
   for (const std::string rel : {"a/link/x.png", "a/link/new/x.png", "file.png"}) {
     INFO(rel);
     const testing::Caught write = testing::catchError([&] { writeFileBeneath(out, rel, "x"); });
@@ -346,10 +331,10 @@ TEST_CASE("batch outputs are written beneath --out, never through a symbolic lin
     CHECK_THAT(write.message, Contains("is a symbolic link; a batch writes only beneath --out"));
     CHECK(testing::catchError([&] { checkBeneath(out, rel); }).code == 73);
   }
-  CHECK(fs::is_empty(s.dir / "elsewhere"));
-  CHECK(!fs::exists(s.dir / "elsewhere/victim.png"));
+  CHECK(fs::is_empty(s.path() / "elsewhere"));
+  CHECK(!fs::exists(s.path() / "elsewhere/victim.png"));
   // Nothing is left beside the files: no temporary file.
-  for (const auto& e : fs::recursive_directory_iterator(s.dir / "out"))
+  for (const auto& e : fs::recursive_directory_iterator(s.path() / "out"))
     CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
   // A folder not yet made is fine for the check; a file in the way is not.
   CHECK_FALSE(testing::catchError([&] { checkBeneath(out, "new/x.png"); }).thrown);

@@ -17,6 +17,7 @@
 
 #include "render/image_compare.h"
 #include "render/png_io.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using namespace bristle::render;
@@ -58,20 +59,7 @@ Image16 texture(int w, int h) {
   return im;
 }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    path = fs::temp_directory_path() / ("bristle-test-compare-" + std::to_string(::getpid()) +
-                                        "-" + std::to_string(counter++));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-};
+using bristle::testing::TempDir;
 
 }  // namespace
 

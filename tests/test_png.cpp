@@ -16,6 +16,7 @@
 
 #include "engine/error.h"
 #include "render/png_io.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using bristle::Error;
@@ -33,29 +34,16 @@ namespace {
 // of v / 257 up to 16-bit fixed-point error (< 0.01 of an 8-bit step).
 constexpr double kScale16Tol = 0.51;
 
-// A fresh empty directory per test case, removed afterwards.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    path = fs::temp_directory_path() / ("bristle-test-png-" + std::to_string(::getpid()) +
-                                        "-" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  std::vector<std::string> listing() const {
-    std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(path)) {
-      names.push_back(entry.path().filename().string());
-    }
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-};
+using bristle::testing::TempDir;
+
+// The names in a test's folder, sorted.
+std::vector<std::string> listing(const TempDir& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir.path()))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
 
 Image8 patternImage8(int width, int height, int channels) {
   Image8 image{width, height, channels, {}};
@@ -88,7 +76,7 @@ Error expectError(F&& f) {
 
 TEST_CASE("png: 8-bit RGBA round-trips exactly", "[png]") {
   TempDir dir;
-  const std::string path = (dir.path / "rgba.png").string();
+  const std::string path = (dir.path() / "rgba.png").string();
   const Image8 image = patternImage8(7, 5, 4);
   writePng(path, image);
   const Image8 back = readPngRgba8(path);
@@ -96,12 +84,12 @@ TEST_CASE("png: 8-bit RGBA round-trips exactly", "[png]") {
   CHECK(back.height == 5);
   CHECK(back.channels == 4);
   CHECK(back.pixels == image.pixels);
-  CHECK(dir.listing() == std::vector<std::string>{"rgba.png"});
+  CHECK(listing(dir) == std::vector<std::string>{"rgba.png"});
 }
 
 TEST_CASE("png: 8-bit RGB reads back as RGBA with opaque alpha", "[png]") {
   TempDir dir;
-  const std::string path = (dir.path / "rgb.png").string();
+  const std::string path = (dir.path() / "rgb.png").string();
   const Image8 image = patternImage8(6, 3, 3);
   writePng(path, image);
   const Image8 back = readPngRgba8(path);
@@ -117,7 +105,7 @@ TEST_CASE("png: 8-bit RGB reads back as RGBA with opaque alpha", "[png]") {
 
 TEST_CASE("png: grey expands to equal RGB channels", "[png]") {
   TempDir dir;
-  const std::string path = (dir.path / "grey.png").string();
+  const std::string path = (dir.path() / "grey.png").string();
   const Image8 image = patternImage8(4, 4, 1);
   writePng(path, image);
   const Image8 back = readPngRgba8(path);
@@ -129,7 +117,7 @@ TEST_CASE("png: grey expands to equal RGB channels", "[png]") {
 
 TEST_CASE("png: 16-bit is written and read back scaled to 8 bits", "[png]") {
   TempDir dir;
-  const std::string path = (dir.path / "deep.png").string();
+  const std::string path = (dir.path() / "deep.png").string();
   Image16 image{5, 4, 4, {}};
   for (int i = 0; i < 5 * 4 * 4; ++i) {
     // Mix exact multiples of 257 (which must map to k exactly) with odd values.
@@ -155,7 +143,7 @@ TEST_CASE("png: 16-bit is written and read back scaled to 8 bits", "[png]") {
 
 TEST_CASE("png: text chunks round-trip as tEXt, zTXt and iTXt", "[png]") {
   TempDir dir;
-  const std::string path = (dir.path / "text.png").string();
+  const std::string path = (dir.path() / "text.png").string();
   const PngText text = {
       {"Software", "bristle 0.1.0"},
       {"Comment", std::string(600, 'x') + " long enough to be deflated"},
@@ -167,9 +155,9 @@ TEST_CASE("png: text chunks round-trip as tEXt, zTXt and iTXt", "[png]") {
   CHECK(bytes.find("tEXtSoftware") != std::string::npos);
   CHECK(bytes.find("zTXtComment") != std::string::npos);
   CHECK(bytes.find("iTXtTitle") != std::string::npos);
-  CHECK(readPngText((dir.path / "text.png").string()).size() == 3);
+  CHECK(readPngText((dir.path() / "text.png").string()).size() == 3);
 
-  const std::string plain = (dir.path / "plain.png").string();
+  const std::string plain = (dir.path() / "plain.png").string();
   writePng(plain, patternImage8(2, 2, 3));
   CHECK(readPngText(plain).empty());
 }
@@ -177,13 +165,13 @@ TEST_CASE("png: text chunks round-trip as tEXt, zTXt and iTXt", "[png]") {
 TEST_CASE("png: a text chunk added to a file's bytes is read back, pixels untouched",
           "[png][batch]") {
   TempDir dir;
-  const std::string path = (dir.path / "stamp.png").string();
+  const std::string path = (dir.path() / "stamp.png").string();
   const Image8 image = patternImage8(9, 4, 4);
   writePng(path, image, {{"Software", "bristle"}});
   const std::string stamped = bristle::render::withPngText(fileBytes(path), "bristle:batch-key",
                                                            "0123456789abcdef");
-  std::ofstream((dir.path / "stamped.png").string(), std::ios::binary) << stamped;
-  const std::string again = (dir.path / "stamped.png").string();
+  std::ofstream((dir.path() / "stamped.png").string(), std::ios::binary) << stamped;
+  const std::string again = (dir.path() / "stamped.png").string();
   // libpng checks every chunk's CRC when it reads: a wrong CRC would be an error.
   CHECK(readPngRgba8(again).pixels == image.pixels);
   const PngText text = readPngText(again);
@@ -196,63 +184,63 @@ TEST_CASE("png: a text chunk added to a file's bytes is read back, pixels untouc
 
 TEST_CASE("png: an existing file is replaced", "[png]") {
   TempDir dir;
-  const std::string path = (dir.path / "out.png").string();
+  const std::string path = (dir.path() / "out.png").string();
   writePng(path, patternImage8(3, 3, 4));
   const Image8 second = patternImage8(2, 5, 4);
   writePng(path, second);
   CHECK(readPngRgba8(path).pixels == second.pixels);
-  CHECK(dir.listing() == std::vector<std::string>{"out.png"});
+  CHECK(listing(dir) == std::vector<std::string>{"out.png"});
 }
 
 TEST_CASE("png: writing into a missing directory is kCantCreate and leaves nothing",
           "[png]") {
   TempDir dir;
-  const std::string path = (dir.path / "no-such-dir" / "out.png").string();
+  const std::string path = (dir.path() / "no-such-dir" / "out.png").string();
   const Error e = expectError([&] { writePng(path, patternImage8(2, 2, 4)); });
   CHECK(e.code() == ExitCode::kCantCreate);
   CHECK_THAT(e.what(), Catch::StartsWith(path + ": cannot create output: "));
   CHECK_THAT(e.what(), Catch::Contains("No such file or directory"));
-  CHECK(dir.listing().empty());
+  CHECK(listing(dir).empty());
 }
 
 TEST_CASE("png: a target that is a directory is kCantCreate and the temp is removed",
           "[png]") {
   TempDir dir;
-  fs::create_directory(dir.path / "taken.png");
-  const std::string path = (dir.path / "taken.png").string();
+  fs::create_directory(dir.path() / "taken.png");
+  const std::string path = (dir.path() / "taken.png").string();
   const Error e = expectError([&] { writePng(path, patternImage8(2, 2, 4)); });
   CHECK(e.code() == ExitCode::kCantCreate);
-  CHECK(dir.listing() == std::vector<std::string>{"taken.png"});
+  CHECK(listing(dir) == std::vector<std::string>{"taken.png"});
 }
 
 TEST_CASE("png: a missing or unreadable input is kNoInput", "[png]") {
   TempDir dir;
-  const std::string missing = (dir.path / "missing.png").string();
+  const std::string missing = (dir.path() / "missing.png").string();
   Error e = expectError([&] { readPngRgba8(missing); });
   CHECK(e.code() == ExitCode::kNoInput);
   CHECK_THAT(e.what(), Catch::StartsWith(missing + ": cannot read: "));
   CHECK(expectError([&] { readPngText(missing); }).code() == ExitCode::kNoInput);
   // A directory opens but cannot be read.
-  CHECK(expectError([&] { readPngRgba8(dir.path.string()); }).code() == ExitCode::kNoInput);
+  CHECK(expectError([&] { readPngRgba8(dir.path().string()); }).code() == ExitCode::kNoInput);
 }
 
 TEST_CASE("png: a text file named .png is kDataError", "[png]") {
   TempDir dir;
-  const std::string path = (dir.path / "notes.png").string();
+  const std::string path = (dir.path() / "notes.png").string();
   std::ofstream(path) << "this is not an image\n";
   const Error e = expectError([&] { readPngRgba8(path); });
   CHECK(e.code() == ExitCode::kDataError);
   CHECK(std::string(e.what()) == path + ": not a PNG file");
   CHECK(expectError([&] { readPngText(path); }).code() == ExitCode::kDataError);
 
-  std::ofstream(dir.path / "short.png") << "\x89PN";
-  CHECK(expectError([&] { readPngRgba8((dir.path / "short.png").string()); }).code() ==
+  std::ofstream(dir.path() / "short.png") << "\x89PN";
+  CHECK(expectError([&] { readPngRgba8((dir.path() / "short.png").string()); }).code() ==
         ExitCode::kDataError);
 }
 
 TEST_CASE("png: a truncated PNG is kDataError", "[png]") {
   TempDir dir;
-  const fs::path path = dir.path / "cut.png";
+  const fs::path path = dir.path() / "cut.png";
   writePng(path.string(), patternImage8(40, 30, 4));
   fs::resize_file(path, fs::file_size(path) / 2);
   const Error e = expectError([&] { readPngRgba8(path.string()); });
@@ -266,16 +254,16 @@ TEST_CASE("png: an image that does not match its size is a programming error", "
   TempDir dir;
   Image8 image = patternImage8(3, 3, 4);
   image.pixels.pop_back();
-  CHECK_THROWS_AS(writePng((dir.path / "bad.png").string(), image), std::invalid_argument);
-  CHECK_THROWS_AS(writePng((dir.path / "bad.png").string(), patternImage8(2, 2, 4),
+  CHECK_THROWS_AS(writePng((dir.path() / "bad.png").string(), image), std::invalid_argument);
+  CHECK_THROWS_AS(writePng((dir.path() / "bad.png").string(), patternImage8(2, 2, 4),
                            {{"", "empty key"}}),
                   std::invalid_argument);
-  CHECK(dir.listing().empty());
+  CHECK(listing(dir).empty());
 }
 
 TEST_CASE("png: through a symbolic link the target is replaced and the link kept", "[png]") {
   TempDir dir;
-  const fs::path target = dir.path / "target.png", link = dir.path / "link.png";
+  const fs::path target = dir.path() / "target.png", link = dir.path() / "link.png";
   writePng(target.string(), patternImage8(2, 2, 4));
   fs::create_symlink("target.png", link);
   const Image8 second = patternImage8(3, 2, 4);
@@ -283,13 +271,13 @@ TEST_CASE("png: through a symbolic link the target is replaced and the link kept
   CHECK(fs::is_symlink(link));
   CHECK(fs::read_symlink(link) == "target.png");
   CHECK(readPngRgba8(target.string()).pixels == second.pixels);
-  CHECK(dir.listing() == std::vector<std::string>{"link.png", "target.png"});
+  CHECK(listing(dir) == std::vector<std::string>{"link.png", "target.png"});
 }
 
 TEST_CASE("png: a FIFO or a device as the target is kCantCreate and is not replaced",
           "[png]") {
   TempDir dir;
-  const std::string fifo = (dir.path / "fifo.png").string();
+  const std::string fifo = (dir.path() / "fifo.png").string();
   REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
   Error e = expectError([&] { writePng(fifo, patternImage8(2, 2, 4)); });
   CHECK(e.code() == ExitCode::kCantCreate);
@@ -297,11 +285,11 @@ TEST_CASE("png: a FIFO or a device as the target is kCantCreate and is not repla
         fifo + ": cannot create output: is a FIFO; an output must be a regular file");
   CHECK(fs::is_fifo(fifo));
   // Behind a link too: the link is neither followed nor replaced.
-  const fs::path link = dir.path / "null.png";
+  const fs::path link = dir.path() / "null.png";
   fs::create_symlink("/dev/null", link);
   e = expectError([&] { writePng(link.string(), patternImage8(2, 2, 4)); });
   CHECK(e.code() == ExitCode::kCantCreate);
   CHECK(fs::is_symlink(link));
   CHECK(fs::is_character_file("/dev/null"));
-  CHECK(dir.listing() == std::vector<std::string>{"fifo.png", "null.png"});
+  CHECK(listing(dir) == std::vector<std::string>{"fifo.png", "null.png"});
 }

@@ -3,8 +3,6 @@
 // the sysexits code of docs/design.md ("Exit codes") and a one-line message that names the
 // file, the field (JSON pointer, or CSV line and column) and the broken rule.
 
-#include <stdlib.h>  // mkdtemp
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -18,6 +16,7 @@
 #include "engine/error.h"
 #include "engine/trajectory.h"
 #include "test_helpers.h"
+#include "temp_dir.h"
 
 using namespace bristle;
 using bristle::testing::Caught;
@@ -130,24 +129,7 @@ std::string traj(const std::string& header, const std::vector<std::string>& rows
 }
 const std::string kHeader = "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz";
 
-// A fresh directory under the system temp dir, removed at scope exit.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "bristle-readers-XXXXXX").string();
-    REQUIRE(mkdtemp(tmpl.data()) != nullptr);
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return file(name);
-  }
-};
+using bristle::testing::TempDir;
 
 // Quaternions in the CSVs below carry 8 decimals; the angles they give are
 // exact to ~1e-8 rad.
@@ -248,9 +230,9 @@ TEST_CASE("a missing file or a directory is 66 naming the path", "[readers]") {
                      "No such file");
   CHECK_READER_ERROR(loadTrajectory(missing_traj), ExitCode::kNoInput, missing_traj,
                      "No such file");
-  CHECK_READER_ERROR(loadBrush(dir.path.string()), ExitCode::kNoInput, dir.path.string(),
+  CHECK_READER_ERROR(loadBrush(dir.path().string()), ExitCode::kNoInput, dir.path().string(),
                      "directory");
-  CHECK_READER_ERROR(loadTrajectory(dir.path.string()), ExitCode::kNoInput, dir.path.string(),
+  CHECK_READER_ERROR(loadTrajectory(dir.path().string()), ExitCode::kNoInput, dir.path().string(),
                      "directory");
   const std::string in_missing_dir = dir.file("nodir/brush.json");
   CHECK_READER_ERROR(loadBrush(in_missing_dir), ExitCode::kNoInput, in_missing_dir);

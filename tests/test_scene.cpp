@@ -2,8 +2,6 @@
 // into, placement, and every bad input with its exit code and a message that
 // names the file, the JSON pointer and the rule (docs/scene-format.md).
 
-#include <stdlib.h>  // mkdtemp
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +14,7 @@
 #include "engine/error.h"
 #include "engine/scene.h"
 #include "test_helpers.h"
+#include "temp_dir.h"
 
 using namespace bristle;
 using bristle::testing::Caught;
@@ -64,34 +63,14 @@ Caught parseError(const json& j) {
   return catchError([&] { parse(j); });
 }
 
-// A folder of files for loadScene, removed afterwards.
-class Folder {
- public:
-  Folder() {
-    std::string tmpl = (fs::temp_directory_path() / "bristle-scene-XXXXXX").string();
-    path_ = ::mkdtemp(tmpl.data());
-  }
-  ~Folder() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    fs::create_directories((path_ / name).parent_path());
-    std::ofstream((path_ / name).string()) << text;
-    return (path_ / name).string();
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
-
 std::string slurp(const std::string& path) {
   std::ifstream in(path);
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
 }
+
+using bristle::testing::TempDir;
 
 }  // namespace
 
@@ -284,7 +263,7 @@ TEST_CASE("scenes are recognised by their format key", "[scene]") {
 
 TEST_CASE("loadScene resolves paths against the scene's folder and reads each file once",
           "[scene]") {
-  Folder dir;
+  TempDir dir;
   dir.write("brushes/flat.json", slurp(kFlat));
   dir.write("paths/pull.csv", slurp(kPull));
   json j = goodScene();
@@ -311,7 +290,7 @@ TEST_CASE("loadScene resolves paths against the scene's folder and reads each fi
 }
 
 TEST_CASE("a missing referenced file is 66 naming the scene field", "[scene]") {
-  Folder dir;
+  TempDir dir;
   dir.write("flat.json", slurp(kFlat));
   dir.write("pull.csv", slurp(kPull));
   json j = goodScene();
@@ -341,7 +320,7 @@ TEST_CASE("a missing referenced file is 66 naming the scene field", "[scene]") {
 }
 
 TEST_CASE("a bad brush or trajectory keeps naming its own file", "[scene]") {
-  Folder dir;
+  TempDir dir;
   json brush = json::parse(slurp(kFlat));
   brush["spines"][0]["width_mm"][2] = -1;
   dir.write("bad.json", brush.dump());
@@ -363,7 +342,7 @@ TEST_CASE("a bad brush or trajectory keeps naming its own file", "[scene]") {
 }
 
 TEST_CASE("a trajectory that drives the brush's ferrule into the canvas names the stroke", "[scene]") {
-  Folder dir;
+  TempDir dir;
   // Sound on its own (a CSV knows no brush), but the flat's ferrule would go
   // 1 mm into the paper on the second sample: the message names the stroke
   // that pairs them as well as the trajectory's line.
@@ -383,7 +362,7 @@ TEST_CASE("a stroke placed beyond the brush's reach of the canvas is warned abou
           "[scene]") {
   json j = goodScene();
   j["strokes"][1]["placement"]["offset_mm"] = {500, 0};
-  Folder dir;
+  TempDir dir;
   const Scene s = loadScene(dir.write("s.json", j.dump()));
   const std::vector<std::string> w = sceneWarnings(s);
   REQUIRE(w.size() == 1);

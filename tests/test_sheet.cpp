@@ -19,6 +19,7 @@
 #include "engine/sheet.h"
 #include "engine/text_file.h"
 #include "test_helpers.h"
+#include "temp_dir.h"
 
 using namespace bristle;
 using bristle::testing::Caught;
@@ -61,10 +62,9 @@ Caught parseError(const json& j) {
 
 // A fresh folder with a sheet and copies of the files it lists.
 struct SheetDir {
-  fs::path dir;
+  bristle::testing::TempDir tmp{"bristle-sheet"};
+  const fs::path& dir = tmp.path();
   SheetDir() {
-    std::string tmpl = (fs::temp_directory_path() / "bristle-sheet-XXXXXX").string();
-    dir = ::mkdtemp(tmpl.data());
     fs::create_directories(dir / "b");
     fs::create_directories(dir / "t");
     for (const char* b : {"round", "flat"})
@@ -73,10 +73,6 @@ struct SheetDir {
     for (const char* t : {"straight-pull", "press-lift"})
       fs::copy_file(kSourceDir / "scenes/trajectories" / (std::string(t) + ".csv"),
                     dir / "t" / (std::string(t) + ".csv"));
-  }
-  ~SheetDir() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
   }
   std::string write(const json& j) const {
     const std::string p = (dir / "sheet.json").string();

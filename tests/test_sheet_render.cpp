@@ -4,8 +4,6 @@
 // brushes-in-columns layout the transpose of the default, and a fixed cell that
 // is too small said to be clipped (docs/sheet-format.md).
 
-#include <stdlib.h>  // mkdtemp
-
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <cstdint>
@@ -15,6 +13,7 @@
 #include "engine/sheet.h"
 #include "render/sheet_renderer.h"
 #include "render/text.h"
+#include "temp_dir.h"
 
 using namespace bristle;
 using namespace bristle::render;
@@ -217,8 +216,8 @@ TEST_CASE("a fixed cell smaller than a stroke shows its middle and says so", "[s
 
 TEST_CASE("a column label wider than its cell is shortened to fit it", "[sheet]") {
   namespace fs = std::filesystem;
-  std::string tmpl = (fs::temp_directory_path() / "bristle-sheet-label-XXXXXX").string();
-  const fs::path dir = ::mkdtemp(tmpl.data());
+  const bristle::testing::TempDir tmp("bristle-sheet-label");
+  const fs::path& dir = tmp.path();
   const fs::path traj = dir / "a-press-and-lift-with-a-name-far-longer-than-its-cell.csv";
   fs::copy_file(std::string(BRISTLE_SOURCE_DIR) + "/scenes/trajectories/press-lift.csv", traj);
   Sheet sheet = loadSheet(kSmall);
