@@ -117,7 +117,8 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
       // reaches only kTipCapDepth of its radius beyond the tip along the
       // hair, in proportion to how flat the hair lies (a tip poking
       // straight down keeps its full depth below the joint: that is the
-      // contact, eq. 5). A flat's stroke then starts and ends square.
+      // contact, eq. 5). A flat's stroke then starts square (docs/paint.md,
+      // "Square ends": its stop end is squarer but still rounds at the corners).
       Eigen::Vector2d along = Eigen::Vector2d::Zero();
       if (j == n) {
         const Eigen::Vector3d t = (x[n] - x[n - 1]).normalized();
