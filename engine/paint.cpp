@@ -483,7 +483,7 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   const float streaks = static_cast<float>(std::clamp(params.hair_streaks, 0.0, 2.0));
   const float dry_threshold = static_cast<float>(params.dry_threshold);
 
-  // Per texel: how far it has run dry -> the contact it needs before it deposits.
+  // Per texel: how far it has run dry (0 at dry_load or more, 1 empty).
   std::array<float, T> dryness;
   const double full_film = std::max(brush.fullFilmMm(), 1e-12);
   for (int t = 0; t < T; ++t) {

@@ -131,7 +131,6 @@ inline float BrushTexelMap::across(float u, float v) const {
 }
 
 inline float BrushTexelMap::hairNoise(float u, float v) const {
-  (void)v;
   if (u >= kSpineTextureOffsetU) {
     if (hair_across_.empty()) return 0.5f;
     const float w = across(u, v);
