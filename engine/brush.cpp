@@ -24,11 +24,13 @@ std::vector<double> positiveArray(const JsonObject& o, const std::string& key, s
   std::vector<double> v = o.numbers(key);
   o.require(v.size() == n, key,
             "must have " + std::to_string(n) + " entries (one per " +
-                (key == "width_mm" ? std::string("joint, root included") : "segment") + ")");
+                (key == "width_mm" || key == "thickness_mm" ? std::string("joint, root included")
+                                                             : "segment") +
+                ")");
   for (size_t i = 0; i < v.size(); ++i) {
     checkedElement(o, key, i, v[i], allow_zero ? v[i] >= 0 : v[i] > 0,
                    allow_zero ? "must be >= 0" : "must be > 0");
-    if (key == "width_mm")
+    if (key == "width_mm" || key == "thickness_mm")
       checkedElement(o, key, i, v[i], v[i] <= kMaxBrushMm, "must be <= 1000 mm (the limit)");
   }
   return v;
@@ -57,6 +59,13 @@ SpineSpec parseSpine(const JsonObject& o) {
                                        : std::vector<double>(n, 0.0);
   s.width_mm = positiveArray(o, "width_mm", n + 1, true);
   o.require(s.width_mm[0] > 0, "width_mm", "the root width must be > 0");
+  if (o.has("thickness_mm")) {
+    s.thickness_mm = positiveArray(o, "thickness_mm", n + 1, true);
+    for (size_t j = 0; j <= n; ++j)
+      checkedElement(o, "thickness_mm", j, s.thickness_mm[j],
+                     (s.thickness_mm[j] > 0) == (s.width_mm[j] > 0),
+                     "must be > 0 where width_mm is, and 0 where it is 0");
+  }
   s.rest_angles_rad.assign(n, Eigen::Vector2d::Zero());
   if (o.has("rest_angles_rad")) {
     const nlohmann::json& ra = o.raw("rest_angles_rad");

@@ -4,6 +4,7 @@
 // brush frame: origin at the ferrule mouth, hairs hanging along -z at rest.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -26,8 +27,19 @@ struct SpineSpec {
   std::vector<double> stiffness_nmm_per_rad;  // K_i, eq. 2
   std::vector<double> damping_nmm;            // D_i, eq. 4 (joint friction torque)
   std::vector<Eigen::Vector2d> rest_angles_rad;  // (theta, phi) of the unloaded joint
-  // Footprint strip width at the root and at the end of each segment (n + 1).
+  // The hair bundle around the spine at the root and at the end of each
+  // segment (n + 1 each): its extent along the brush frame's x axis (across a
+  // flat's width) and along its y axis (across a flat's face). A round bundle
+  // has both the same: an empty thickness_mm means thickness = width.
   std::vector<double> width_mm;
+  std::vector<double> thickness_mm;
+
+  double thicknessMm(size_t j) const {
+    return thickness_mm.empty() ? width_mm[j] : thickness_mm[j];
+  }
+  // Half the bundle's larger extent at point j: how far its geometry reaches
+  // from the spine there.
+  double bundleReachMm(size_t j) const { return 0.5 * std::max(width_mm[j], thicknessMm(j)); }
 
   int jointCount() const { return static_cast<int>(segment_lengths_mm.size()); }
   double lengthMm() const;

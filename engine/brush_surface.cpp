@@ -13,6 +13,7 @@
 
 #include "engine/error.h"
 #include "engine/spine_kinematics.h"
+#include "engine/spine_strips.h"
 
 namespace bristle {
 
@@ -191,6 +192,7 @@ BrushSurface::BrushSurface(const Brush& brush) {
   const SurfaceSpec& sf = brush.surface;
   if (!sf.present()) throw Error(ExitCode::kSoftware, brush.path + ": /surface: none to build");
   level_ = sf.refinement_level;
+  spines_ = brush.spines;
   std::unique_ptr<Far::TopologyRefiner> refiner = buildRefiner(brush);
   if (level_ > 0) refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(level_));
 
@@ -258,7 +260,7 @@ void BrushSurface::setupSkin(const Brush& brush) {
     for (const SkinInfluence& in : sf.skin[i]) sum += in.weight;
     for (const SkinInfluence& in : sf.skin[i]) {
       const Frame& f = frames_[frame_offset_[in.spine] + in.point];
-      influence_.push_back({frame_offset_[in.spine] + in.point, in.weight / sum,
+      influence_.push_back({frame_offset_[in.spine] + in.point, in.spine, in.point, in.weight / sum,
                             f.r.transpose() * (sf.cage_mm[i] - f.x)});
     }
     influence_offset_.push_back(static_cast<int>(influence_.size()));
@@ -336,13 +338,26 @@ void BrushSurface::update(const BrushState& state, std::vector<BrushVertex>* tri
   for (size_t s = 0; s < joint_count_.size(); ++s)
     spineFrames(handle_r, state.spines[s].rot.data(), state.spines[s].joints_mm.data(),
                 joint_count_[s], &frames_[frame_offset_[s]]);
+  // The surface wraps the spines' hair, and hair is pressed into the paper
+  // only as far as its spine's load presses it (bundlePressDepth): a cage
+  // vertex reaches no deeper below the canvas than the bundles it follows do
+  // (bundleDepthsBelowCanvas), weighted as it follows them. A lightly loaded
+  // brush then rests on the paper, surface and spines alike, and a flat
+  // lifting off leaves a square end instead of dragging its surface's belly
+  // ahead of its hair.
+  depth_.resize(joint_count_.size());
+  for (size_t s = 0; s < joint_count_.size(); ++s)
+    depth_[s] = bundleDepthsBelowCanvas(spines_[s], state.spines[s], state.handle);
   for (size_t i = 0; i < cage_.size(); ++i) {
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    double depth = 0;
     for (int k = influence_offset_[i]; k < influence_offset_[i + 1]; ++k) {
       const Influence& in = influence_[k];
       const Frame& f = frames_[in.frame];
       p += in.weight * (f.x + f.r * in.local);
+      depth += in.weight * depth_[in.spine][in.point];
     }
+    p.z() = std::max(p.z(), -depth);
     cage_[i] = {p.x(), p.y(), p.z()};
   }
   stencils_->table->UpdateValues(cage_.data(), refined_.data());

@@ -80,6 +80,7 @@ class BrushSurface {
   // One skin influence, precomputed: the rest position in the influence's frame.
   struct Influence {
     int frame = 0;  // index into frames_ (spine s point k: frame_offset_[s] + k)
+    int spine = 0, point = 0;
     double weight = 0;
     Eigen::Vector3d local = Eigen::Vector3d::Zero();
   };
@@ -109,6 +110,8 @@ class BrushSurface {
   std::vector<SurfacePoint> refined_rest_;
   // Per-step scratch, reused.
   std::vector<Frame> frames_;
+  std::vector<SpineSpec> spines_;           // the brush's, for their bundles' depths
+  std::vector<std::vector<double>> depth_;  // per spine point: its bundle's depth (update)
   std::vector<SurfacePoint> cage_, refined_;
 };
 

@@ -34,6 +34,20 @@ inline constexpr int kCapRings = 3;
 // so a flat bundle's end is nearly square (buildSpineGeometry).
 inline constexpr double kTipCapDepth = 0.3;
 
+// A spine whose bundle has its own thickness (SpineSpec::thickness_mm) stands
+// for a slab of a flat's row of hair, cut square: its section is the
+// superellipse |x/a|^4 + |y/b|^4 = 1, a rectangle with rounded corners (at
+// 45 degrees it reaches 0.84 of the way to the rectangle's corner, where an
+// ellipse reaches 0.71), so a row of them leaves a square-ended mark.
+inline constexpr double kSlabSectionExponent = 6;
+// How much of bundleSpread's sideways widening a slab takes. A flat's slabs
+// lie side by side in the ferrule and press against each other, so pressed
+// flat the row only flares at its edges; a round's bundle is free to spread
+// (1). With 0.25 a flat's row of five 2.76 mm slabs flares by 0.35 mm a side
+// pressed flat, from 12.4 to 13.1 mm: about a tenth, where the round-bundle
+// spread gave 15 mm.
+inline constexpr double kSlabFlare = 0.25;
+
 // How much a spine's hair bundle widens, pressed against the canvas. At rest
 // the bundle is round, of radius r. The solver keeps the spine itself above
 // the canvas (eq. 5), and the bundle around it may reach below; as in the
@@ -66,6 +80,12 @@ inline constexpr double kBundleFlatLoadN = 0.05;
 // (N): r * load / kBundleFlatLoadN, within [0, r].
 double bundlePressDepth(double radius_mm, double load_n);
 
+
+// How far below the canvas (mm, >= 0) the bundle around each point 0..n of a
+// spine reaches, as buildSpineGeometry draws it: within bundlePressDepth of
+// the spine's load.
+std::vector<double> bundleDepthsBelowCanvas(const SpineSpec& spec, const SpineState& spine,
+                                            const Pose& handle);
 
 // Appends the triangles of every spine's half tube (and the half spheres at its
 // joints) to `triangles`. Each spine's load is the sum of its canvas forces

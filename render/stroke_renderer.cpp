@@ -140,7 +140,7 @@ double contactJumpMm(const Brush& brush, const BrushState& a, const BrushState& 
     for (size_t j = 1; j < a.spines[s].joints_mm.size(); ++j) {
       const Eigen::Vector3d& pa = a.spines[s].joints_mm[j];
       const Eigen::Vector3d& pb = b.spines[s].joints_mm[j];
-      const double reach = clip_mm + 0.5 * spec.width_mm[j];  // geometry around the joint
+      const double reach = clip_mm + spec.bundleReachMm(j);  // geometry around the joint
       if (std::min(pa.z(), pb.z()) > reach) continue;
       jump = std::max(jump, (pa.head<2>() - pb.head<2>()).norm());
     }

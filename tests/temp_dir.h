@@ -1,12 +1,16 @@
 #pragma once
 // Every test's scratch space: a fresh folder under the system temp dir
 // (mkdtemp, so parallel ctest runs never share one), removed with all it
-// holds when the object goes out of scope.
+// holds when the object goes out of scope -- unless the environment sets
+// BRISTLE_KEEP_TEST_FILES, for looking at what a test rendered: then it
+// stays, and its path is printed on stderr.
 
 #include <stdlib.h>  // mkdtemp
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -22,6 +26,10 @@ class TempDir {
     path_ = tmpl;
   }
   ~TempDir() {
+    if (std::getenv("BRISTLE_KEEP_TEST_FILES") != nullptr) {
+      std::cerr << "kept " << path_.string() << "\n";
+      return;
+    }
     std::error_code ignored;
     std::filesystem::remove_all(path_, ignored);
   }

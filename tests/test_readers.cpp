@@ -431,6 +431,22 @@ TEST_CASE("non-positive lengths and stiffness, negative damping are 65 naming th
                     "must be >= 0");
   CHECK_BRUSH_ERROR(brushWith("/spines/0/width_mm/0", 0), "/spines/0/width_mm",
                     "root width must be > 0");
+  // A slab's thickness: one per point, >= 0, and 0 exactly where the width is.
+  CHECK_NOTHROW(parseBrush(brushWith("/spines/1/thickness_mm", {1, 0.8, 0}), "brush.json"));
+  CHECK(parseBrush(brushWith("/spines/1/thickness_mm", {1, 0.8, 0}), "brush.json")
+            .spines[1]
+            .thicknessMm(1) == 0.8);
+  CHECK(parseBrush(kBrush, "brush.json").spines[1].thicknessMm(1) == 1.5);  // round: = width
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/thickness_mm", {1, 0.8}), "/spines/1/thickness_mm",
+                    "must have 3 entries");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/thickness_mm", {1, -0.8, 0.2}),
+                    "/spines/0/thickness_mm/1", "must be >= 0");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/thickness_mm", {1, 0, 0.2}),
+                    "/spines/0/thickness_mm/1", "> 0 where width_mm is");
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/thickness_mm", {1, 0.8, 0.3}),
+                    "/spines/1/thickness_mm/2", "0 where it is 0");
+  CHECK_BRUSH_ERROR(brushWith("/spines/0/thickness_mm", {1, 2000, 0.2}),
+                    "/spines/0/thickness_mm/1", "must be <= 1000 mm");
   CHECK_BRUSH_ERROR(brushWith("/spines/0/rest_angles_rad/1/1", 1.3),
                     "/spines/0/rest_angles_rad/1/1", "1.2 rad");
   CHECK_NOTHROW(parseBrush(brushWith("/spines/0/rest_angles_rad/1/1", -1.2), "brush.json"));

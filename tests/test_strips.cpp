@@ -555,6 +555,74 @@ TEST_CASE("a spine lying on the paper dresses in a bundle twice as wide", "[stri
   CHECK(light == Approx(w * bundleSpread(w / 2, w / 4)).margin(kSpanTolMm));
 }
 
+TEST_CASE("a flat's slab of hair touches the paper across its width", "[strips]") {
+  // A spine along +y, so that the brush frame's x axis lies across it: a slab
+  // w wide (width_mm, along x) and t thick (thickness_mm, here vertical).
+  // Against a round bundle of the same width, it lies on the paper across
+  // nearly all of its width however lightly it presses: the contact band
+  // (the footprint's clip, 0.1 mm) cuts its flat face, not a rounded bottom.
+  // That is what lets a flat lift off with a square end.
+  const double w = 2.76, t = 1.5, band = 0.1;
+  auto brushOf = [&](bool slab) {
+    std::vector<SpineSpec> spines = {
+        makeSpine({5, 5, 5}, {8, 6, 4}, 0.005, Eigen::Vector3d::Zero())};
+    spines[0].width_mm.assign(4, w);
+    if (slab) spines[0].thickness_mm.assign(4, t);
+    return makeBrush(spines, 0.4, 0.3);
+  };
+  // The span across the hair (x) of the geometry at or below z = level,
+  // along the middle segment: vertices below it and edges crossing it.
+  auto spanBelow = [&](const Brush& b, double height_mm, double load_n, double level) {
+    BrushState st = restState(b, poseAt(0, 0, 20));
+    std::vector<Eigen::Vector3d>& x = st.spines[0].joints_mm;
+    for (int k = 0; k <= 3; ++k) x[k] = Eigen::Vector3d(0, 5.0 * k, height_mm);
+    st.spines[0].solution.normal_force_n.assign(3, load_n / 3);
+    std::vector<BrushVertex> tris;
+    buildSpineGeometry(b, st, &tris);
+    double lo = 1e9, hi = -1e9;
+    auto take = [&](double px, double py) {
+      if (std::fabs(py - 7.5) > 2.5 + 1e-3) return;  // the middle segment, its rings included
+      lo = std::min(lo, px);
+      hi = std::max(hi, px);
+    };
+    for (size_t i = 0; i < tris.size(); i += 3)
+      for (int e = 0; e < 3; ++e) {
+        const BrushVertex& p = tris[i + e];
+        const BrushVertex& q = tris[i + (e + 1) % 3];
+        if (p.z_mm <= level) take(p.x_mm, p.y_mm);
+        if ((p.z_mm - level) * (q.z_mm - level) < 0) {
+          const double f = (level - p.z_mm) / (q.z_mm - p.z_mm);
+          take(p.x_mm + f * (q.x_mm - p.x_mm), p.y_mm + f * (q.y_mm - p.y_mm));
+        }
+      }
+    return hi > lo ? hi - lo : 0.0;
+  };
+  const Brush slab = brushOf(true), round = brushOf(false);
+  // Resting on the paper, unloaded: the slab's contact band spans 0.87 of
+  // its width (the superellipse of exponent 6 cut 0.1 mm above its 0.75 mm
+  // deep face spans (1 - (1 - 0.1/0.75)^6)^(1/6) = 0.91; the 8-facet polygon
+  // cuts a little off), the round's 0.36 (the circle's chord is 0.4).
+  const double slab_rest = spanBelow(slab, 0, 0, band), round_rest = spanBelow(round, 0, 0, band);
+  INFO("resting: slab " << slab_rest << " mm, round " << round_rest << " mm of " << w);
+  CHECK(slab_rest > 0.85 * w);
+  CHECK(round_rest < 0.5 * w);
+  // Pressed flat (axis on the paper, the flattening load): the round bundle
+  // spreads to twice its width, the slab only flares by kSlabFlare: its
+  // neighbours in the row hold it.
+  constexpr double kSpanTolMm = 1e-4;  // float vertices of ~10 mm
+  const double slab_flat = spanBelow(slab, 0, kBundleFlatLoadN, 1e9);
+  const double round_flat = spanBelow(round, 0, kBundleFlatLoadN, 1e9);
+  CHECK(round_flat == Approx(2 * w).margin(kSpanTolMm));
+  CHECK(slab_flat == Approx((1 + kSlabFlare) * w).margin(kSpanTolMm));
+  // And it reaches half its thickness below the paper, not half its width.
+  BrushState st = restState(slab, poseAt(0, 0, 20));
+  for (int k = 0; k <= 3; ++k) st.spines[0].joints_mm[k] = Eigen::Vector3d(0, 5.0 * k, 0);
+  st.spines[0].solution.normal_force_n.assign(3, kBundleFlatLoadN / 3);
+  const std::vector<double> depth = bundleDepthsBelowCanvas(slab.spines[0], st.spines[0], st.handle);
+  CHECK(depth[1] == Approx(t / 2).margin(1e-9));
+  CHECK(depth[2] == Approx(t / 2).margin(1e-9));
+}
+
 TEST_CASE("a bundle is pressed into the paper only as far as its load presses it", "[strips]") {
   const double r = 0.4;
   CHECK(bundlePressDepth(r, 0.0) == 0.0);

@@ -10,6 +10,7 @@
 #include "engine/brush_surface.h"
 #include "engine/error.h"
 #include "engine/spine_kinematics.h"
+#include "engine/spine_strips.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -93,7 +94,10 @@ TEST_CASE("skinning reproduces the cage at rest under any handle pose", "[surfac
   REQUIRE(surface.triangleCount() == expected_triangles);
 
   Simulation sim(b, SimOptions{}, makeIpoptSolver());
-  for (const Pose& pose : {Pose{}, tiltedPose()}) {
+  for (Pose pose : {Pose{}, tiltedPose()}) {
+    // Held well above the paper: below it, a surface is pressed no deeper
+    // than its spines' bundles ("a pressed brush carries its surface").
+    pose.position_mm.z() += 100;
     // Both a hand-made state and the simulation's own state at rest.
     sim.reset(pose, 0);
     for (const BrushState& st : {stateAt(b, pose), sim.state()}) {
@@ -166,14 +170,29 @@ TEST_CASE("a pressed brush carries its surface with the spine", "[surface]") {
   surface.update(st, &tris);
 
   // Each ring vertex is rigidly attached to its spine point: distances to it
-  // keep their rest values.
+  // keep their rest values -- except where that would take it deeper below
+  // the canvas than its spine's bundle is pressed (bundleDepthsBelowCanvas):
+  // there it lies at that depth.
   const BrushState rest = stateAt(b, Pose{});
+  const std::vector<double> depth = bundleDepthsBelowCanvas(b.spines[0], st.spines[0], st.handle);
+  int rigid = 0, held = 0;
   for (int i = 0; i < surface.cageVertexCount(); ++i) {
     const SkinInfluence& in = b.surface.skin[i][0];
     if (b.surface.skin[i].size() != 1) continue;
+    const Eigen::Vector3d c = surface.cagePosition(i);
+    CHECK(c.z() >= -depth[in.point] - kExactMm);
+    if (c.z() <= -depth[in.point] + kExactMm) {
+      ++held;
+      continue;
+    }
+    ++rigid;
     const double rest_dist = (b.surface.cage_mm[i] - rest.spines[0].joints_mm[in.point]).norm();
-    CHECK((surface.cagePosition(i) - x[in.point]).norm() == Approx(rest_dist).margin(kExactMm));
+    CHECK((c - x[in.point]).norm() == Approx(rest_dist).margin(kExactMm));
   }
+  // Pressed 5 mm, most of the ring rides above the paper, and the rings at
+  // the contact joints reach the depth their bundles are pressed to.
+  CHECK(rigid > held);
+  CHECK(held > 0);
   // The surface reaches below the canvas (that is the footprint) next to the
   // spine's contact joints, no deeper than the thickest ring, and leans with
   // the bent spine.

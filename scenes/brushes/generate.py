@@ -41,14 +41,15 @@ def rest_points(sp):
     return pts
 
 
-def tube_cage(spines, ring, half_x, half_y):
+def tube_cage(spines, ring, half_x, half_y, square_end=False):
     """A cage of rings around the spines, one ring per spine point level, closed
     by a tip vertex. half_x/half_y(k) give the half-extents of ring k beyond the
     spread of the spine points. Catmull-Clark pulls a ring of m vertices in to
     (4 + 2 cos(2 pi/m)) / 6 of its radius, so rings are grown by the inverse and
     the smooth surface encloses the spines. Every ring vertex is skinned to the
     two spine points of its level nearest to it (weights ~ 1/d^2); the tip
-    vertex, half a tip width beyond the lowest tip, to all tips equally, so
+    vertex, half a tip width beyond the lowest tip (at its level for a
+    square_end), to all tips equally, so
     that the surface's end stays over the spines however they splay."""
     levels = len(spines[0]["segment_lengths_mm"]) + 1
     pts = [rest_points(s) for s in spines]
@@ -60,10 +61,18 @@ def tube_cage(spines, ring, half_x, half_y):
         cy = sum(p[1] for p in level) / len(level)
         cz = sum(p[2] for p in level) / len(level)
         ax = (max(abs(p[0] - cx) for p in level) + half_x(k)) * grow
-        ay = (max(abs(p[1] - cy) for p in level) + half_y(k)) * grow
+        # (A square end's flat sides hardly shrink under Catmull-Clark.)
+        ay = (max(abs(p[1] - cy) for p in level) + half_y(k)) * (1 if square_end else grow)
         for r in range(ring):
             t = 2 * math.pi * r / ring
-            v = [cx + ax * math.cos(t), cy + ay * math.sin(t), cz]
+            # A square-cut flat's hair fills a rectangle with rounded ends (the
+            # superellipse of exponent 4), not a lens: it is as thick at its
+            # edges as in its middle, so its belly meets the paper along a
+            # straight line.
+            e = 0.5 if square_end else 1.0
+            c_, s_ = math.cos(t), math.sin(t)
+            v = [cx + ax * math.copysign(abs(c_) ** e, c_),
+                 cy + ay * math.copysign(abs(s_) ** e, s_), cz]
             verts.append([round(c, 4) for c in v])
             d = sorted((math.hypot(v[0] - p[0], v[1] - p[1]), s) for s, p in enumerate(level))
             infl = d[:2] if len(d) > 1 else d
@@ -74,7 +83,8 @@ def tube_cage(spines, ring, half_x, half_y):
             skin.append([[s, k, wi] for (_, s), wi in zip(infl, ws) if wi > 0])
     tips = [p[-1] for p in pts]
     tip = [sum(t[i] for t in tips) / len(tips) for i in range(3)]
-    tip[2] = min(t[2] for t in tips) - 0.5 * max(half_x(levels - 1), 0.2)
+    # A square-cut flat ends in a face at its tips, not a dome beyond them.
+    tip[2] = min(t[2] for t in tips) - (0 if square_end else 0.5 * max(half_x(levels - 1), 0.2))
     verts.append([round(c, 4) for c in tip])
     n = len(spines)
     ws = [round(1 / n, 4)] * n
@@ -136,7 +146,7 @@ def round_brush():
 
 
 def flat_row(name, desc, width, thick, lengths, K, n_spines, strips, tip_curve=0.0,
-             surface=True, mu=(0.45, 0.35)):
+             surface=True, mu=(0.45, 0.35), square_end=False):
     D = [0.008] + [0.006] * (len(lengths) - 1)
     sp = []
     for i in range(n_spines):
@@ -146,12 +156,21 @@ def flat_row(name, desc, width, thick, lengths, K, n_spines, strips, tip_curve=0
         ls = [round(L * (1 - tip_curve * f * f), 3) for L in lengths]
         rest = [[0.02, 0.0]] + [[0, 0]] * (len(lengths) - 1)
         wseg = width / n_spines * 1.15
-        sp.append(spine([x, 0, 0], ls, K, D, rest,
-                        [round(wseg, 3)] * len(lengths) + [round(wseg * 0.7, 3)]))
+        # A square-cut flat keeps its width to the tip; a filbert's tips narrow.
+        tip_w = wseg if square_end else wseg * 0.7
+        s = spine([x, 0, 0], ls, K, D, rest, [round(wseg, 3)] * len(lengths) + [round(tip_w, 3)])
+        # Each spine of a square-cut flat stands for a slab of the row: as
+        # wide as its share of the row, as thick as the brush, thinning
+        # towards the chisel edge. (A filbert's narrowing tips stay round.)
+        if square_end:
+            s["thickness_mm"] = [round(thick * (1 - 0.5 * k / len(lengths)), 3)
+                                 for k in range(len(lengths) + 1)]
+        sp.append(s)
     b = base(name, desc, sp, *mu, 0.3)
     if surface:
         b["surface"] = tube_cage(sp, 12, lambda k: width / n_spines * 0.6,
-                                 lambda k: thick / 2 * (1 - 0.5 * k / len(lengths)))
+                                 lambda k: thick / 2 * (1 - 0.5 * k / len(lengths)),
+                                 square_end)
     if strips:
         b["strips"] = {"count": strips, "root_width_mm": 0.15, "tip_width_mm": 0.06,
                        "seed": 11, "placement": "line", "length_jitter": 0.08}
@@ -242,9 +261,11 @@ def calligraphy():
 if __name__ == "__main__":
     write("round", round_brush())
     write("flat", flat_row("flat", "Flat, 1/2 inch: 12 mm wide, 16 mm long, square end",
-                           12.0, 3.0, [6.0, 5.5, 4.5], [10.0, 8.0, 6.0], 5, 120))
+                           12.0, 3.0, [6.0, 5.5, 4.5], [10.0, 8.0, 6.0], 5, 120,
+                           square_end=True))
     write("bright", flat_row("bright", "Bright: the flat's 12 mm width, 11 mm long, stiffer",
-                             12.0, 3.0, [4.5, 3.5, 3.0], [10.0, 9.0, 7.0], 5, 100))
+                             12.0, 3.0, [4.5, 3.5, 3.0], [10.0, 9.0, 7.0], 5, 100,
+                             square_end=True))
     write("filbert", flat_row("filbert", "Filbert: 10 mm wide, 15 mm long, oval tip",
                               10.0, 3.0, [6.0, 5.0, 4.0], [10.0, 8.0, 6.0], 5, 120,
                               tip_curve=0.35))
