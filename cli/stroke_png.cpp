@@ -1,6 +1,7 @@
 #include "cli/stroke_png.h"
 
 #include <memory>
+#include <string>
 
 #include "cli/commands.h"
 #include "cli/inputs.h"
@@ -74,16 +75,19 @@ PaperSpec paperArgs(const StrokePngOptions& args) {
   return paper;
 }
 
-IpoptSettings ipoptSettings(const StrokePngOptions& o) {
-  IpoptSettings ipopt;
-  ipopt.max_iterations = o.solver_max_iterations;
+// The chosen solver is the primary; a spine it fails on is tried with the other.
+// --solver-max-iterations limits both: Ipopt's iterations, SLSQP's energy evaluations.
+SolverSettings solverSettings(const StrokePngOptions& o) {
+  SolverSettings solvers;
+  solvers.kind = o.solver;
+  solvers.max_iterations = o.solver_max_iterations;
   for (const std::string& kv : o.ipopt_options) {
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
       throw Error(ExitCode::kUsage, "--ipopt-option " + kv + ": expected NAME=VALUE");
-    ipopt.extra_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+    solvers.ipopt_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
   }
-  return ipopt;
+  return solvers;
 }
 
 }  // namespace
@@ -91,9 +95,7 @@ IpoptSettings ipoptSettings(const StrokePngOptions& o) {
 void checkStrokePngOptions(const StrokePngOptions& o) {
   paintLoadArgs(o, mixOf(o));
   paperArgs(o);
-  if (o.solver != "ipopt" && o.solver != "slsqp")
-    throw Error(ExitCode::kUsage, "--solver " + o.solver + ": available: ipopt, slsqp");
-  ipoptSettings(o);
+  solverSettings(o);
 }
 
 render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
@@ -117,16 +119,10 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
   BrushPaint paint(brush);
   paint.load(load, mix, "--paint");
   render::StrokeRenderer renderer;
-  // The chosen solver is the primary; a spine it fails on is tried with the other.
-  // --solver-max-iterations limits both: Ipopt's iterations, SLSQP's energy evaluations.
-  SlsqpSettings slsqp;
-  slsqp.max_evaluations = o.solver_max_iterations;
-  std::unique_ptr<SpineSolver> primary = makeIpoptSolver(ipoptSettings(o)),
-                               fallback = makeSlsqpSolver(slsqp);
-  if (o.solver == "slsqp") std::swap(primary, fallback);
+  SolverPair solvers = makeSolverPair(solverSettings(o));
   StrokePngResult r;
-  r.stroke = renderer.render(brush, trajectory, std::move(primary), options, &canvas, &paint,
-                             on_step, std::move(fallback));
+  r.stroke = renderer.render(brush, trajectory, std::move(solvers.primary), options, &canvas,
+                             &paint, on_step, std::move(solvers.fallback));
   r.left_on_brush_mm3 = paint.totalVolumeMm3();
   r.loaded_mm3 = paint.capacityMm3() * o.amount;
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "engine/brush_library.h"
@@ -127,9 +128,7 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
   top.require(mix == "km" || mix == "rgb", "mix",
               "must be \"km\" (Kubelka-Munk) or \"rgb\" (linear RGB)");
   scene.mix = mix == "km" ? MixModel::kKubelkaMunk : MixModel::kLinearRgb;
-  scene.solver = top.string("solver", scene.solver);
-  top.require(scene.solver == "ipopt" || scene.solver == "slsqp", "solver",
-              "must be \"ipopt\" or \"slsqp\"");
+  scene.solver = parseSolverField(top, scene.solver);
 
   const std::vector<JsonObject> strokes = top.objects("strokes");
   top.require(!strokes.empty() && strokes.size() <= static_cast<size_t>(kMaxSceneStrokes),
@@ -234,6 +233,13 @@ void parseSimOptions(const JsonObject& s, SimOptions* sim) {
   s.require(sim->max_step_mm >= kMinStepMm && sim->max_step_mm <= kMaxStepMm, "max_step_mm",
             "must be in [0.01, 5] mm");
   s.rejectUnknownKeys();
+}
+
+SolverKind parseSolverField(const JsonObject& owner, SolverKind absent) {
+  const std::optional<SolverKind> kind =
+      parseSolverKind(owner.string("solver", solverKindName(absent)));
+  owner.require(kind.has_value(), "solver", "must be \"ipopt\" or \"slsqp\"");
+  return *kind;
 }
 
 Pose Placement::apply(const Pose& pose) const {

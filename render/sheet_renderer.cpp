@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "engine/error.h"
-#include "engine/spine_solver.h"
+#include "engine/solver_pair.h"
 #include "render/text.h"
 
 namespace bristle::render {
@@ -122,13 +122,12 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
     PaintCanvas canvas(grid, sheet.paper, sheet.mix);
     BrushPaint paint(brush);
     paint.load(sheet.paint, sheet.mix, sheet.path + ": /paint");
-    std::unique_ptr<SpineSolver> primary = makeIpoptSolver(), fallback = makeSlsqpSolver();
-    if (sheet.solver == "slsqp") std::swap(primary, fallback);
+    SolverPair solvers = makeSolverPair({sheet.solver, options.solver_max_iterations, {}});
     StepCallback step_cb;
     if (on_step)
       step_cb = [&](const BrushState&, int step, int) { on_step(i, n, done + step, planned_total); };
-    cell.stroke = renderer.render(brush, trajectory, std::move(primary), stroke_options, &canvas,
-                                  &paint, step_cb, std::move(fallback));
+    cell.stroke = renderer.render(brush, trajectory, std::move(solvers.primary), stroke_options,
+                                  &canvas, &paint, step_cb, std::move(solvers.fallback));
     done += planned[size_t(i)];
     strokes.push_back(composeRgb8(canvas, options.compose));
     cell.ink = inkBox(strokes.back(), paper);

@@ -92,7 +92,7 @@ TEST_CASE("a sound scene parses into canvas, paper, paint loadings and placement
   CHECK(s.sim.min_rate_hz == 100);
   CHECK(s.sim.max_step_mm == 0.3);
   CHECK(s.mix == MixModel::kLinearRgb);
-  CHECK(s.solver == "slsqp");
+  CHECK(s.solver == SolverKind::kSlsqp);
   REQUIRE(s.strokes.size() == 2);
   const PaintLoad& a = s.strokes[0].paint;
   CHECK(a.mode == PaintLoad::Mode::kAcross);
@@ -125,7 +125,7 @@ TEST_CASE("omitted optional keys take the documented defaults", "[scene]") {
   CHECK(s.canvas.paper.colour == PaperSpec().colour);
   CHECK(s.canvas.paper.tooth_depth_mm == PaperSpec().tooth_depth_mm);
   CHECK(s.mix == MixModel::kKubelkaMunk);
-  CHECK(s.solver == "ipopt");
+  CHECK(s.solver == SolverKind::kIpopt);
   CHECK(s.sim.max_step_mm == SimOptions().max_step_mm);
   CHECK(s.sim.min_rate_hz == SimOptions().min_rate_hz);
   const PaintLoad& p = s.strokes[0].paint;
