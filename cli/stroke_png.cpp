@@ -1,6 +1,7 @@
 #include "cli/stroke_png.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli/commands.h"
@@ -8,7 +9,6 @@
 #include "engine/canvas.h"
 #include "engine/error.h"
 #include "engine/paint.h"
-#include "engine/pigments.h"
 #include "render/compose.h"
 #include "render/png_io.h"
 
@@ -21,8 +21,9 @@ MixModel mixOf(const StrokePngOptions& o) {
 }
 
 // Paint options are input data: a paint, colour or amount that makes no sense
-// is a data error (65), named by its option.
-PaintLoad paintLoadArgs(const StrokePngOptions& args, MixModel model) {
+// is a data error (65), named by its option, by the rules a scene's paint meets
+// (checkPaintLoad, engine/paint_spec.h).
+PaintLoad paintLoadArgs(const StrokePngOptions& args) {
   PaintLoad load;
   load.mode = args.load == "across" ? PaintLoad::Mode::kAcross
               : args.load == "tip"  ? PaintLoad::Mode::kTip
@@ -34,27 +35,14 @@ PaintLoad paintLoadArgs(const StrokePngOptions& args, MixModel model) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
-  for (const std::string& p : load.paints) {
-    Optics optics;
-    std::string why;
-    if (!resolvePaint(p, model, &optics, &why))
-      throw Error(ExitCode::kDataError, "--paint " + args.paint + ": " + why);
-  }
-  const size_t lo = load.mode == PaintLoad::Mode::kAcross ? 2 : 1;
-  const size_t hi = load.mode == PaintLoad::Mode::kSolid ? 1 : load.mode == PaintLoad::Mode::kTip ? 2 : 3;
-  if (load.paints.size() < lo || load.paints.size() > hi)
-    throw Error(ExitCode::kDataError,
-                "--paint " + args.paint + ": --load " + args.load + " takes " +
-                    std::to_string(lo) + (hi > lo ? " to " + std::to_string(hi) : "") +
-                    " paints, got " + std::to_string(load.paints.size()));
-  if (!(args.amount > 0 && args.amount <= 1))
-    throw Error(ExitCode::kDataError, "--amount " + std::to_string(args.amount) +
-                                          ": must be in (0, 1], a fraction of the brush's "
-                                          "paint capacity");
-  if (!(args.tip_length >= 0 && args.tip_length <= 1))
-    throw Error(ExitCode::kDataError, "--tip-length: must be in [0, 1]");
   load.amount = args.amount;
   load.tip_length = args.tip_length;
+  if (const std::optional<PaintLoadProblem> e = checkPaintLoad(load, "--load " + args.load)) {
+    std::string option = "--paint " + args.paint;
+    if (e->field == "amount") option = "--amount " + std::to_string(args.amount);
+    if (e->field == "tip_length") option = "--tip-length " + std::to_string(args.tip_length);
+    throw Error(ExitCode::kDataError, option + ": " + e->rule);
+  }
   return load;
 }
 
@@ -93,7 +81,7 @@ SolverSettings solverSettings(const StrokePngOptions& o) {
 }  // namespace
 
 void checkStrokePngOptions(const StrokePngOptions& o) {
-  paintLoadArgs(o, mixOf(o));
+  paintLoadArgs(o);
   paperArgs(o);
   solverSettings(o);
 }
@@ -111,7 +99,7 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
                                 const StrokePngOptions& o, const std::string& output,
                                 const render::StepCallback& on_step) {
   const MixModel mix = mixOf(o);
-  const PaintLoad load = paintLoadArgs(o, mix);
+  const PaintLoad load = paintLoadArgs(o);
   const PaperSpec paper = paperArgs(o);
   const render::StrokeOptions options = strokeOptions(o);
   const CanvasGrid grid = render::canvasForStroke(brush, trajectory, options);

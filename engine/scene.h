@@ -19,7 +19,6 @@ namespace bristle {
 // Limits that keep a scene file from asking for absurd work.
 inline constexpr int kMaxSceneStrokes = 10000;
 inline constexpr double kMaxScenePxPerMm = 100;  // as the CLI's --px-per-mm
-inline constexpr int kMaxPaintsPerLoad = 3;       // "across": 2-3 paints side by side
 
 // Rigid placement of a trajectory on the canvas: every handle pose is turned by
 // rotate_deg about the canvas normal (+z) through the point (0, 0) of the
