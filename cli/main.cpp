@@ -215,11 +215,14 @@ int main(int argc, char** argv) {
       preview->add_option("--trajectory", pv.trajectory, "Simulate along this trajectory (- reads stdin) ...");
   // Without a trajectory there is no time to go to and nothing to shift: refused
   // (exit 64), not silently ignored.
-  preview->add_option("--at", pv.at_s, "... up to this time (s)")->capture_default_str()->needs(pv_traj);
+  preview->add_option("--at", pv.at_s,
+                      "... up to this time (s): the last step at or before it of `bristle "
+                      "render` (same --px-per-mm)")->capture_default_str()->needs(pv_traj);
   preview->add_option("--offset-mm", pv.offset_mm, "Shift the trajectory by X Y Z mm")->expected(3)->needs(pv_traj);
   preview->add_option("--width", pv.width_px, "Image width (px)")->capture_default_str()->check(CLI::Range(64, 4096));
   preview->add_option("--height", pv.height_px, "Image height (px)")->capture_default_str()->check(CLI::Range(64, 4096));
-  preview->add_option("--px-per-mm", pv.px_per_mm, "Footprint resolution")->capture_default_str()->check(CLI::Range(0.5, 100.0));
+  preview->add_option("--px-per-mm", pv.px_per_mm,
+                      "Footprint resolution; as render's, it also sets how finely a step is split")->capture_default_str()->check(CLI::Range(0.5, 100.0));
   preview->add_flag("-q,--quiet", pv.quiet, "No output path on stdout");
 
   bristle::cli::RecordArgs rec;
