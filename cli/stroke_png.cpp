@@ -11,6 +11,7 @@
 #include "engine/paint.h"
 #include "render/compose.h"
 #include "render/png_io.h"
+#include "render/stroke_pipeline.h"
 
 namespace bristle::cli {
 
@@ -98,21 +99,22 @@ render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
 StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
                                 const StrokePngOptions& o, const std::string& output,
                                 const render::StepCallback& on_step) {
-  const MixModel mix = mixOf(o);
-  const PaintLoad load = paintLoadArgs(o);
-  const PaperSpec paper = paperArgs(o);
-  const render::StrokeOptions options = strokeOptions(o);
-  const CanvasGrid grid = render::canvasForStroke(brush, trajectory, options);
-  PaintCanvas canvas(grid, paper, mix);
-  BrushPaint paint(brush);
-  paint.load(load, mix, "--paint");
+  render::StrokeSetup setup;
+  setup.load = paintLoadArgs(o);
+  setup.load_where = "--paint";
+  setup.mix = mixOf(o);
+  setup.paper = paperArgs(o);
+  setup.solvers = solverSettings(o);
+  setup.stroke = strokeOptions(o);
   render::StrokeRenderer renderer;
-  SolverPair solvers = makeSolverPair(solverSettings(o));
+  const render::PaintedStroke painted =
+      render::paintStroke(renderer, brush, trajectory, setup, on_step);
+  const PaintCanvas& canvas = painted.canvas;
+  const CanvasGrid& grid = canvas.grid();
   StrokePngResult r;
-  r.stroke = renderer.render(brush, trajectory, std::move(solvers.primary), options, &canvas,
-                             &paint, on_step, std::move(solvers.fallback));
-  r.left_on_brush_mm3 = paint.totalVolumeMm3();
-  r.loaded_mm3 = paint.capacityMm3() * o.amount;
+  r.stroke = painted.stroke;
+  r.left_on_brush_mm3 = painted.left_on_brush_mm3;
+  r.loaded_mm3 = painted.loaded_mm3;
 
   render::ComposeOptions compose;
   compose.impasto = o.impasto;
@@ -122,7 +124,7 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
   text.push_back({"bristle:paint", o.paint + " load=" + o.load + " mix=" + o.mix});
   const render::Image8 image8 = render::composeRgb8(canvas, compose);
   r.ink_pixels = render::inkPixels(
-      image8, render::paperColour8(paper, mix, grid.px_per_mm, compose));
+      image8, render::paperColour8(setup.paper, setup.mix, grid.px_per_mm, compose));
   r.pixels = long(image8.width) * image8.height;
   if (o.bits == 16)
     render::writePng(output, render::composeRgb16(canvas, compose), text);

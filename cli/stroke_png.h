@@ -1,7 +1,9 @@
 #pragma once
 // The one way a single stroke becomes a PNG: `bristle render --brush
 // --trajectory`, `bristle record --png` and `bristle replay` all come through
-// here, so a replayed session renders exactly what the live run rendered.
+// here, so a replayed session renders exactly what the live run rendered. The
+// command line's part: options to a StrokeSetup, and the PNG with its provenance;
+// the stroke itself is render::paintStroke (render/stroke_pipeline.h).
 
 #include <string>
 #include <vector>
