@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
   haptics::SessionWriter writer(session, "", header);
   haptics::LiveOptions live;
   live.sim_rate_hz = sim_rate;
-  live.solver = "slsqp";
+  live.solver = SolverKind::kSlsqp;
   std::vector<std::int64_t> wall;
   wall.reserve(static_cast<size_t>(seconds * 1000) + 100);
   live.tick_wall_ns = &wall;

@@ -4,11 +4,13 @@
 // cli/main.cpp owns the command line (CLI11) and nothing else.
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli/paint_options.h"
 #include "engine/simulation.h"
+#include "engine/solver_pair.h"
 
 namespace bristle {
 struct CanvasGrid;
@@ -21,12 +23,12 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::vector<std::string> given;  // the options given on the command line ("--trace", ...)
   std::string brush, trajectory, output;
   std::string trace, forces, stats;  // optional outputs
-  std::string solver = "ipopt";
+  SolverKind solver = SolverKind::kIpopt;
   double px_per_mm = 8;
   double max_step_mm = 0.25;
   double min_rate_hz = 120;
   double clip_mm = 0.1;
-  int solver_max_iterations = 200;
+  int solver_max_iterations = kDefaultSolverMaxIterations;  // also a scene's
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::vector<double> offset_mm;           // x, y, z added to every handle position
   bool quiet = false;
@@ -62,8 +64,8 @@ struct RecordArgs : PaintOptions {  // of the --png render
   double sim_rate_hz = 30;
   double session_rate_hz = 100;
   double px_per_mm = 8;
-  std::string solver = "ipopt";       // of the --png render (as replay's)
-  std::string live_solver = "slsqp";  // of the live simulation: it must keep up
+  SolverKind solver = SolverKind::kIpopt;       // of the --png render (as replay's)
+  SolverKind live_solver = SolverKind::kSlsqp;  // of the live simulation: it must keep up
   bool quiet = false;
 };
 int runRecord(const RecordArgs& args);
@@ -71,7 +73,7 @@ int runRecord(const RecordArgs& args);
 struct ReplayArgs : PaintOptions {
   std::string session, brush, output;
   double px_per_mm = 8;
-  std::string solver = "ipopt";
+  SolverKind solver = SolverKind::kIpopt;
   bool quiet = false;
 };
 int runReplay(const ReplayArgs& args);
@@ -79,7 +81,8 @@ int runReplay(const ReplayArgs& args);
 struct SheetArgs {
   std::string sheet, output;
   double px_per_mm = 0;  // 0: the sheet's
-  std::string solver;    // empty: the sheet's
+  std::optional<SolverKind> solver;  // nothing: the sheet's
+  int solver_max_iterations = kDefaultSolverMaxIterations;
   bool impasto = false;
   bool quiet = false;
 };

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 
 #include "bristle/version.h"
@@ -74,6 +75,26 @@ void addPaintOptions(CLI::App* app, bristle::cli::PaintOptions& p) {
       ->capture_default_str();
 }
 
+// --solver and its like: a name on the command line, a SolverKind from there on.
+// `set` receives the parsed kind; `shown` is the default --help shows (none if empty).
+CLI::Option* addSolverOption(CLI::App* app, const std::string& name,
+                             std::function<void(bristle::SolverKind)> set,
+                             const std::string& help, const std::string& shown) {
+  CLI::Option* o = app->add_option_function<std::string>(
+      name, [set](const std::string& text) { set(*bristle::parseSolverKind(text)); }, help);
+  if (!shown.empty()) o->default_str(shown);
+  return o->check(CLI::IsMember({"ipopt", "slsqp"}));
+}
+
+// The iteration limit of the spine solvers, the same for every command that simulates.
+void addSolverMaxIterations(CLI::App* app, int& max_iterations) {
+  app->add_option("--solver-max-iterations", max_iterations,
+                  "Iteration limit per solve (Ipopt iterations, SLSQP energy evaluations); a "
+                  "spine that hits it with both solvers keeps its last state")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -109,13 +130,10 @@ int main(int argc, char** argv) {
   render->add_option("--stats", r.stats,
                      "Write the run's figures and warnings (JSON: painted pixels, failed "
                      "solves, paint laid down, ...)");
-  render->add_option("--solver", r.solver, "Spine solver")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"ipopt", "slsqp"}));
-  render->add_option("--solver-max-iterations", r.solver_max_iterations,
-                     "Iteration limit per solve (Ipopt iterations, SLSQP energy evaluations); a spine that hits it with both solvers keeps its last state")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
+  addSolverOption(
+      render, "--solver", [&r](bristle::SolverKind k) { r.solver = k; }, "Spine solver",
+      bristle::solverKindName(r.solver));
+  addSolverMaxIterations(render, r.solver_max_iterations);
   render->add_option("--offset-mm", r.offset_mm,
                      "Shift the trajectory by X Y Z mm (e.g. 0 0 10 to hold a longer brush "
                      "higher)")
@@ -197,11 +215,14 @@ int main(int argc, char** argv) {
       preview->add_option("--trajectory", pv.trajectory, "Simulate along this trajectory (- reads stdin) ...");
   // Without a trajectory there is no time to go to and nothing to shift: refused
   // (exit 64), not silently ignored.
-  preview->add_option("--at", pv.at_s, "... up to this time (s)")->capture_default_str()->needs(pv_traj);
+  preview->add_option("--at", pv.at_s,
+                      "... up to this time (s): the last step at or before it of `bristle "
+                      "render` (same --px-per-mm)")->capture_default_str()->needs(pv_traj);
   preview->add_option("--offset-mm", pv.offset_mm, "Shift the trajectory by X Y Z mm")->expected(3)->needs(pv_traj);
   preview->add_option("--width", pv.width_px, "Image width (px)")->capture_default_str()->check(CLI::Range(64, 4096));
   preview->add_option("--height", pv.height_px, "Image height (px)")->capture_default_str()->check(CLI::Range(64, 4096));
-  preview->add_option("--px-per-mm", pv.px_per_mm, "Footprint resolution")->capture_default_str()->check(CLI::Range(0.5, 100.0));
+  preview->add_option("--px-per-mm", pv.px_per_mm,
+                      "Footprint resolution; as render's, it also sets how finely a step is split")->capture_default_str()->check(CLI::Range(0.5, 100.0));
   preview->add_flag("-q,--quiet", pv.quiet, "No output path on stdout");
 
   bristle::cli::RecordArgs rec;
@@ -236,13 +257,13 @@ int main(int argc, char** argv) {
   record->add_option("--px-per-mm", rec.px_per_mm, "Resolution of --png")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 100.0));
-  record->add_option("--solver", rec.solver, "Spine solver of the --png render (as replay's)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"ipopt", "slsqp"}));
-  record->add_option("--live-solver", rec.live_solver,
-                     "Spine solver of the live simulation (SLSQP keeps 30 Hz on 2 cores)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  addSolverOption(
+      record, "--solver", [&rec](bristle::SolverKind k) { rec.solver = k; },
+      "Spine solver of the --png render (as replay's)", bristle::solverKindName(rec.solver));
+  addSolverOption(
+      record, "--live-solver", [&rec](bristle::SolverKind k) { rec.live_solver = k; },
+      "Spine solver of the live simulation (SLSQP keeps 30 Hz on 2 cores)",
+      bristle::solverKindName(rec.live_solver));
   addPaintOptions(record, rec);
   record->add_flag("-q,--quiet", rec.quiet, "No summary, no output paths on stdout");
 
@@ -263,9 +284,9 @@ int main(int argc, char** argv) {
   replay->add_option("--px-per-mm", rep.px_per_mm, "Canvas resolution (pixels per mm)")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 100.0));
-  replay->add_option("--solver", rep.solver, "Spine solver")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  addSolverOption(
+      replay, "--solver", [&rep](bristle::SolverKind k) { rep.solver = k; }, "Spine solver",
+      bristle::solverKindName(rep.solver));
   addPaintOptions(replay, rep);
   replay->add_flag("-q,--quiet", rep.quiet, "No output path on stdout");
 
@@ -283,8 +304,10 @@ int main(int argc, char** argv) {
   sheet->add_option("-o,--output", sh.output, "Output PNG; - writes it to stdout")->required();
   sheet->add_option("--px-per-mm", sh.px_per_mm, "Resolution, instead of the sheet's px_per_mm")
       ->check(CLI::Range(0.5, 100.0));
-  sheet->add_option("--solver", sh.solver, "Spine solver, instead of the sheet's")
-      ->check(CLI::IsMember({"ipopt", "slsqp"}));
+  addSolverOption(
+      sheet, "--solver", [&sh](bristle::SolverKind k) { sh.solver = k; },
+      "Spine solver, instead of the sheet's", "");
+  addSolverMaxIterations(sheet, sh.solver_max_iterations);
   sheet->add_flag("--impasto", sh.impasto, "Light the paint's thickness from the upper left");
   sheet->add_flag("-q,--quiet", sh.quiet, "No progress, no summary, no output path on stdout");
 

@@ -15,6 +15,7 @@
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
 #include "engine/simulation.h"
+#include "engine/solver_pair.h"
 #include "engine/trajectory.h"
 #include "render/png_io.h"
 #include "render/preview_renderer.h"
@@ -28,7 +29,13 @@ int runPreview(const PreviewArgs& args) {
                 {"-o"}, {"--trajectory"});
   const Brush brush = loadBrush(brush_file);
   BrushGeometry geometry(brush);
-  Simulation sim(brush, SimOptions{}, makeIpoptSolver(), makeSlsqpSolver());
+  // The simulation of `bristle render --brush --trajectory` with its defaults and
+  // the same --px-per-mm, stepped as that render steps.
+  render::StrokeOptions options;
+  options.px_per_mm = args.px_per_mm;
+  options.clip_mm = args.clip_mm;
+  SolverPair solvers = makeSolverPair();
+  Simulation sim(brush, options.sim, std::move(solvers.primary), std::move(solvers.fallback));
   double t_s = 0;
   if (args.trajectory.empty()) {
     // At rest, held vertically with the tips 2 mm above the paper.
@@ -52,12 +59,8 @@ int runPreview(const PreviewArgs& args) {
                                         ": outside the trajectory's time span [" +
                                         std::to_string(traj.startTime()) + ", " +
                                         std::to_string(traj.endTime()) + "] s");
-    const std::vector<double> times = planStepTimes(traj, brush, SimOptions{});
-    sim.reset(traj.poseAt(times.front()), times.front());
-    for (size_t i = 1; i < times.size() && times[i - 1] < args.at_s; ++i) {
-      const double t = std::min(times[i], args.at_s);
-      sim.step(traj.poseAt(t), t);
-    }
+    // The render's last step at or before --at: a state the render painted.
+    render::stepAlongTrajectory(sim, traj, options, options.px_per_mm, {}, args.at_s);
     t_s = sim.state().t_s;
   }
   const BrushState& st = sim.state();

@@ -25,8 +25,9 @@ namespace bristle::cli {
 namespace {
 
 // The options that make sense with a scene: the scene says everything else.
-constexpr const char* kSceneOptions[] = {"--output", "--trace", "--stats", "--impasto", "--bits",
-                                         "--quiet", "--help"};
+constexpr const char* kSceneOptions[] = {"--output", "--trace",   "--stats", "--impasto",
+                                         "--bits",   "--quiet",   "--help",
+                                         "--solver-max-iterations"};
 
 // Was a stroke (its pointer, "/strokes/3") already named in a warning?
 bool warnedAbout(const std::vector<std::string>& warnings, const std::string& pointer) {
@@ -44,7 +45,8 @@ void checkSceneOptions(const RenderArgs& args) {
       throw Error(ExitCode::kUsage,
                   "render " + args.scene + ": " + given +
                       " cannot be used with a scene (the scene sets it); with a scene only -o, "
-                      "--trace, --stats, --impasto, --bits and --quiet are allowed");
+                      "--trace, --stats, --impasto, --bits, --solver-max-iterations and --quiet "
+                      "are allowed");
   }
 }
 
@@ -79,7 +81,9 @@ int runRenderScene(const RenderArgs& args) {
     if (trace) trace->stream() << "{\"stroke\":" << stroke << ',' << traceLine(st).substr(1) << '\n';
     progress.update(stroke, strokes, step, steps);
   };
-  const render::SceneResult result = render::renderScene(scene, {}, &canvas, on_step);
+  render::SceneRenderOptions options;
+  options.solver_max_iterations = args.solver_max_iterations;
+  const render::SceneResult result = render::renderScene(scene, options, &canvas, on_step);
 
   render::ComposeOptions compose;
   compose.impasto = args.impasto;

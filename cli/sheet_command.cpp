@@ -43,12 +43,13 @@ int runSheet(const SheetArgs& args) {
   checkCliFiles({{"-o", args.output}}, inputs, {"-o"}, {});
   // Command-line overrides of the sheet's own settings (a quick, coarse proof).
   if (args.px_per_mm > 0) sheet.px_per_mm = args.px_per_mm;
-  if (!args.solver.empty()) sheet.solver = args.solver;
+  if (args.solver) sheet.solver = *args.solver;
   checkCanCreateArg(args.output);
 
   PartProgress progress(!args.quiet, "cell");
   render::SheetRenderOptions options;
   options.compose.impasto = args.impasto;
+  options.solver_max_iterations = args.solver_max_iterations;
   const render::SheetImage result = render::renderSheet(
       sheet, options,
       [&](int cell, int cells, long step, long steps) { progress.update(cell, cells, step, steps); });

@@ -1,15 +1,17 @@
 #include "cli/stroke_png.h"
 
 #include <memory>
+#include <optional>
+#include <string>
 
 #include "cli/commands.h"
 #include "cli/inputs.h"
 #include "engine/canvas.h"
 #include "engine/error.h"
 #include "engine/paint.h"
-#include "engine/pigments.h"
 #include "render/compose.h"
 #include "render/png_io.h"
+#include "render/stroke_pipeline.h"
 
 namespace bristle::cli {
 
@@ -20,8 +22,9 @@ MixModel mixOf(const StrokePngOptions& o) {
 }
 
 // Paint options are input data: a paint, colour or amount that makes no sense
-// is a data error (65), named by its option.
-PaintLoad paintLoadArgs(const StrokePngOptions& args, MixModel model) {
+// is a data error (65), named by its option, by the rules a scene's paint meets
+// (checkPaintLoad, engine/paint_spec.h).
+PaintLoad paintLoadArgs(const StrokePngOptions& args) {
   PaintLoad load;
   load.mode = args.load == "across" ? PaintLoad::Mode::kAcross
               : args.load == "tip"  ? PaintLoad::Mode::kTip
@@ -33,27 +36,14 @@ PaintLoad paintLoadArgs(const StrokePngOptions& args, MixModel model) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
-  for (const std::string& p : load.paints) {
-    Optics optics;
-    std::string why;
-    if (!resolvePaint(p, model, &optics, &why))
-      throw Error(ExitCode::kDataError, "--paint " + args.paint + ": " + why);
-  }
-  const size_t lo = load.mode == PaintLoad::Mode::kAcross ? 2 : 1;
-  const size_t hi = load.mode == PaintLoad::Mode::kSolid ? 1 : load.mode == PaintLoad::Mode::kTip ? 2 : 3;
-  if (load.paints.size() < lo || load.paints.size() > hi)
-    throw Error(ExitCode::kDataError,
-                "--paint " + args.paint + ": --load " + args.load + " takes " +
-                    std::to_string(lo) + (hi > lo ? " to " + std::to_string(hi) : "") +
-                    " paints, got " + std::to_string(load.paints.size()));
-  if (!(args.amount > 0 && args.amount <= 1))
-    throw Error(ExitCode::kDataError, "--amount " + std::to_string(args.amount) +
-                                          ": must be in (0, 1], a fraction of the brush's "
-                                          "paint capacity");
-  if (!(args.tip_length >= 0 && args.tip_length <= 1))
-    throw Error(ExitCode::kDataError, "--tip-length: must be in [0, 1]");
   load.amount = args.amount;
   load.tip_length = args.tip_length;
+  if (const std::optional<PaintLoadProblem> e = checkPaintLoad(load, "--load " + args.load)) {
+    std::string option = "--paint " + args.paint;
+    if (e->field == "amount") option = "--amount " + std::to_string(args.amount);
+    if (e->field == "tip_length") option = "--tip-length " + std::to_string(args.tip_length);
+    throw Error(ExitCode::kDataError, option + ": " + e->rule);
+  }
   return load;
 }
 
@@ -74,26 +64,27 @@ PaperSpec paperArgs(const StrokePngOptions& args) {
   return paper;
 }
 
-IpoptSettings ipoptSettings(const StrokePngOptions& o) {
-  IpoptSettings ipopt;
-  ipopt.max_iterations = o.solver_max_iterations;
+// The chosen solver is the primary; a spine it fails on is tried with the other.
+// --solver-max-iterations limits both: Ipopt's iterations, SLSQP's energy evaluations.
+SolverSettings solverSettings(const StrokePngOptions& o) {
+  SolverSettings solvers;
+  solvers.kind = o.solver;
+  solvers.max_iterations = o.solver_max_iterations;
   for (const std::string& kv : o.ipopt_options) {
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
       throw Error(ExitCode::kUsage, "--ipopt-option " + kv + ": expected NAME=VALUE");
-    ipopt.extra_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+    solvers.ipopt_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
   }
-  return ipopt;
+  return solvers;
 }
 
 }  // namespace
 
 void checkStrokePngOptions(const StrokePngOptions& o) {
-  paintLoadArgs(o, mixOf(o));
+  paintLoadArgs(o);
   paperArgs(o);
-  if (o.solver != "ipopt" && o.solver != "slsqp")
-    throw Error(ExitCode::kUsage, "--solver " + o.solver + ": available: ipopt, slsqp");
-  ipoptSettings(o);
+  solverSettings(o);
 }
 
 render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
@@ -108,27 +99,22 @@ render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
 StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
                                 const StrokePngOptions& o, const std::string& output,
                                 const render::StepCallback& on_step) {
-  const MixModel mix = mixOf(o);
-  const PaintLoad load = paintLoadArgs(o, mix);
-  const PaperSpec paper = paperArgs(o);
-  const render::StrokeOptions options = strokeOptions(o);
-  const CanvasGrid grid = render::canvasForStroke(brush, trajectory, options);
-  PaintCanvas canvas(grid, paper, mix);
-  BrushPaint paint(brush);
-  paint.load(load, mix, "--paint");
+  render::StrokeSetup setup;
+  setup.load = paintLoadArgs(o);
+  setup.load_where = "--paint";
+  setup.mix = mixOf(o);
+  setup.paper = paperArgs(o);
+  setup.solvers = solverSettings(o);
+  setup.stroke = strokeOptions(o);
   render::StrokeRenderer renderer;
-  // The chosen solver is the primary; a spine it fails on is tried with the other.
-  // --solver-max-iterations limits both: Ipopt's iterations, SLSQP's energy evaluations.
-  SlsqpSettings slsqp;
-  slsqp.max_evaluations = o.solver_max_iterations;
-  std::unique_ptr<SpineSolver> primary = makeIpoptSolver(ipoptSettings(o)),
-                               fallback = makeSlsqpSolver(slsqp);
-  if (o.solver == "slsqp") std::swap(primary, fallback);
+  const render::PaintedStroke painted =
+      render::paintStroke(renderer, brush, trajectory, setup, on_step);
+  const PaintCanvas& canvas = painted.canvas;
+  const CanvasGrid& grid = canvas.grid();
   StrokePngResult r;
-  r.stroke = renderer.render(brush, trajectory, std::move(primary), options, &canvas, &paint,
-                             on_step, std::move(fallback));
-  r.left_on_brush_mm3 = paint.totalVolumeMm3();
-  r.loaded_mm3 = paint.capacityMm3() * o.amount;
+  r.stroke = painted.stroke;
+  r.left_on_brush_mm3 = painted.left_on_brush_mm3;
+  r.loaded_mm3 = painted.loaded_mm3;
 
   render::ComposeOptions compose;
   compose.impasto = o.impasto;
@@ -138,7 +124,7 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
   text.push_back({"bristle:paint", o.paint + " load=" + o.load + " mix=" + o.mix});
   const render::Image8 image8 = render::composeRgb8(canvas, compose);
   r.ink_pixels = render::inkPixels(
-      image8, render::paperColour8(paper, mix, grid.px_per_mm, compose));
+      image8, render::paperColour8(setup.paper, setup.mix, grid.px_per_mm, compose));
   r.pixels = long(image8.width) * image8.height;
   if (o.bits == 16)
     render::writePng(output, render::composeRgb16(canvas, compose), text);

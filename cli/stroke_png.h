@@ -1,21 +1,24 @@
 #pragma once
 // The one way a single stroke becomes a PNG: `bristle render --brush
 // --trajectory`, `bristle record --png` and `bristle replay` all come through
-// here, so a replayed session renders exactly what the live run rendered.
+// here, so a replayed session renders exactly what the live run rendered. The
+// command line's part: options to a StrokeSetup, and the PNG with its provenance;
+// the stroke itself is render::paintStroke (render/stroke_pipeline.h).
 
 #include <string>
 #include <vector>
 
 #include "cli/paint_options.h"
 #include "engine/brush.h"
+#include "engine/solver_pair.h"
 #include "engine/trajectory.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::cli {
 
 struct StrokePngOptions : PaintOptions {  // paint and paper, as `bristle render`'s
-  std::string solver = "ipopt";  // primary; the other one is the fallback
-  int solver_max_iterations = 200;
+  SolverKind solver = SolverKind::kIpopt;  // primary; the other one is the fallback
+  int solver_max_iterations = kDefaultSolverMaxIterations;
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   double px_per_mm = 8;
   double clip_mm = 0.1;

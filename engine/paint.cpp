@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "engine/bristle_strips.h"
 #include "engine/brush_geometry.h"
@@ -285,18 +286,9 @@ void BrushPaint::load(const PaintLoad& load, MixModel model, const std::string& 
   auto fail = [&](const std::string& field, const std::string& rule) {
     return dataError(where, field, rule);
   };
-  size_t lo = 1, hi = 1;
-  if (load.mode == PaintLoad::Mode::kAcross) lo = 2, hi = 3;
-  if (load.mode == PaintLoad::Mode::kTip) lo = 1, hi = 2;
-  if (load.paints.size() < lo || load.paints.size() > hi)
-    throw fail("/paints", "this loading takes " + std::to_string(lo) +
-                              (hi > lo ? " to " + std::to_string(hi) : "") + " paints, got " +
-                              std::to_string(load.paints.size()));
-  if (!(load.amount > 0 && load.amount <= 1))
-    throw fail("/amount", "must be in (0, 1] (a fraction of the brush's capacity)");
-  if (!(load.tip_length >= 0 && load.tip_length <= 1))
-    throw fail("/tip_length", "must be in [0, 1]");
-  if (!(load.dilution >= 0 && load.dilution <= 1)) throw fail("/dilution", "must be in [0, 1]");
+  const std::string mode = std::string("mode \"") + paintModeName(load.mode) + "\"";
+  if (const std::optional<PaintLoadProblem> e = checkPaintLoad(load, mode))
+    throw fail("/" + e->field, e->rule);
   std::vector<Optics> paints(load.paints.size());
   for (size_t i = 0; i < paints.size(); ++i) {
     std::string why;

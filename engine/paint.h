@@ -166,10 +166,9 @@ class BrushPaint {
 
   // Loads the brush afresh (what was on it is washed out): every texel gets
   // amount * brush.paint_capacity * kFullLoadFilmMm of film. Throws
-  // Error(kDataError) "<where>: <field>: <rule>" for an unknown pigment, a colour
-  // that does not parse, an amount outside (0, 1], too few or too many paints for
-  // the mode, tip_length or dilution outside [0, 1]. `where` names the source
-  // (a scene file and pointer, or "--paint").
+  // Error(kDataError) "<where>: /<field>: <rule>" for a load that breaks a rule
+  // of checkPaintLoad (engine/paint_spec.h). `where` names the source (a scene
+  // file and pointer, or "--paint").
   void load(const PaintLoad& load, MixModel model, const std::string& where);
   // A clean, empty brush (it can still pick paint up).
   void clean();

@@ -5,6 +5,7 @@
 // between brush and canvas through the footprint.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,30 @@ struct PaintLoad {
   // Thinner paint (more medium) flows more freely and covers less: in [0, 1].
   double dilution = 0.0;
 };
+
+inline constexpr int kMaxPaintsPerLoad = 3;  // "across": 2-3 paints side by side
+
+// "solid", "across", "tip": the mode's name in scenes and on the command line.
+const char* paintModeName(PaintLoad::Mode mode);
+
+// A rule of a paint load broken: the field ("paints", "paints/1", "amount",
+// "tip_length", "dilution") and the rule, for the caller to name the place (a
+// JSON pointer, an option).
+struct PaintLoadProblem {
+  std::string field;
+  std::string rule;
+};
+
+// The one set of rules for a paint load, wherever it comes from (a scene's or a
+// sheet's "paint", the command line's --paint, --load, --amount and
+// --tip-length, BrushPaint::load): a paint count for the mode (solid 1, across
+// 2-3, tip 2: body, then tip), each paint a pigment of the table or "#rrggbb",
+// amount in (0, 1], tip_length in (0, 1) (at 0 or 1 a tip load is a solid load of
+// one of its paints), dilution in [0, 1]. The first rule broken, in that order,
+// or nothing. `mode_label` names the mode in the count's rule (`mode "tip"`,
+// `--load tip`).
+std::optional<PaintLoadProblem> checkPaintLoad(const PaintLoad& load,
+                                               const std::string& mode_label);
 
 // The paper's surface: a seeded height field that decides contact where the
 // brush barely touches (dry brush catches only the tooth).

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "engine/brush_library.h"
@@ -127,9 +128,7 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
   top.require(mix == "km" || mix == "rgb", "mix",
               "must be \"km\" (Kubelka-Munk) or \"rgb\" (linear RGB)");
   scene.mix = mix == "km" ? MixModel::kKubelkaMunk : MixModel::kLinearRgb;
-  scene.solver = top.string("solver", scene.solver);
-  top.require(scene.solver == "ipopt" || scene.solver == "slsqp", "solver",
-              "must be \"ipopt\" or \"slsqp\"");
+  scene.solver = parseSolverField(top, scene.solver);
 
   const std::vector<JsonObject> strokes = top.objects("strokes");
   top.require(!strokes.empty() && strokes.size() <= static_cast<size_t>(kMaxSceneStrokes),
@@ -173,56 +172,46 @@ void parsePaperTooth(const JsonObject& p, PaperSpec* out) {
 void parsePaintLoad(const JsonObject& p, PaintLoad* out) {
   PaintLoad& load = *out;
   const std::string mode = p.string("mode", "solid");
-  size_t min_paints = 1, max_paints = 1;
   if (mode == "solid") {
     load.mode = PaintLoad::Mode::kSolid;
   } else if (mode == "across") {
     load.mode = PaintLoad::Mode::kAcross;
-    min_paints = 2;
-    max_paints = kMaxPaintsPerLoad;
   } else if (mode == "tip") {
     load.mode = PaintLoad::Mode::kTip;
-    min_paints = max_paints = 2;
   } else {
     p.require(false, "mode", "must be \"solid\", \"across\" or \"tip\"");
   }
-
   const nlohmann::json& paints = p.raw("paints");
   const std::string pp = p.childPointer("paints");
-  const std::string count = min_paints == max_paints
-                                ? std::to_string(min_paints)
-                                : std::to_string(min_paints) + ".." + std::to_string(max_paints);
-  p.requireAt(paints.is_array() && paints.size() >= min_paints && paints.size() <= max_paints, pp,
-              paints,
-              "mode \"" + mode + "\" takes " + count + " paint" + (max_paints > 1 ? "s" : "") +
-                  (mode == "tip" ? " (body, then tip)" : mode == "across" ? " (left to right across the brush)" : ""));
-  for (size_t i = 0; i < paints.size(); ++i) {
-    const std::string pi = pp + "/" + std::to_string(i);
-    p.requireAt(paints[i].is_string(), pi, paints[i],
-                "must be a pigment name or a colour \"#rrggbb\"");
-    const std::string name = paints[i].get<std::string>();
-    if (!name.empty() && name[0] == '#') {
-      Rgb c;
-      if (!parseHexColour(name, &c))
-        p.fail(pi, "colour '" + name + "' does not parse (must be #rrggbb, hex digits)");
-    } else if (!isKnownPigment(name)) {
-      p.fail(pi, "unknown pigment '" + name + "' (known: " + knownPigmentList() +
-                     "; or a colour \"#rrggbb\")");
+  if (paints.is_array())
+    for (const nlohmann::json& name : paints)
+      // Not a string: a name no rule accepts, reported below as what it is.
+      load.paints.push_back(name.is_string() ? name.get<std::string>() : std::string());
+  // Each field as it is read, by the rules of every paint load (checkPaintLoad);
+  // the fields not read yet hold valid defaults.
+  auto check = [&] {
+    const std::optional<PaintLoadProblem> e = checkPaintLoad(load, "mode \"" + mode + "\"");
+    if (!e) return;
+    if (e->field == "paints") p.requireAt(false, pp, paints, e->rule);
+    if (e->field.rfind("paints/", 0) == 0) {
+      const std::string index = e->field.substr(std::string("paints/").size());
+      const std::string pi = pp + "/" + index;
+      const nlohmann::json& given = paints[std::stoul(index)];
+      p.requireAt(given.is_string(), pi, given, "must be a pigment name or a colour \"#rrggbb\"");
+      p.fail(pi, e->rule);
     }
-    load.paints.push_back(name);
-  }
-
+    p.require(false, e->field, e->rule);
+  };
+  check();
   load.amount = p.number("amount", 1.0);
-  p.require(load.amount > 0 && load.amount <= 1, "amount",
-            "must be in (0, 1] (a fraction of the brush's paint capacity)");
+  check();
   if (p.has("tip_length")) {
     p.require(load.mode == PaintLoad::Mode::kTip, "tip_length", "applies only to mode \"tip\"");
     load.tip_length = p.number("tip_length");
-    p.require(load.tip_length > 0 && load.tip_length < 1, "tip_length",
-              "must be in (0, 1) (a fraction of the hair length, from the tip)");
+    check();
   }
   load.dilution = p.number("dilution", 0.0);
-  p.require(load.dilution >= 0 && load.dilution <= 1, "dilution", "must be in [0, 1]");
+  check();
   p.rejectUnknownKeys();
 }
 
@@ -234,6 +223,13 @@ void parseSimOptions(const JsonObject& s, SimOptions* sim) {
   s.require(sim->max_step_mm >= kMinStepMm && sim->max_step_mm <= kMaxStepMm, "max_step_mm",
             "must be in [0.01, 5] mm");
   s.rejectUnknownKeys();
+}
+
+SolverKind parseSolverField(const JsonObject& owner, SolverKind absent) {
+  const std::optional<SolverKind> kind =
+      parseSolverKind(owner.string("solver", solverKindName(absent)));
+  owner.require(kind.has_value(), "solver", "must be \"ipopt\" or \"slsqp\"");
+  return *kind;
 }
 
 Pose Placement::apply(const Pose& pose) const {

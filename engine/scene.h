@@ -11,6 +11,7 @@
 #include "engine/canvas.h"
 #include "engine/paint_spec.h"
 #include "engine/simulation.h"
+#include "engine/solver_pair.h"
 #include "engine/trajectory.h"
 
 namespace bristle {
@@ -18,7 +19,6 @@ namespace bristle {
 // Limits that keep a scene file from asking for absurd work.
 inline constexpr int kMaxSceneStrokes = 10000;
 inline constexpr double kMaxScenePxPerMm = 100;  // as the CLI's --px-per-mm
-inline constexpr int kMaxPaintsPerLoad = 3;       // "across": 2-3 paints side by side
 
 // Rigid placement of a trajectory on the canvas: every handle pose is turned by
 // rotate_deg about the canvas normal (+z) through the point (0, 0) of the
@@ -61,7 +61,7 @@ struct Scene {
   std::vector<SceneStroke> strokes;
   SimOptions sim;  // rate_hz -> min_rate_hz, max_step_mm
   MixModel mix = MixModel::kKubelkaMunk;
-  std::string solver = "ipopt";  // "ipopt" | "slsqp": the primary spine solver
+  SolverKind solver = SolverKind::kIpopt;  // the primary spine solver ("solver")
   // Every file the scene read (the scene first, then brushes and trajectories in
   // order of first mention), for the inputs hash of the PNG.
   std::vector<std::string> inputs;
@@ -97,6 +97,9 @@ void parsePaintLoad(const JsonObject& paint, PaintLoad* out);
 void parsePaperTooth(const JsonObject& paper, PaperSpec* out);
 // "sim": rate_hz (-> min_rate_hz), max_step_mm.
 void parseSimOptions(const JsonObject& sim, SimOptions* out);
+// The key "solver" of `owner`: "ipopt" or "slsqp", the primary spine solver;
+// `absent` when the key is not there.
+SolverKind parseSolverField(const JsonObject& owner, SolverKind absent);
 // A path as an input file names it, resolved against that file's folder.
 std::string resolveInputPath(const std::string& base_dir, const std::string& path);
 // A referenced file must be readable, else Error(kNoInput):

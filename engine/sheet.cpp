@@ -116,9 +116,7 @@ Sheet parseSheetOnly(const nlohmann::json& root, const std::string& path,
               "must be \"km\" (Kubelka-Munk) or \"rgb\" (linear RGB)");
   sheet.mix = mix == "km" ? MixModel::kKubelkaMunk : MixModel::kLinearRgb;
   if (top.has("sim")) parseSimOptions(top.object("sim"), &sheet.sim);
-  sheet.solver = top.string("solver", sheet.solver);
-  top.require(sheet.solver == "ipopt" || sheet.solver == "slsqp", "solver",
-              "must be \"ipopt\" or \"slsqp\"");
+  sheet.solver = parseSolverField(top, sheet.solver);
   if (top.has("labels")) {
     const JsonObject labels = top.object("labels");
     sheet.label_px = labels.integer("font_px", sheet.label_px);

@@ -13,6 +13,7 @@
 #include "engine/canvas.h"
 #include "engine/paint_spec.h"
 #include "engine/simulation.h"
+#include "engine/solver_pair.h"
 #include "engine/trajectory.h"
 
 namespace bristle {
@@ -47,7 +48,7 @@ struct Sheet {
   Rgb background;  // = paper.colour, parsed
   MixModel mix = MixModel::kKubelkaMunk;
   SimOptions sim;
-  std::string solver = "ipopt";  // primary spine solver; the other is the fallback
+  SolverKind solver = SolverKind::kIpopt;  // primary spine solver; the other is the fallback
   int label_px = 14;             // label text size (em height, px)
   // Every file the sheet read: the sheet, then the brushes and the trajectories
   // in the order listed (the inputs of sheetInputsHash).

@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "engine/spine_kinematics.h"
-#include "engine/spine_solver.h"
+#include "engine/solver_pair.h"
 
 namespace bristle::haptics {
 
@@ -28,10 +28,9 @@ class SimThread {
  public:
   SimThread(const Brush& brush, const LiveOptions& options, ServoLoop* servo)
       : brush_(brush), options_(options), servo_(servo) {
-    std::unique_ptr<SpineSolver> primary = makeIpoptSolver(), fallback = makeSlsqpSolver();
-    if (options.solver == "slsqp") std::swap(primary, fallback);
-    sim_ = std::make_unique<Simulation>(brush, options.sim, std::move(primary),
-                                        std::move(fallback));
+    SolverPair solvers = makeSolverPair({options.solver, kDefaultSolverMaxIterations, {}});
+    sim_ = std::make_unique<Simulation>(brush, options.sim, std::move(solvers.primary),
+                                        std::move(solvers.fallback));
     for (const SpineSpec& s : brush.spines) root_radius_ = std::max(root_radius_, s.root_mm.norm());
   }
   void start() { thread_ = std::thread([this] { run(); }); }

@@ -14,6 +14,7 @@
 
 #include "engine/brush.h"
 #include "engine/simulation.h"
+#include "engine/solver_pair.h"
 #include "haptics/device.h"
 #include "haptics/force_model.h"
 #include "haptics/servo_loop.h"
@@ -26,7 +27,7 @@ struct LiveOptions {
   SimOptions sim;
   ForceModelOptions force_model;
   ServoOptions servo;       // safety.stale_after_s is set to three sim frames
-  std::string solver = "ipopt";  // primary; the other one is the fallback
+  SolverKind solver = SolverKind::kIpopt;  // primary; the other one is the fallback
   // Set (e.g. by a SIGINT handler) to end the session cleanly.
   const std::atomic<bool>* interrupt = nullptr;
   std::function<void(const std::string&)> notice;  // one-line messages

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <memory>
 
-#include "engine/spine_solver.h"
+#include "engine/solver_pair.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::render {
@@ -42,15 +42,15 @@ SceneResult renderScene(const Scene& scene, const SceneRenderOptions& options,
     BrushPaint& paint = paints[size_t(st.brush)];
     paint.load(st.paint, scene.mix, scene.path + ": " + st.pointer + "/paint");
     // The scene's solver is the primary; a spine it fails on is tried with the other.
-    std::unique_ptr<SpineSolver> primary = makeIpoptSolver(), fallback = makeSlsqpSolver();
-    if (scene.solver == "slsqp") std::swap(primary, fallback);
+    SolverPair solvers = makeSolverPair({scene.solver, options.solver_max_iterations, {}});
     StepCallback step_cb;
     if (on_step)
       step_cb = [&](const BrushState& state, int step, int) {
         on_step(static_cast<int>(i), state, done + step, result.planned_steps);
       };
-    const StrokeResult r = renderer.render(brush, st.trajectory, std::move(primary),
-                                           stroke_options, canvas, &paint, step_cb, std::move(fallback));
+    const StrokeResult r = renderer.render(brush, st.trajectory, std::move(solvers.primary),
+                                           stroke_options, canvas, &paint, step_cb,
+                                           std::move(solvers.fallback));
     done += planned[i];
     if (!r.touched) result.untouched.push_back(static_cast<int>(i));
     result.deposited_mm3 += r.deposited_mm3;

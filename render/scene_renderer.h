@@ -15,6 +15,8 @@ struct SceneRenderOptions {
   // The contact band: brush geometry below this height touches the paper
   // (as StrokeOptions::clip_mm).
   double clip_mm = 0.1;
+  // Per solve, for both solvers (SolverSettings::max_iterations).
+  int solver_max_iterations = kDefaultSolverMaxIterations;
 };
 
 // After every simulation step: which stroke, the state, and the step counts

@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "engine/error.h"
-#include "engine/spine_solver.h"
+#include "render/stroke_pipeline.h"
 #include "render/text.h"
 
 namespace bristle::render {
@@ -108,9 +108,17 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
     checkSheetSize(sheet, grid_w, grid_h);
   }
 
-  // Every stroke on its own canvas, as `bristle render --brush --trajectory`
-  // paints it: the canvas the stroke needs, a fresh brush load, fresh paper.
+  // Every stroke on its own canvas by the function `bristle render --brush
+  // --trajectory` paints with (paintStroke): the canvas the stroke needs, a fresh
+  // brush load, fresh paper.
   const Rgb8 paper = sheetPaperColour(sheet, options.compose);
+  StrokeSetup setup;
+  setup.load = sheet.paint;
+  setup.load_where = sheet.path + ": /paint";
+  setup.mix = sheet.mix;
+  setup.paper = sheet.paper;
+  setup.solvers = {sheet.solver, options.solver_max_iterations, {}};
+  setup.stroke = stroke_options;
   StrokeRenderer renderer;  // one GL context for the whole sheet
   std::vector<Image8> strokes;
   long done = 0;
@@ -118,19 +126,13 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
     SheetCell& cell = out.cells[size_t(i)];
     const Brush& brush = sheet.brushes[cell.brush];
     const Trajectory trajectory = sheet.cellTrajectory(cell.brush, cell.trajectory);
-    const CanvasGrid grid = canvasForStroke(brush, trajectory, stroke_options);
-    PaintCanvas canvas(grid, sheet.paper, sheet.mix);
-    BrushPaint paint(brush);
-    paint.load(sheet.paint, sheet.mix, sheet.path + ": /paint");
-    std::unique_ptr<SpineSolver> primary = makeIpoptSolver(), fallback = makeSlsqpSolver();
-    if (sheet.solver == "slsqp") std::swap(primary, fallback);
     StepCallback step_cb;
     if (on_step)
       step_cb = [&](const BrushState&, int step, int) { on_step(i, n, done + step, planned_total); };
-    cell.stroke = renderer.render(brush, trajectory, std::move(primary), stroke_options, &canvas,
-                                  &paint, step_cb, std::move(fallback));
+    const PaintedStroke painted = paintStroke(renderer, brush, trajectory, setup, step_cb);
+    cell.stroke = painted.stroke;
     done += planned[size_t(i)];
-    strokes.push_back(composeRgb8(canvas, options.compose));
+    strokes.push_back(composeRgb8(painted.canvas, options.compose));
     cell.ink = inkBox(strokes.back(), paper);
     SimStats& s = out.stats;
     const SimStats& r = cell.stroke.stats;

@@ -60,6 +60,8 @@ struct SheetImage {
 struct SheetRenderOptions {
   ComposeOptions compose;  // impasto or not
   double clip_mm = 0.1;    // the contact band (StrokeOptions::clip_mm)
+  // Per solve, for both solvers (SolverSettings::max_iterations).
+  int solver_max_iterations = kDefaultSolverMaxIterations;
 };
 
 // After every simulation step: the cell (in layout order), and the steps of the

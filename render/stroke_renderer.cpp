@@ -206,6 +206,42 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
   result->picked_up_mm3 += st.picked_up_mm3;
 }
 
+void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
+                         const StrokeOptions& options, double px_per_mm,
+                         const StepCallback& on_step, double stop_t_s) {
+  const std::vector<double> times = planStepTimes(trajectory, sim.brush(), options.sim);
+  const int steps = static_cast<int>(times.size());
+  const double max_jump_mm = std::max(options.sim.max_step_mm, 2.0 / px_per_mm);
+  int planned = 0;
+  bool stopped = false;
+
+  // Steps from t0 to t1, halving the step while the touching part jumps too far.
+  auto advance = [&](auto&& self, double t0, double t1, int depth) -> void {
+    if (stopped) return;
+    const Simulation::Snapshot before = sim.snapshot();
+    sim.step(trajectory.poseAt(t1), t1);
+    if (depth < kMaxSplitDepth &&
+        contactJumpMm(sim.brush(), before.state, sim.state(), options.clip_mm) > max_jump_mm) {
+      sim.restore(before);
+      const double tm = 0.5 * (t0 + t1);
+      self(self, t0, tm, depth + 1);
+      self(self, tm, t1, depth + 1);
+      return;
+    }
+    if (t1 > stop_t_s) {  // the render goes on; a preview stops before this step
+      sim.restore(before);
+      stopped = true;
+      return;
+    }
+    if (on_step) on_step(sim.state(), planned, steps);
+  };
+
+  sim.reset(trajectory.poseAt(times.front()), times.front());
+  if (on_step) on_step(sim.state(), 0, steps);
+  for (planned = 1; planned < steps && !stopped; ++planned)
+    advance(advance, times[planned - 1], times[planned], 0);
+}
+
 StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajectory,
                                     std::unique_ptr<SpineSolver> solver,
                                     const StrokeOptions& options, PaintCanvas* canvas,
@@ -213,36 +249,18 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
                                     std::unique_ptr<SpineSolver> fallback) {
   BrushGeometry geometry(brush);
   Simulation sim(brush, options.sim, std::move(solver), std::move(fallback));
-  const std::vector<double> times = planStepTimes(trajectory, brush, options.sim);
   StrokeResult result;
-  const int steps = static_cast<int>(times.size());
-  const double max_jump_mm = std::max(options.sim.max_step_mm, 2.0 / canvas->grid().px_per_mm);
-  int planned = 0;
+  bool first = true;
   BrushState painted;  // the state the last stamp showed
-
-  // Steps from t0 to t1, halving the step while the touching part jumps too far.
-  auto advance = [&](auto&& self, double t0, double t1, int depth) -> void {
-    const Simulation::Snapshot before = sim.snapshot();
-    sim.step(trajectory.poseAt(t1), t1);
-    if (depth < kMaxSplitDepth &&
-        contactJumpMm(brush, before.state, sim.state(), options.clip_mm) > max_jump_mm) {
-      sim.restore(before);
-      const double tm = 0.5 * (t0 + t1);
-      self(self, t0, tm, depth + 1);
-      self(self, tm, t1, depth + 1);
-      return;
-    }
-    paintStep(geometry, &painted, sim.state(), options, canvas, paint, &result);
-    painted = sim.state();
-    if (on_step) on_step(sim.state(), planned, steps);
-  };
-
-  sim.reset(trajectory.poseAt(times.front()), times.front());
-  paintStep(geometry, nullptr, sim.state(), options, canvas, paint, &result);
-  painted = sim.state();
-  if (on_step) on_step(sim.state(), 0, steps);
-  for (planned = 1; planned < steps; ++planned)
-    advance(advance, times[planned - 1], times[planned], 0);
+  stepAlongTrajectory(
+      sim, trajectory, options, canvas->grid().px_per_mm,
+      [&](const BrushState& state, int step, int steps) {
+        // The first state has no step before it: a stamp, not a sweep.
+        paintStep(geometry, first ? nullptr : &painted, state, options, canvas, paint, &result);
+        first = false;
+        painted = state;
+        if (on_step) on_step(state, step, steps);
+      });
   result.stats = sim.stats();
   return result;
 }

@@ -3,6 +3,7 @@
 // -> footprint (OSMesa) -> paint on the canvas (docs/design.md, "Where to start").
 
 #include <functional>
+#include <limits>
 #include <memory>
 
 #include "engine/brush_geometry.h"
@@ -40,6 +41,19 @@ struct StrokeResult {
 // trajectory) if it would exceed the canvas limits of engine/canvas.h.
 CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
                            const StrokeOptions& options);
+
+// The stepping of a render, without the paint: resets `sim` at the first
+// planned step time (planStepTimes with options.sim, which `sim` must have been
+// made with), then steps it through the planned steps, halving a step (down to
+// 1/32) while the part of the brush within options.clip_mm of the paper jumps
+// further than one stamp covers, max(options.sim.max_step_mm, 2 px at
+// px_per_mm, the canvas's resolution). on_step sees the state after the reset
+// and after every step kept. Stops at the last step that ends at or before
+// stop_t_s, so that `bristle preview --at` shows a state the render shows.
+void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
+                         const StrokeOptions& options, double px_per_mm,
+                         const StepCallback& on_step = {},
+                         double stop_t_s = std::numeric_limits<double>::infinity());
 
 class StrokeRenderer {
  public:

@@ -407,8 +407,15 @@ TEST_CASE("render: bad paint input is a one-line data error (65), no PNG", "[cli
   };
   for (const Case& c : {
            Case{"--paint unobtainium", "--paint unobtainium: unknown pigment 'unobtainium'"},
-           Case{"--paint '#12g456'", "'#12g456' is not a colour like #1c2433"},
-           Case{"--paint ultramarine,sumi-ink", "--load solid takes 1 paints, got 2"},
+           Case{"--paint '#12g456'", "--paint #12g456: colour '#12g456' does not parse"},
+           Case{"--paint ultramarine,sumi-ink", "--paint ultramarine,sumi-ink: --load solid takes 1 paint"},
+           // The rules of a scene's paint (engine/paint_spec.h): a tip load has two
+           // paints, and a tip_length of 0 or 1 would make it a solid load.
+           Case{"--paint ultramarine --load tip", "--load tip takes 2 paints (body, then tip)"},
+           Case{"--paint ultramarine,sumi-ink --load tip --tip-length 1",
+                "--tip-length 1.000000: must be in (0, 1) (a fraction of the hair length"},
+           Case{"--paint ultramarine,sumi-ink --load tip --tip-length 0",
+                "--tip-length 0.000000: must be in (0, 1)"},
            Case{"--amount -0.5", "--amount -0.500000: must be in (0, 1]"},
            Case{"--background cream", "--background cream: must be a colour"},
            Case{"--paper-tooth -1", "--paper-tooth: must be in [0, 1] mm"},

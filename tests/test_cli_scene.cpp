@@ -225,6 +225,13 @@ TEST_CASE("with a scene, options the scene sets are usage errors naming them",
                                " cannot be used with a scene"));
     CHECK_FALSE(exists(dir.file("x.png")));
   }
+  // The iteration limit is not the scene's to set: it is taken, and checked.
+  const RunResult zero = runBristle("render '" + scene + "' -o '" + dir.file("x.png") +
+                                    "' --solver-max-iterations 0");
+  CHECK(zero.code == 64);
+  CHECK_THAT(zero.err, Contains("--solver-max-iterations"));
+  CHECK(std::count(zero.err.begin(), zero.err.end(), '\n') == 1);
+  CHECK_FALSE(exists(dir.file("x.png")));
   // Neither a scene nor a brush and trajectory.
   const RunResult r = runBristle("render -o '" + dir.file("x.png") + "'");
   CHECK(r.code == 64);
@@ -232,6 +239,27 @@ TEST_CASE("with a scene, options the scene sets are usage errors naming them",
   // An output that cannot be created fails before the run: 73, no file.
   const RunResult o = runBristle("render -q '" + scene + "' -o '" + dir.file("no/such/dir/x.png") + "'");
   CHECK(o.code == 73);
+}
+
+TEST_CASE("render SCENE --solver-max-iterations limits every stroke's solves", "[cli][scene]") {
+  TempDir dir;
+  json one = crossingScene();
+  one["strokes"].erase(1);
+  const std::string scene = writeScene(dir, "s.json", one);
+  auto run = [&](const std::string& name, const std::string& extra) {
+    const RunResult r = runBristle("render -q '" + scene + "' -o '" + dir.file(name + ".png") +
+                                   "' --stats '" + dir.file(name + ".json") + "' " + extra);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    return json::parse(readAll(dir.file(name + ".json")));
+  };
+  const json full = run("full", "");
+  CHECK(full["failed_steps"] == 0);
+  // One SLSQP evaluation, one Ipopt iteration: no solve can converge.
+  const json starved = run("starved", "--solver-max-iterations 1");
+  CHECK(starved["failed_steps"].get<int>() > 0);
+  CHECK(render::readPngRgba8(dir.file("starved.png")).pixels !=
+        render::readPngRgba8(dir.file("full.png")).pixels);
 }
 
 TEST_CASE("a stroke that never touches the canvas is a warning naming the stroke",

@@ -214,7 +214,40 @@ TEST_CASE("bad sheets exit with their code and one line, and leave no PNG", "[cl
   CHECK_THAT(r.err, Contains("--px-per-mm"));
   r = runBristle("sheet '" + good + "' -o '" + dir.file("x.png") + "' --solver newton");
   CHECK(r.code == 64);
+  r = runBristle("sheet '" + good + "' -o '" + dir.file("x.png") + "' --solver-max-iterations 0");
+  CHECK(r.code == 64);
+  CHECK_THAT(r.err, Contains("--solver-max-iterations"));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
   CHECK_FALSE(fs::exists(dir.file("x.png")));
+}
+
+TEST_CASE("sheet --solver-max-iterations limits every solve, as render's does", "[cli][sheet]") {
+  TempDir dir;
+  json j = librarySmallSheet();
+  j["brushes"] = {sourcePath("scenes/brushes/round.json")};
+  j["trajectories"] = {sourcePath("scenes/trajectories/straight-pull.csv")};
+  const std::string sheet = writeJson(dir, "s.json", j);
+  // The summary line's "N solver iterations".
+  auto iterations = [](const std::string& err) {
+    const size_t end = err.find(" solver iterations");
+    REQUIRE(end != std::string::npos);
+    const size_t start = err.rfind(' ', end - 1) + 1;
+    return std::stol(err.substr(start, end - start));
+  };
+  const RunResult full = runBristle("sheet '" + sheet + "' -o '" + dir.file("a.png") + "'");
+  INFO(full.err);
+  REQUIRE(full.code == 0);
+  CHECK_THAT(full.err, !Contains("failed solve"));
+  // One SLSQP evaluation, one Ipopt iteration: no solve can converge, and the
+  // spines are carried along frozen (a warning, not an error).
+  const RunResult starved = runBristle("sheet '" + sheet + "' -o '" + dir.file("b.png") +
+                                       "' --solver-max-iterations 1");
+  INFO(starved.err);
+  REQUIRE(starved.code == 0);
+  CHECK_THAT(starved.err, Contains("failed solve"));
+  CHECK(iterations(starved.err) != iterations(full.err));
+  CHECK(render::readPngRgba8(dir.file("b.png")).pixels !=
+        render::readPngRgba8(dir.file("a.png")).pixels);
 }
 
 TEST_CASE("validate reports a sheet's summary and its problems", "[cli][sheet]") {

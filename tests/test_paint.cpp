@@ -224,11 +224,12 @@ TEST_CASE("BrushPaint: loading solid, across the width, at the tip; bad loads", 
     CHECK_THROWS_WITH(paint.load(l, MixModel::kKubelkaMunk, "w"),
                       Contains("/paints/0: unknown pigment 'mauve-ish'"));
     l = solid("#zzzzzz");
-    CHECK_THROWS_WITH(paint.load(l, MixModel::kKubelkaMunk, "w"), Contains("not a colour"));
+    CHECK_THROWS_WITH(paint.load(l, MixModel::kKubelkaMunk, "w"),
+                      Contains("/paints/0: colour '#zzzzzz' does not parse"));
     l.mode = PaintLoad::Mode::kAcross;
     l.paints = {"ultramarine"};
     CHECK_THROWS_WITH(paint.load(l, MixModel::kKubelkaMunk, "w"),
-                      Contains("/paints: this loading takes 2 to 3 paints, got 1"));
+                      Contains("/paints: mode \"across\" takes 2..3 paints"));
   }
 }
 
@@ -506,4 +507,43 @@ TEST_CASE("PaintCanvas refuses bad paper and oversized canvases before allocatin
   // 16385 x 16385 would be ~8 GB of cells: refused by the check, not by the allocator.
   CHECK_THROWS_AS(PaintCanvas(grid(kMaxCanvasSidePx + 1, 16), PaperSpec{}, MixModel::kKubelkaMunk),
                   Error);
+}
+
+TEST_CASE("one set of paint-load rules, for scenes, sheets and the command line", "[paint]") {
+  PaintLoad tip;
+  tip.mode = PaintLoad::Mode::kTip;
+  tip.paints = {"titanium-white", "sumi-ink"};
+  CHECK_FALSE(checkPaintLoad(tip, "mode \"tip\"").has_value());
+  // The rule's place is the caller's to name; the mode label is its own.
+  PaintLoad one = tip;
+  one.paints = {"sumi-ink"};
+  auto e = checkPaintLoad(one, "--load tip");
+  REQUIRE(e.has_value());
+  CHECK(e->field == "paints");
+  CHECK(e->rule == "--load tip takes 2 paints (body, then tip)");
+  // tip_length is a share of the hair strictly between none and all of it: at
+  // 0 or 1 the tip load would be a solid load of one of its paints.
+  for (double bad : {0.0, 1.0, -0.1, 1.5, std::nan("")}) {
+    INFO(bad);
+    PaintLoad l = tip;
+    l.tip_length = bad;
+    e = checkPaintLoad(l, "mode \"tip\"");
+    REQUIRE(e.has_value());
+    CHECK(e->field == "tip_length");
+    CHECK_THAT(e->rule, Contains("must be in (0, 1)"));
+  }
+  PaintLoad bad_name = tip;
+  bad_name.paints[1] = "#12g456";
+  e = checkPaintLoad(bad_name, "");
+  REQUIRE(e.has_value());
+  CHECK(e->field == "paints/1");
+  // BrushPaint::load keeps the same rules, naming the field under its source.
+  const Brush brush = fivesSpineBrush();
+  BrushPaint paint(brush);
+  PaintLoad whole = tip;
+  whole.tip_length = 1;
+  CHECK_THROWS_WITH(paint.load(whole, MixModel::kKubelkaMunk, "w"),
+                    Contains("w: /tip_length: must be in (0, 1)"));
+  CHECK_THROWS_WITH(paint.load(one, MixModel::kKubelkaMunk, "w"),
+                    Contains("w: /paints: mode \"tip\" takes 2 paints"));
 }

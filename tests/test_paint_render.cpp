@@ -7,6 +7,7 @@
 
 #include "engine/fnv1a64.h"
 #include "engine/paint.h"
+#include "engine/solver_pair.h"
 #include "engine/spine_solver.h"
 #include "render/compose.h"
 #include "render/stroke_renderer.h"
@@ -311,4 +312,80 @@ TEST_CASE("Compose: paper shows through where there is no paint; impasto lights 
   CHECK(left_edge > top);
   CHECK(right_edge < top - 20);
   CHECK(top == flat.pixels[(5 * 40 + 20) * 3]);  // flat paint keeps its colour
+}
+
+// `bristle preview --at t` steps as the render does (stepAlongTrajectory): the
+// state it stops at is the very state the render painted at t. Before, the
+// preview stepped the planned times without the render's halving of a step
+// whose touching hairs jump too far, so where the render split a step (a
+// pressed brush springing back at lift-off) it showed a state the render never
+// reached.
+TEST_CASE("preview's stepping stops at the state the render painted at that time",
+          "[render][preview]") {
+  const Brush brush = loadBrush(kRound);
+  const Trajectory traj = loadTrajectory(kDir + "/scenes/trajectories/press-lift.csv");
+  const StrokeOptions options;
+  // The render, keeping every state its step callback sees.
+  std::vector<BrushState> seen;
+  std::vector<int> planned;
+  {
+    PaintCanvas canvas(canvasForStroke(brush, traj, options), PaperSpec{},
+                       MixModel::kKubelkaMunk);
+    BrushPaint paint(brush);
+    paint.load(loadOf(PaintLoad::Mode::kSolid, {"sumi-ink"}), canvas.model(), "test");
+    SolverPair solvers = makeSolverPair();
+    StrokeRenderer renderer;
+    renderer.render(brush, traj, std::move(solvers.primary), options, &canvas, &paint,
+                    [&](const BrushState& st, int step, int) {
+                      seen.push_back(st);
+                      planned.push_back(step);
+                    },
+                    std::move(solvers.fallback));
+  }
+  // A split step reports its planned index twice: the last piece ends at the
+  // planned time, reached by pieces rather than by one step.
+  size_t split_end = 0;
+  for (size_t i = 1; i < planned.size() && split_end == 0; ++i)
+    if (planned[i] == planned[i - 1]) {
+      split_end = i;
+      while (split_end + 1 < planned.size() && planned[split_end + 1] == planned[i])
+        ++split_end;
+    }
+  REQUIRE(split_end > 0);
+  REQUIRE(split_end + 1 < seen.size());
+
+  auto previewAt = [&](double t_s) {
+    SolverPair solvers = makeSolverPair();
+    Simulation sim(brush, options.sim, std::move(solvers.primary), std::move(solvers.fallback));
+    stepAlongTrajectory(sim, traj, options, options.px_per_mm, {}, t_s);
+    return sim.state();
+  };
+  auto sameJoints = [](const BrushState& a, const BrushState& b) {
+    REQUIRE(a.spines.size() == b.spines.size());
+    for (size_t s = 0; s < a.spines.size(); ++s)
+      if (a.spines[s].joints_mm != b.spines[s].joints_mm) return false;
+    return true;
+  };
+  // At the end of the split step, in the middle of it, and between two steps
+  // (the last step at or before that time).
+  for (size_t i : {split_end, split_end - 1}) {
+    INFO("state " << i << " of the render, t = " << seen[i].t_s << " s");
+    const BrushState at = previewAt(seen[i].t_s);
+    CHECK(at.t_s == seen[i].t_s);
+    CHECK(sameJoints(at, seen[i]));
+  }
+  const double between = 0.5 * (seen[split_end].t_s + seen[split_end + 1].t_s);
+  const BrushState before = previewAt(between);
+  CHECK(before.t_s == seen[split_end].t_s);
+  CHECK(sameJoints(before, seen[split_end]));
+
+  // The old preview's one unsplit step to the same time lands elsewhere.
+  SolverPair solvers = makeSolverPair();
+  Simulation old(brush, options.sim, std::move(solvers.primary), std::move(solvers.fallback));
+  const std::vector<double> times = planStepTimes(traj, brush, options.sim);
+  const double t_end = seen[split_end].t_s;
+  old.reset(traj.poseAt(times.front()), times.front());
+  for (size_t i = 1; i < times.size() && times[i - 1] < t_end; ++i)
+    old.step(traj.poseAt(std::min(times[i], t_end)), std::min(times[i], t_end));
+  CHECK_FALSE(sameJoints(old.state(), seen[split_end]));
 }

@@ -92,7 +92,7 @@ TEST_CASE("a sound scene parses into canvas, paper, paint loadings and placement
   CHECK(s.sim.min_rate_hz == 100);
   CHECK(s.sim.max_step_mm == 0.3);
   CHECK(s.mix == MixModel::kLinearRgb);
-  CHECK(s.solver == "slsqp");
+  CHECK(s.solver == SolverKind::kSlsqp);
   REQUIRE(s.strokes.size() == 2);
   const PaintLoad& a = s.strokes[0].paint;
   CHECK(a.mode == PaintLoad::Mode::kAcross);
@@ -125,7 +125,7 @@ TEST_CASE("omitted optional keys take the documented defaults", "[scene]") {
   CHECK(s.canvas.paper.colour == PaperSpec().colour);
   CHECK(s.canvas.paper.tooth_depth_mm == PaperSpec().tooth_depth_mm);
   CHECK(s.mix == MixModel::kKubelkaMunk);
-  CHECK(s.solver == "ipopt");
+  CHECK(s.solver == SolverKind::kIpopt);
   CHECK(s.sim.max_step_mm == SimOptions().max_step_mm);
   CHECK(s.sim.min_rate_hz == SimOptions().min_rate_hz);
   const PaintLoad& p = s.strokes[0].paint;
@@ -188,6 +188,18 @@ TEST_CASE("bad values are 65 naming the JSON pointer and the rule", "[scene]") {
        "scene.json: /strokes/0/paint/paints = [\"viridian\"]: ", "takes 2..3 paints"},
       {"tip_length without tip", [](json& j) { j["strokes"][0]["paint"]["tip_length"] = 0.2; },
        "scene.json: /strokes/0/paint/tip_length = 0.2: ", "applies only to mode \"tip\""},
+      // A tip over the whole hair, or none of it, is a solid load (engine/paint_spec.h).
+      {"tip_length 1", [](json& j) { j["strokes"][1]["paint"]["tip_length"] = 1; },
+       "scene.json: /strokes/1/paint/tip_length = 1: ", "must be in (0, 1) (a fraction"},
+      {"tip_length 0", [](json& j) { j["strokes"][1]["paint"]["tip_length"] = 0; },
+       "scene.json: /strokes/1/paint/tip_length = 0: ", "must be in (0, 1)"},
+      {"tip with one paint", [](json& j) { j["strokes"][1]["paint"]["paints"] = {"viridian"}; },
+       "scene.json: /strokes/1/paint/paints = [\"viridian\"]: ",
+       "mode \"tip\" takes 2 paints (body, then tip)"},
+      {"a paint that is not a string", [](json& j) { j["strokes"][1]["paint"]["paints"][1] = 3; },
+       "scene.json: /strokes/1/paint/paints/1 = 3: ", "must be a pigment name or a colour"},
+      {"paints not a list", [](json& j) { j["strokes"][1]["paint"]["paints"] = "viridian"; },
+       "scene.json: /strokes/1/paint/paints = \"viridian\": ", "mode \"tip\" takes 2 paints"},
       {"unknown stroke key", [](json& j) { j["strokes"][1]["speed"] = 2; },
        "scene.json: /strokes/1/speed: ", "unknown key 'speed'"},
       {"unknown top key", [](json& j) { j["outputs"] = json::object(); },

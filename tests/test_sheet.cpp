@@ -115,7 +115,7 @@ TEST_CASE("a sound sheet parses into files, lifts, layout, cell, paint and label
   CHECK(s.mix == MixModel::kLinearRgb);
   CHECK(s.sim.min_rate_hz == 60);
   CHECK(s.sim.max_step_mm == 0.5);
-  CHECK(s.solver == "slsqp");
+  CHECK(s.solver == SolverKind::kSlsqp);
   CHECK(s.label_px == 20);
   // Labels: the brush's file stem until the brush is read, with its lift.
   CHECK(s.brushLabel(1) == "badger +6 mm");
@@ -140,7 +140,7 @@ TEST_CASE("omitted keys take the defaults of `bristle render --brush --trajector
   CHECK(s.mix == MixModel::kKubelkaMunk);
   CHECK(s.sim.min_rate_hz == SimOptions{}.min_rate_hz);
   CHECK(s.sim.max_step_mm == SimOptions{}.max_step_mm);
-  CHECK(s.solver == "ipopt");
+  CHECK(s.solver == SolverKind::kIpopt);
   CHECK(s.label_px == 14);
   CHECK(s.brush_lift_mm == std::vector<double>{0});
 

@@ -12,6 +12,7 @@
 
 #include "engine/error.h"
 #include "engine/simulation.h"
+#include "engine/solver_pair.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -501,4 +502,42 @@ TEST_CASE("slsqp settings out of range are refused by name", "[solvers][slsqp]")
   negative.ftol_abs_nmm = -1;
   CHECK_THROWS_AS(makeSlsqpSolver(negative), Error);
   CHECK_NOTHROW(makeSlsqpSolver());
+}
+
+TEST_CASE("solver kinds parse from their names and back, nothing else", "[solvers]") {
+  for (SolverKind kind : {SolverKind::kIpopt, SolverKind::kSlsqp})
+    CHECK(parseSolverKind(solverKindName(kind)) == kind);
+  CHECK(std::string(solverKindName(SolverKind::kSlsqp)) == "slsqp");
+  CHECK_FALSE(parseSolverKind("newton").has_value());
+  CHECK_FALSE(parseSolverKind("IPOPT").has_value());
+  CHECK_FALSE(parseSolverKind("").has_value());
+}
+
+TEST_CASE("makeSolverPair: the chosen solver first, the other as fallback, both limited",
+          "[solvers]") {
+  for (SolverKind kind : {SolverKind::kIpopt, SolverKind::kSlsqp}) {
+    const SolverPair pair = makeSolverPair({kind, kDefaultSolverMaxIterations, {}});
+    CHECK(std::string(pair.primary->name()) == solverKindName(kind));
+    CHECK(std::string(pair.fallback->name()) ==
+          solverKindName(kind == SolverKind::kIpopt ? SolverKind::kSlsqp : SolverKind::kIpopt));
+  }
+  // The limit holds for both: Ipopt's iterations, SLSQP's energy evaluations.
+  PressedSpine pressed;
+  const SpineProblem* pp = &pressed.problem;
+  const SolverPair starved = makeSolverPair({SolverKind::kIpopt, 2, {}});
+  for (SpineSolver* solver : {starved.primary.get(), starved.fallback.get()}) {
+    INFO(solver->name());
+    SpineSolution sol = pressed.start;
+    SpineSolution* ps = &sol;
+    const SolveSummary summary = solver->solve({&pp, 1}, {&ps, 1});
+    CHECK(summary.status == SolveStatus::kFailed);
+    CHECK(summary.iterations <= 2);
+  }
+  // Without a limit of its own, a pair solves the spine.
+  const SolverPair full = makeSolverPair();
+  SpineSolution sol = pressed.start;
+  SpineSolution* ps = &sol;
+  CHECK(full.primary->solve({&pp, 1}, {&ps, 1}).usable());
+  // Extra Ipopt options reach Ipopt, which refuses a bad one (a usage error).
+  CHECK_THROWS_AS(makeSolverPair({SolverKind::kSlsqp, 200, {{"no_such_option", "1"}}}), Error);
 }

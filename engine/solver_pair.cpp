@@ -1,0 +1,26 @@
+#include "engine/solver_pair.h"
+
+namespace bristle {
+
+std::optional<SolverKind> parseSolverKind(std::string_view name) {
+  if (name == "ipopt") return SolverKind::kIpopt;
+  if (name == "slsqp") return SolverKind::kSlsqp;
+  return std::nullopt;
+}
+
+const char* solverKindName(SolverKind kind) {
+  return kind == SolverKind::kSlsqp ? "slsqp" : "ipopt";
+}
+
+SolverPair makeSolverPair(const SolverSettings& settings) {
+  IpoptSettings ipopt;
+  ipopt.max_iterations = settings.max_iterations;
+  ipopt.extra_options = settings.ipopt_options;
+  SlsqpSettings slsqp;
+  slsqp.max_evaluations = settings.max_iterations;
+  SolverPair pair{makeIpoptSolver(ipopt), makeSlsqpSolver(slsqp)};
+  if (settings.kind == SolverKind::kSlsqp) std::swap(pair.primary, pair.fallback);
+  return pair;
+}
+
+}  // namespace bristle

@@ -1,0 +1,42 @@
+#pragma once
+// One stroke on a canvas of its own, from a brush and a trajectory to paint:
+// the canvas the stroke needs, a freshly loaded brush, fresh paper, the run's
+// solvers, the render. `bristle render --brush --trajectory`, `record --png`,
+// `replay` (cli/stroke_png.h) and every cell of a sheet (render/sheet_renderer.h)
+// paint a stroke through here, so that they paint the same stroke alike.
+
+#include <string>
+
+#include "engine/brush.h"
+#include "engine/paint.h"
+#include "engine/paint_spec.h"
+#include "engine/solver_pair.h"
+#include "engine/trajectory.h"
+#include "render/stroke_renderer.h"
+
+namespace bristle::render {
+
+struct StrokeSetup {
+  PaintLoad load;       // checked by BrushPaint::load (checkPaintLoad)
+  std::string load_where;  // names the load's source in its errors ("--paint", "s.json: /paint")
+  MixModel mix = MixModel::kKubelkaMunk;
+  PaperSpec paper;
+  SolverSettings solvers;
+  StrokeOptions stroke;  // resolution, contact band, simulation
+};
+
+struct PaintedStroke {
+  PaintCanvas canvas;  // canvasForStroke's grid, the paper, the paint laid down
+  StrokeResult stroke;
+  double loaded_mm3 = 0;         // paint put on the brush before the stroke
+  double left_on_brush_mm3 = 0;  // and on it after
+};
+
+// Throws what canvasForStroke, PaintCanvas, BrushPaint::load and makeSolverPair
+// throw, before anything is simulated. `renderer` (one GL context) may serve
+// many strokes.
+PaintedStroke paintStroke(StrokeRenderer& renderer, const Brush& brush,
+                          const Trajectory& trajectory, const StrokeSetup& setup,
+                          const StepCallback& on_step = {});
+
+}  // namespace bristle::render
