@@ -121,9 +121,9 @@ TEST_CASE("A double-loaded flat lays its two colours side by side, blended betwe
   const double left = blueShare(meanAcross(canvas, r0, r1, 0.0, 0.25));
   const double right = blueShare(meanAcross(canvas, r0, r1, 0.75, 1.0));
   // The blended zone: of twenty bands across the middle half, the one whose
-  // share is furthest from both sides. (It lies left of the middle, at about
-  // 0.4 of the width: the red side of a red/ultramarine load reads narrower
-  // than the blue, as it did before the flat's slabs; see the issue notes.)
+  // share is furthest from both sides. It need not be the middle band of the
+  // canvas: on this pull that band's share is 0.13, 12 % of the way from the
+  // red side's to the blue side's.
   double mid = left;
   for (int k = 0; k < 20; ++k) {
     const double a = 0.25 + 0.5 * k / 20, b = a + 0.5 / 20;
