@@ -70,6 +70,10 @@ EXIT_USAGE, EXIT_DATA, EXIT_NO_INPUT, EXIT_CANT_CREATE, EXIT_IO = 64, 65, 66, 73
 
 BONE_STIFFNESS = "stiffness_nmm_per_rad"
 BONE_DAMPING = "damping_nmm"
+# A slab of a flat's row (docs/brush-format.md, "Slabs"): its thickness at the
+# bone's tail, and on a chain's first bone also at its head (the spine's root).
+BONE_THICKNESS = "thickness_mm"
+BONE_ROOT_THICKNESS = "root_thickness_mm"
 
 # Brush-object custom properties: name -> (JSON place, type, check, rule text).
 # Ranges are the reader's rules (docs/brush-format.md §3), so a bad value is named
@@ -309,6 +313,17 @@ class _Export:
                                 for t, p in angles],
             "width_mm": widths,
         }
+        # A slab: all of its thicknesses, or none (a round bundle).
+        tails = [self.bone_number(b, BONE_THICKNESS, None, lambda v: v >= 0, ">= 0 (mm)")
+                 for b in chain]
+        head = self.bone_number(chain[0], BONE_ROOT_THICKNESS, None, lambda v: v > 0, "> 0 (mm)")
+        given = [t is not None for t in tails] + [head is not None]
+        if any(given):
+            if not all(given):
+                raise BrushError("%s: bone chain from '%s': a slab needs '%s' on its first bone and "
+                                 "'%s' on every bone; some are missing"
+                                 % (self.where, chain[0].name, BONE_ROOT_THICKNESS, BONE_THICKNESS))
+            spine["thickness_mm"] = [_round(t, LENGTH_DECIMALS) for t in [head] + tails]
         return spine, points
 
     def find_cage(self):
@@ -679,6 +694,10 @@ def import_brush(context, brush, set_units=True):
             bone[BONE_STIFFNESS] = float(spine["stiffness_nmm_per_rad"][k])
             if "damping_nmm" in spine:
                 bone[BONE_DAMPING] = float(spine["damping_nmm"][k])
+            if "thickness_mm" in spine:
+                bone[BONE_THICKNESS] = float(spine["thickness_mm"][k + 1])
+                if k == 0:
+                    bone[BONE_ROOT_THICKNESS] = float(spine["thickness_mm"][0])
 
     if brush.get("description"):
         arm["description"] = brush["description"]

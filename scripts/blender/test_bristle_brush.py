@@ -110,6 +110,8 @@ def differences(got, want, cage_tol=LENGTH_TOL_MM):
         close(p + "root_mm", g["root_mm"], w["root_mm"], LENGTH_TOL_MM)
         close(p + "segment_lengths_mm", g["segment_lengths_mm"], w["segment_lengths_mm"], LENGTH_TOL_MM)
         close(p + "width_mm", g["width_mm"], w["width_mm"], LENGTH_TOL_MM)
+        close(p + "thickness_mm", g.get("thickness_mm", "round"), w.get("thickness_mm", "round"),
+              LENGTH_TOL_MM if "thickness_mm" in w else None)
         close(p + "rest_angles_rad", g["rest_angles_rad"], w["rest_angles_rad"], ANGLE_TOL_RAD)
         close(p + "stiffness_nmm_per_rad", g["stiffness_nmm_per_rad"], w["stiffness_nmm_per_rad"], None)
         close(p + "damping_nmm", g["damping_nmm"], w["damping_nmm"], None)
