@@ -149,6 +149,7 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
   constexpr int F = kTubeFacets;
   std::vector<Eigen::Vector3d> ring, sides, centre;
   std::vector<BundleSection> section;
+  std::vector<BrushVertex> grid;  // one cap's or tube's vertices
   for (size_t s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush.spines[s];
     const int n = spec.jointCount();
@@ -239,25 +240,35 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
                            static_cast<float>(p.z()), acrossU(j, p),
                            static_cast<float>(double(j) / n)};
       };
+      // Each vertex once (a triangle list uses most of them six times).
+      constexpr int kLon = 2 * F + 1;
+      grid.clear();
+      for (int lat = 0; lat <= kCapRings; ++lat)
+        for (int lon = 0; lon < kLon; ++lon) grid.push_back(cap(lat, lon));
+      auto at = [&](int lat, int lon) { return grid[lat * kLon + lon]; };
       for (int lat = 0; lat < kCapRings; ++lat)
         for (int lon = 0; lon < 2 * F; ++lon) {
-          triangles->push_back(cap(lat, lon));
-          triangles->push_back(cap(lat + 1, lon));
-          triangles->push_back(cap(lat + 1, lon + 1));
+          triangles->push_back(at(lat, lon));
+          triangles->push_back(at(lat + 1, lon));
+          triangles->push_back(at(lat + 1, lon + 1));
           if (lat == 0) continue;  // the pole row is a fan
-          triangles->push_back(cap(lat, lon));
-          triangles->push_back(cap(lat + 1, lon + 1));
-          triangles->push_back(cap(lat, lon + 1));
+          triangles->push_back(at(lat, lon));
+          triangles->push_back(at(lat + 1, lon + 1));
+          triangles->push_back(at(lat, lon + 1));
         }
     }
+    grid.clear();
+    for (int j = 0; j <= n; ++j)
+      for (int k = 0; k <= F; ++k) grid.push_back(vtx(j, k));
+    auto tube = [&](int j, int k) { return grid[j * (F + 1) + k]; };
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < F; ++k) {
-        triangles->push_back(vtx(j, k));
-        triangles->push_back(vtx(j, k + 1));
-        triangles->push_back(vtx(j + 1, k + 1));
-        triangles->push_back(vtx(j, k));
-        triangles->push_back(vtx(j + 1, k + 1));
-        triangles->push_back(vtx(j + 1, k));
+        triangles->push_back(tube(j, k));
+        triangles->push_back(tube(j, k + 1));
+        triangles->push_back(tube(j + 1, k + 1));
+        triangles->push_back(tube(j, k));
+        triangles->push_back(tube(j + 1, k + 1));
+        triangles->push_back(tube(j + 1, k));
       }
   }
 }

@@ -3,7 +3,6 @@
 // spines, and bad cages are rejected by name.
 
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -300,25 +299,4 @@ TEST_CASE("makeTubeCage builds an outward tube whose limit has the spine's width
   CHECK_THROWS_AS(makeTubeCage(b, 2), Error);
   // A flat brush of several spines makes a valid cage too.
   CHECK_NOTHROW(BrushSurface(tubeBrush(4, 2, 12)));
-}
-
-TEST_CASE("surface update timing", "[.surface-perf]") {
-  const Brush b = tubeBrush(3, 2, 12);  // 4 rings of 12 + tip: 49 cage vertices
-  const Brush big = tubeBrush(3, 2, 24);  // 97 cage vertices
-  for (const Brush* br : {&b, &big}) {
-    BrushSurface surface(*br);
-    const BrushState st = stateAt(*br, tiltedPose());
-    std::vector<BrushVertex> tris;
-    constexpr int kRuns = 2000;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int r = 0; r < kRuns; ++r) {
-      tris.clear();
-      surface.update(st, &tris);
-    }
-    const double us = std::chrono::duration<double, std::micro>(
-                          std::chrono::steady_clock::now() - t0).count() / kRuns;
-    WARN(surface.cageVertexCount() << " cage vertices, level 2: " << surface.refinedVertexCount()
-                                   << " vertices, " << surface.triangleCount() << " triangles, "
-                                   << us << " us per update");
-  }
 }
