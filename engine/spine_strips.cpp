@@ -117,8 +117,8 @@ void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& ha
   // the joint's.
   double load_n = 0;
   for (double f : spine.solution.normal_force_n) load_n += f;
-  // Each joint's bundle: its centre raised until the half ellipsoid around
-  // it (the part that reaches lowest) is only as deep below the canvas as
+  // Each joint's bundle: its centre raised until the half solid around it
+  // (the part that reaches lowest) is only as deep below the canvas as
   // the load presses it, see kBundleFlatLoadN.
   centre.assign(n + 1, Eigen::Vector3d::Zero());
   for (int j = 0; j <= n; ++j) {

@@ -1,8 +1,9 @@
 #pragma once
 // The simulated spines' own geometry, drawn with the surface (§4.1) and the
 // strips (§4.2): each spine is dressed in the lower half of a tube whose
-// diameter is the width the brush file gives at each joint, the canvas-facing
-// side of the hair bundle around that spine. The footprint is whatever lies
+// section is the hair bundle around that spine at each joint -- a circle of
+// the brush file's width_mm, or for a flat's slab (thickness_mm) a rounded
+// rectangle -- the canvas-facing side of that bundle. The footprint is whatever lies
 // below the clip plane (§4.2.1). Where the bundle would reach below the canvas
 // it flattens and spreads instead (bundleSpread), so a spine pressed flatter
 // leaves a wider mark -- as far as the spine's load presses it
@@ -27,7 +28,8 @@ struct BrushVertex {
 // Facets around the half tube: 8 keeps the polygon within 2% of the circle's
 // radius (1 - cos(pi / 16)), below a pixel at 8 px/mm for hairs under 6 mm.
 inline constexpr int kTubeFacets = 8;
-// Latitude rings of the half sphere that rounds the bundle at each joint.
+// Latitude rings of the half solid (a half sphere, for a round bundle) that
+// rounds the bundle off at each joint.
 inline constexpr int kCapRings = 3;
 // How far the cap at a spine's tip reaches past the tip along a lying hair,
 // as a fraction of the bundle's radius there: the hairs end in a cut face,
@@ -87,7 +89,7 @@ double bundlePressDepth(double radius_mm, double load_n);
 std::vector<double> bundleDepthsBelowCanvas(const SpineSpec& spec, const SpineState& spine,
                                             const Pose& handle);
 
-// Appends the triangles of every spine's half tube (and the half spheres at its
+// Appends the triangles of every spine's half tube (and the half solids at its
 // joints) to `triangles`. Each spine's load is the sum of its canvas forces
 // (SpineState::solution.normal_force_n; none given is no load): where a joint's
 // bundle would reach further below the canvas than bundlePressDepth allows, it
