@@ -339,15 +339,17 @@ void BrushSurface::update(const BrushState& state, std::vector<BrushVertex>* tri
     spineFrames(handle_r, state.spines[s].rot.data(), state.spines[s].joints_mm.data(),
                 joint_count_[s], &frames_[frame_offset_[s]]);
   // The surface wraps the spines' hair, and hair is pressed into the paper
-  // only as far as its spine's load presses it (bundlePressDepth): a cage
-  // vertex reaches no deeper below the canvas than the bundles it follows do
-  // (bundleDepthsBelowCanvas), weighted as it follows them. A lightly loaded
-  // brush then rests on the paper, surface and spines alike, and a flat
-  // lifting off leaves a square end instead of dragging its surface's belly
-  // ahead of its hair.
-  depth_.resize(joint_count_.size());
+  // only as far as its spine's load presses it (bundlePressDepth). The hair
+  // bundles are raised off their joints until they are (bundlePlacement),
+  // and the surface follows its hair: each cage vertex rises by the weighted
+  // raise of the bundles it follows, and reaches no deeper below the canvas
+  // than they do. A lightly loaded brush then rests on the paper, surface
+  // and spines alike; and a flat lifting off leaves a square end: its
+  // surface's belly neither drags ahead of its hair (before the depth limit)
+  // nor slides ahead of it as the hair rises (before the raise: 0.25 mm).
+  bundles_.resize(joint_count_.size());
   for (size_t s = 0; s < joint_count_.size(); ++s)
-    depth_[s] = bundleDepthsBelowCanvas(spines_[s], state.spines[s], state.handle);
+    bundles_[s] = bundlePlacement(spines_[s], state.spines[s], state.handle);
   for (size_t i = 0; i < cage_.size(); ++i) {
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
     double depth = 0;
@@ -355,7 +357,9 @@ void BrushSurface::update(const BrushState& state, std::vector<BrushVertex>* tri
       const Influence& in = influence_[k];
       const Frame& f = frames_[in.frame];
       p += in.weight * (f.x + f.r * in.local);
-      depth += in.weight * depth_[in.spine][in.point];
+      const BundlePlacement& bundle = bundles_[in.spine];
+      p.z() += in.weight * bundle.raise_mm[in.point];
+      depth += in.weight * bundle.depth_mm[in.point];
     }
     p.z() = std::max(p.z(), -depth);
     cage_[i] = {p.x(), p.y(), p.z()};

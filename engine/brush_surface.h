@@ -110,8 +110,8 @@ class BrushSurface {
   std::vector<SurfacePoint> refined_rest_;
   // Per-step scratch, reused.
   std::vector<Frame> frames_;
-  std::vector<SpineSpec> spines_;           // the brush's, for their bundles' depths
-  std::vector<std::vector<double>> depth_;  // per spine point: its bundle's depth (update)
+  std::vector<SpineSpec> spines_;          // the brush's, for their bundles' placement
+  std::vector<BundlePlacement> bundles_;   // per spine (update)
   std::vector<SurfacePoint> cage_, refined_;
 };
 

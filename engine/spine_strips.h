@@ -38,10 +38,18 @@ inline constexpr double kTipCapDepth = 0.3;
 
 // A spine whose bundle has its own thickness (SpineSpec::thickness_mm) stands
 // for a slab of a flat's row of hair, cut square: its section is the
-// superellipse |x/a|^4 + |y/b|^4 = 1, a rectangle with rounded corners (at
-// 45 degrees it reaches 0.84 of the way to the rectangle's corner, where an
-// ellipse reaches 0.71), so a row of them leaves a square-ended mark.
-inline constexpr double kSlabSectionExponent = 6;
+// superellipse |x/a|^p + |y/b|^p = 1, a rectangle whose corners are rounded
+// only at the scale of a few hairs. With p = 24 its face lies within 1 % of
+// the thickness of flat over 94 % of its width, and at 45 degrees it reaches
+// 0.97 of the way to the rectangle's corner (an ellipse: 0.71).
+//
+// The corners matter where the hair meets the paper at a shallow angle: a
+// corner that rises h above the face moves the edge of the contact back by
+// h / tan(angle), about 2 h for a flat's chisel lifting off at 28 degrees.
+// With p = 6 the row's outer corners ended a broadside stroke up to 0.75 mm
+// early; with 24 the stop end varies by 0.75 mm over the whole width
+// instead of 1.0 (test "marks: a flat's broadside pull has square ends").
+inline constexpr double kSlabSectionExponent = 24;
 // How much of bundleSpread's sideways widening a slab takes. A flat's slabs
 // lie side by side in the ferrule and press against each other, so pressed
 // flat the row only flares at its edges; a round's bundle is free to spread
@@ -83,11 +91,15 @@ inline constexpr double kBundleFlatLoadN = 0.05;
 double bundlePressDepth(double radius_mm, double load_n);
 
 
-// How far below the canvas (mm, >= 0) the bundle around each point 0..n of a
-// spine reaches, as buildSpineGeometry draws it: within bundlePressDepth of
-// the spine's load.
-std::vector<double> bundleDepthsBelowCanvas(const SpineSpec& spec, const SpineState& spine,
-                                            const Pose& handle);
+// Where buildSpineGeometry draws the bundle around each point 0..n of a
+// spine: its centre raised above the joint (raise_mm, >= 0) until it reaches
+// only bundlePressDepth of the spine's load below the canvas, and how far
+// below the canvas it then reaches (depth_mm, >= 0).
+struct BundlePlacement {
+  std::vector<double> raise_mm, depth_mm;
+};
+BundlePlacement bundlePlacement(const SpineSpec& spec, const SpineState& spine,
+                                const Pose& handle);
 
 // Appends the triangles of every spine's half tube (and the half solids at its
 // joints) to `triangles`. Each spine's load is the sum of its canvas forces

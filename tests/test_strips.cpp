@@ -618,7 +618,7 @@ TEST_CASE("a flat's slab of hair touches the paper across its width", "[strips]"
   BrushState st = restState(slab, poseAt(0, 0, 20));
   for (int k = 0; k <= 3; ++k) st.spines[0].joints_mm[k] = Eigen::Vector3d(0, 5.0 * k, 0);
   st.spines[0].solution.normal_force_n.assign(3, kBundleFlatLoadN / 3);
-  const std::vector<double> depth = bundleDepthsBelowCanvas(slab.spines[0], st.spines[0], st.handle);
+  const std::vector<double> depth = bundlePlacement(slab.spines[0], st.spines[0], st.handle).depth_mm;
   CHECK(depth[1] == Approx(t / 2).margin(1e-9));
   CHECK(depth[2] == Approx(t / 2).margin(1e-9));
 }

@@ -2,6 +2,7 @@
 // Catmull-Clark stays in the cage's convex hull, the surface follows pressed
 // spines, and bad cages are rejected by name.
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
@@ -82,6 +83,16 @@ Brush cageBrush(std::vector<Eigen::Vector3d> cage, std::vector<std::vector<int>>
   return b;
 }
 
+// The brush lowered straight down from 14 mm to 7 mm over 70 steps: its
+// 12 mm spines pressed about 5 mm past touching, well bent.
+BrushState pressedStraightDown(const Brush& b) {
+  Simulation sim(b, SimOptions{}, makeIpoptSolver());
+  double t = 0;
+  sim.reset(poseAt(0, 0, 14), t);
+  for (int i = 1; i <= 70; ++i) sim.step(poseAt(0, 0, 14 - 0.1 * i), t += 0.01);
+  return sim.state();
+}
+
 }  // namespace
 
 TEST_CASE("skinning reproduces the cage at rest under any handle pose", "[surface]") {
@@ -155,25 +166,62 @@ TEST_CASE("the refined surface stays inside the cage's convex hull", "[surface]"
   }
 }
 
+TEST_CASE("the surface rises with the bundles a light load lifts off the paper", "[surface]") {
+  // The same spine, pressed 5 mm, with its full canvas load and with none:
+  // unloaded, its bundles are raised off the joints on the paper until they
+  // only touch it (bundlePlacement), and the surface wrapping them rises with
+  // them, straight up, by the weighted raise of the bundles it follows.
+  const Brush b = tubeBrush(1, 2);
+  BrushSurface surface(b);
+  const BrushState loaded = pressedStraightDown(b);
+  REQUIRE(loaded.anyContact());
+  BrushState light = loaded;
+  for (SpineState& s : light.spines) std::fill(s.solution.normal_force_n.begin(),
+                                                s.solution.normal_force_n.end(), 0.0);
+  const BundlePlacement p_loaded = bundlePlacement(b.spines[0], loaded.spines[0], loaded.handle);
+  const BundlePlacement p_light = bundlePlacement(b.spines[0], light.spines[0], light.handle);
+  std::vector<BrushVertex> tris;
+  std::vector<Eigen::Vector3d> cage_loaded, cage_light;
+  surface.update(loaded, &tris);
+  for (int i = 0; i < surface.cageVertexCount(); ++i) cage_loaded.push_back(surface.cagePosition(i));
+  surface.update(light, &tris);
+  for (int i = 0; i < surface.cageVertexCount(); ++i) cage_light.push_back(surface.cagePosition(i));
+  // A raise that shows: a tenth of the tube's 1 mm radius, far above the
+  // float noise (kExactMm).
+  constexpr double kRaisedMm = 0.1;
+  int raised = 0;
+  for (int i = 0; i < surface.cageVertexCount(); ++i) {
+    CHECK((cage_light[i] - cage_loaded[i]).head<2>().norm() < kExactMm);  // straight up
+    CHECK(cage_light[i].z() >= cage_loaded[i].z() - kExactMm);            // never down
+    if (b.surface.skin[i].size() != 1) continue;
+    const int j = b.surface.skin[i][0].point;
+    // Where neither is held at its bundle's depth, the rise is the raise's.
+    if (cage_loaded[i].z() <= -p_loaded.depth_mm[j] + kExactMm) continue;
+    if (cage_light[i].z() <= -p_light.depth_mm[j] + kExactMm) continue;
+    const double rise = p_light.raise_mm[j] - p_loaded.raise_mm[j];
+    CHECK(cage_light[i].z() - cage_loaded[i].z() == Approx(rise).margin(kExactMm));
+    raised += rise > kRaisedMm;
+  }
+  CHECK(raised > 0);
+}
+
 TEST_CASE("a pressed brush carries its surface with the spine", "[surface]") {
   const Brush b = tubeBrush(1, 2);
   BrushSurface surface(b);
-  Simulation sim(b, SimOptions{}, makeIpoptSolver());
-  double t = 0;
-  sim.reset(poseAt(0, 0, 14), t);
-  for (int i = 1; i <= 70; ++i) sim.step(poseAt(0, 0, 14 - 0.1 * i), t += 0.01);
-  const BrushState& st = sim.state();
+  const BrushState st = pressedStraightDown(b);
   const std::vector<Eigen::Vector3d>& x = st.spines[0].joints_mm;
   REQUIRE(st.anyContact());
   std::vector<BrushVertex> tris;
   surface.update(st, &tris);
 
-  // Each ring vertex is rigidly attached to its spine point: distances to it
-  // keep their rest values -- except where that would take it deeper below
-  // the canvas than its spine's bundle is pressed (bundleDepthsBelowCanvas):
-  // there it lies at that depth.
+  // Each ring vertex is rigidly attached to its spine point's bundle, whose
+  // centre is the point raised by bundlePlacement's raise_mm: distances to
+  // that centre keep their rest values -- except where that would take it
+  // deeper below the canvas than the bundle is pressed (depth_mm): there it
+  // lies at that depth.
   const BrushState rest = stateAt(b, Pose{});
-  const std::vector<double> depth = bundleDepthsBelowCanvas(b.spines[0], st.spines[0], st.handle);
+  const BundlePlacement bundle = bundlePlacement(b.spines[0], st.spines[0], st.handle);
+  const std::vector<double>& depth = bundle.depth_mm;
   int rigid = 0, held = 0;
   for (int i = 0; i < surface.cageVertexCount(); ++i) {
     const SkinInfluence& in = b.surface.skin[i][0];
@@ -186,7 +234,8 @@ TEST_CASE("a pressed brush carries its surface with the spine", "[surface]") {
     }
     ++rigid;
     const double rest_dist = (b.surface.cage_mm[i] - rest.spines[0].joints_mm[in.point]).norm();
-    CHECK((c - x[in.point]).norm() == Approx(rest_dist).margin(kExactMm));
+    const Eigen::Vector3d centre = x[in.point] + bundle.raise_mm[in.point] * Eigen::Vector3d::UnitZ();
+    CHECK((c - centre).norm() == Approx(rest_dist).margin(kExactMm));
   }
   // Pressed 5 mm, most of the ring rides above the paper, and the rings at
   // the contact joints reach the depth their bundles are pressed to.
