@@ -69,8 +69,8 @@ Coverage renderCase(const std::string& name, Case c, const TempDir& dir, const s
     const Eigen::Quaterniond yaw(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
     for (TrajectorySample& s : t.samples) s.pose.rotation = s.pose.rotation * yaw;
     const double shift =
-        firstContactHeightMm(brush, tiltRotation(c.tilt_deg) * yaw) -
-        firstContactHeightMm(brush, tiltRotation(c.tilt_deg));
+        spineContactHeightMm(brush, tiltRotation(c.tilt_deg) * yaw) -
+        spineContactHeightMm(brush, tiltRotation(c.tilt_deg));
     for (TrajectorySample& s : t.samples) s.pose.position_mm.z() += shift;
   }
   std::string stem = name;  // (built up with +=: GCC 12 warns falsely on a + chain)
