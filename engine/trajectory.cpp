@@ -91,26 +91,30 @@ std::vector<int> parseHeader(const std::vector<std::string>& cells, const std::s
   return column_of;
 }
 
-// One cell as the number of field `id`, within that field's limits.
-double parseCell(const std::string& s, int id, const std::string& path, const std::string& here) {
+// One cell (1-based `column` of line `line_no`) as the number of field `id`,
+// within that field's limits. The place is spelt out only for an error: a
+// trajectory may hold millions of cells.
+double parseCell(const std::string& s, int id, const std::string& path, int line_no, int column) {
   const std::string name = columnName(id);
+  auto fail = [&](const std::string& what) {
+    return dataError(path, place(line_no, column, name), what);
+  };
   double value = 0;
   auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
   if (ec == std::errc::result_out_of_range && ptr == s.data() + s.size())
-    throw dataError(path, here, "'" + s + "' is outside the range of a double");
+    throw fail("'" + s + "' is outside the range of a double");
   if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
-    throw dataError(path, here, "'" + s + "' is not a number");
-  if (!std::isfinite(value)) throw dataError(path, here, "must be finite");
+    throw fail("'" + s + "' is not a number");
+  if (!std::isfinite(value)) throw fail("must be finite");
   if (id == kT && std::fabs(value) > kMaxTimeS)
-    throw dataError(path, here, "t_s = " + s + " is outside the limit of +-1e9 s");
+    throw fail("t_s = " + s + " is outside the limit of +-1e9 s");
   if (((id >= 1 && id <= kZ) || id == kDepth) && std::fabs(value) > kMaxPositionMm)
-    throw dataError(path, here, name + " = " + s + " is outside the limit of +-100000 mm");
+    throw fail(name + " = " + s + " is outside the limit of +-100000 mm");
   if (id >= kQw && id <= kQz && std::fabs(value) > kMaxQuaternionComponent)
-    throw dataError(path, here,
-                    name + " = " + s + " is outside the limit of +-1e6 (quaternions are "
-                    "normalised on read)");
+    throw fail(name + " = " + s +
+               " is outside the limit of +-1e6 (quaternions are normalised on read)");
   if (id == kButtons && (value < 0 || value != std::floor(value) || value > 65535))
-    throw dataError(path, here, "must be a non-negative integer bitmask");
+    throw fail("must be a non-negative integer bitmask");
   return value;
 }
 
@@ -133,7 +137,7 @@ TrajectorySample parseRow(const std::vector<std::string>& cells, const std::vect
   size_t t_column = 0;
   for (size_t c = 0; c < cells.size(); ++c) {
     const int id = column_of[c];
-    v[id] = parseCell(cells[c], id, path, place(line_no, static_cast<int>(c) + 1, columnName(id)));
+    v[id] = parseCell(cells[c], id, path, line_no, static_cast<int>(c) + 1);
     present[id] = true;
     if (id == kT) t_column = c;
   }
