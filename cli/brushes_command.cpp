@@ -1,4 +1,5 @@
-// `bristle brushes`: the brush library, one line per brush with its size.
+// `bristle brushes`: the brush library, one line per brush with its size and
+// the height at which it first touches the paper held upright.
 
 #include <algorithm>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include "cli/commands.h"
 #include "engine/brush.h"
 #include "engine/error.h"
+#include "engine/first_contact.h"
 
 namespace bristle::cli {
 namespace {
@@ -53,10 +55,15 @@ int runBrushes(const std::string& library_dir) {
       if (b.strips.present())
         geometry += (geometry.empty() ? "" : " + ") + std::to_string(b.strips.count) + " strips";
       if (geometry.empty()) geometry = "spine tubes";
-      char line[256];
-      std::snprintf(line, sizeof line, "%-12s %4.1f mm long, %4.1f x %3.1f mm at the ferrule, %2zu spines, %-22s",
-                    b.name.c_str(), s.length_mm, s.width_mm, s.thickness_mm, b.spines.size(),
-                    geometry.c_str());
+      // Held upright, the ferrule's height when the hair first touches the
+      // paper: what a trajectory's depth_mm counts from (docs/formats.md).
+      const double contact_mm = firstContactHeightMm(b);
+      char line[320];
+      std::snprintf(line, sizeof line,
+                    "%-12s %4.1f mm long, touches at %4.1f mm upright, %4.1f x %3.1f mm at the "
+                    "ferrule, %2zu spines, %-22s",
+                    b.name.c_str(), s.length_mm, contact_mm, s.width_mm, s.thickness_mm,
+                    b.spines.size(), geometry.c_str());
       std::cout << line << b.description << "\n";
     } catch (const Error& e) {
       printError(e.what());

@@ -14,6 +14,7 @@
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
+#include "engine/first_contact.h"
 #include "engine/simulation.h"
 #include "engine/solver_pair.h"
 #include "engine/trajectory.h"
@@ -43,7 +44,7 @@ int runPreview(const PreviewArgs& args) {
     rest.position_mm = Eigen::Vector3d(0, 0, brush.reachMm() + 2);
     sim.reset(rest, 0);
   } else {
-    Trajectory traj = loadTrajectoryArg(args.trajectory);
+    Trajectory traj = resolveDepths(loadTrajectoryArg(args.trajectory), brush);
     if (args.offset_mm.size() == 3 &&
         !(std::fabs(args.offset_mm[0]) <= kMaxPositionMm &&
           std::fabs(args.offset_mm[1]) <= kMaxPositionMm &&

@@ -14,6 +14,7 @@
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/error.h"
+#include "engine/first_contact.h"
 #include "engine/temp_files.h"
 #include "engine/trajectory.h"
 #include "haptics/hdapi.h"
@@ -33,6 +34,9 @@ extern "C" void onSignal(int) { g_interrupt.store(true); }
 void renderSession(const Brush& brush, haptics::Session session, const std::string& session_path,
                    const StrokePngOptions& png, const std::string& output) {
   for (const std::string& w : session.warnings) printError("warning: " + w);
+  // A session written by hand may give depths past first contact, as any
+  // trajectory may.
+  session.trajectory = resolveDepths(session.trajectory, brush);
   // A live session may start with the brush held into the paper; the stroke
   // starts where the brush was first clear of it (as the live sim did).
   std::vector<TrajectorySample>& smp = session.trajectory.samples;
@@ -47,13 +51,19 @@ void renderSession(const Brush& brush, haptics::Session session, const std::stri
   renderStrokePng(brush, session.trajectory, png, output);
 }
 
-std::unique_ptr<haptics::Device> openDevice(const RecordArgs& args, bool* is_none) {
+std::unique_ptr<haptics::Device> openDevice(const RecordArgs& args, const Brush& brush) {
   auto none = [&]() -> std::unique_ptr<haptics::Device> {
-    *is_none = true;
     if (args.trajectory.empty())
       throw Error(ExitCode::kUsage,
                   "--device none: needs --trajectory T.csv to play as the stylus");
-    return std::make_unique<haptics::NoneDevice>(loadTrajectoryArg(args.trajectory));
+    // The stylus plays the trajectory as this brush is held along it. It is
+    // planned as its replay will be, before the session is opened: one over
+    // the step limits (docs/errors.md) would record for days a session that no
+    // replay could render.
+    Trajectory played = resolveDepths(loadTrajectoryArg(args.trajectory), brush);
+    validateTrajectoryForBrush(played, brush);
+    planStepTimes(played, brush, SimOptions{});
+    return std::make_unique<haptics::NoneDevice>(std::move(played));
   };
   if (args.device == "none") return none();
   const std::string lib = haptics::hd::hdLibraryPath();
@@ -145,16 +155,7 @@ int runRecord(const RecordArgs& args) {
   if (!args.forces.empty()) checkCanCreate(args.forces);
   if (!args.png.empty()) checkCanCreateArg(args.png);
 
-  bool is_none = false;
-  std::unique_ptr<haptics::Device> device = openDevice(args, &is_none);
-  if (is_none) {
-    // The played trajectory is planned as its replay will be, before the session
-    // is opened: one over the step limits (docs/errors.md) would record for
-    // days a session that no replay could render.
-    const Trajectory played = loadTrajectoryArg(args.trajectory);
-    validateTrajectoryForBrush(played, brush);
-    planStepTimes(played, brush, SimOptions{});
-  }
+  std::unique_ptr<haptics::Device> device = openDevice(args, brush);
 
   haptics::SessionHeader header;
   header.device_model = device->model();

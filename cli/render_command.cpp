@@ -16,6 +16,7 @@
 #include "engine/paint.h"
 #include "engine/pigments.h"
 #include "engine/error.h"
+#include "engine/first_contact.h"
 #include "engine/trace.h"
 #include "engine/trajectory.h"
 #include "render/compose.h"
@@ -66,7 +67,9 @@ int runRender(const RenderArgs& args) {
                 {"--trajectory"});
 
   const Brush brush = loadBrush(brush_file);
-  Trajectory trajectory = loadTrajectoryArg(args.trajectory);
+  // Depths past first contact become this brush's ferrule heights before any
+  // offset moves the handle.
+  Trajectory trajectory = resolveDepths(loadTrajectoryArg(args.trajectory), brush);
   if (args.offset_mm.size() == 3) {
     const Eigen::Vector3d offset(args.offset_mm[0], args.offset_mm[1], args.offset_mm[2]);
     if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");

@@ -13,6 +13,7 @@
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
+#include "engine/first_contact.h"
 #include "engine/scene.h"
 #include "engine/simulation.h"
 #include "engine/sheet.h"
@@ -54,8 +55,10 @@ int validatePairs(const std::vector<std::pair<std::string, Brush>>& brushes,
                   const std::vector<Trajectory>& trajectories) {
   int code = 0;
   for (const auto& [path, brush] : brushes)
-    for (const Trajectory& t : trajectories) {
+    for (const Trajectory& given : trajectories) {
+      Trajectory t;
       try {
+        t = resolveDepths(given, brush);
         validateTrajectoryForBrush(t, brush);
       } catch (const Error& e) {
         printError(e.what());

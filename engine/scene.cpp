@@ -14,6 +14,7 @@
 
 #include "engine/brush_library.h"
 #include "engine/error.h"
+#include "engine/first_contact.h"
 #include "engine/json_reader.h"
 #include "engine/pigments.h"
 #include "engine/text_file.h"
@@ -302,7 +303,9 @@ Scene loadScene(const std::string& path) {
       t = trajectories.emplace(st.trajectory_path, loadTrajectory(st.trajectory_path)).first;
       scene.inputs.push_back(st.trajectory_path);
     }
-    st.trajectory = t->second;
+    // Depths past first contact are this stroke's brush's; the placement
+    // then moves and turns the handle about z, which keeps its height.
+    st.trajectory = resolveDepths(t->second, scene.brushes[st.brush]);
     for (TrajectorySample& s : st.trajectory.samples) s.pose = st.placement.apply(s.pose);
     // The trajectory and the brush are each sound; together the ferrule may
     // still dig into the canvas. Say which stroke pairs them.

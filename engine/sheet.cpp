@@ -7,6 +7,7 @@
 
 #include "engine/brush_library.h"
 #include "engine/error.h"
+#include "engine/first_contact.h"
 #include "engine/fnv1a64.h"
 #include "engine/json_reader.h"
 #include "engine/scene.h"
@@ -161,7 +162,7 @@ std::string Sheet::trajectoryLabel(size_t t) const {
 }
 
 Trajectory Sheet::cellTrajectory(size_t b, size_t t) const {
-  Trajectory out = trajectories.at(t);
+  Trajectory out = resolveDepths(trajectories.at(t), brushes.at(b));
   const double lift = brush_lift_mm.at(b);
   if (lift != 0)
     for (TrajectorySample& s : out.samples) s.pose.position_mm.z() += lift;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "engine/error.h"
 #include "engine/friction.h"
@@ -563,8 +564,18 @@ std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
   return out;
 }
 
+namespace {
+// A trajectory in press depths has no ferrule heights until a brush gives them
+// (resolveDepths, engine/first_contact.h): a caller that forgot is a bug.
+void requireHeights(const Trajectory& traj) {
+  if (traj.needsBrush())
+    throw std::logic_error(traj.path + ": depth_mm not resolved for the brush (resolveDepths)");
+}
+}  // namespace
+
 std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,
                                   const SimOptions& options) {
+  requireHeights(traj);
   double root_radius = 0;
   for (const SpineSpec& s : brush.spines) root_radius = std::max(root_radius, s.root_mm.norm());
   auto count = [](double v) {
@@ -605,6 +616,7 @@ std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,
 }
 
 void validateTrajectoryForBrush(const Trajectory& traj, const Brush& brush) {
+  requireHeights(traj);
   auto fmt = [](double v) {
     std::ostringstream ss;
     ss.precision(4);
@@ -617,7 +629,11 @@ void validateTrajectoryForBrush(const Trajectory& traj, const Brush& brush) {
       if (z < 0)
         throw dataError(traj.path, "line " + std::to_string(smp.line),
                         "the ferrule goes below the canvas (spine " + std::to_string(s) +
-                            " root at z = " + fmt(z) + " mm); z must stay >= 0");
+                            " root at z = " + fmt(z) + " mm); z must stay >= 0" +
+                            (traj.depth_column != 0
+                                 ? " (depth_mm = " + fmt(smp.depth_mm) + " presses '" +
+                                       brush.name + "' too deep)"
+                                 : std::string()));
     }
   }
   // The simulation starts from the rest shape: it must not start pressed in.
@@ -636,7 +652,10 @@ void validateTrajectoryForBrush(const Trajectory& traj, const Brush& brush) {
         throw dataError(traj.path, "line " + std::to_string(first.line),
                         "the brush starts below the canvas (spine " + std::to_string(s) +
                             " joint " + std::to_string(j) + " at z = " + fmt(fk.x[j].z()) +
-                            " mm at rest); start the trajectory with the hairs above z = 0");
+                            " mm at rest); start the trajectory with the hairs above z = 0" +
+                            (traj.depth_column != 0
+                                 ? " (a negative depth_mm, here " + fmt(first.depth_mm) + ")"
+                                 : std::string()));
   }
 }
 

@@ -174,7 +174,9 @@ std::vector<double> planStepTimes(const Trajectory& trajectory, const Brush& bru
                                   const SimOptions& options);
 
 // Throws kDataError naming the trajectory line when the brush would start inside
-// the canvas or its ferrule would pass below it.
+// the canvas or its ferrule would pass below it. A trajectory in press depths
+// must have been resolved for the brush first (resolveDepths,
+// engine/first_contact.h); planStepTimes requires that too (std::logic_error).
 void validateTrajectoryForBrush(const Trajectory& trajectory, const Brush& brush);
 
 }  // namespace bristle

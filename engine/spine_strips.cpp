@@ -88,18 +88,14 @@ struct BundleSection {
   }
 };
 
-// Each point's bundle section, and the centre it is drawn around: the joint,
-// raised until the bundle reaches only as deep below the canvas as the
-// spine's load presses it (bundlePressDepth).
-void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
-                  std::vector<BundleSection>* section_out,
-                  std::vector<Eigen::Vector3d>* centre_out) {
-  const std::vector<Eigen::Vector3d>& x = spine.joints_mm;
+// Each point's bundle section, around the spine's points x (root first) of a
+// brush held at `handle`.
+void bundleSections(const SpineSpec& spec, const std::vector<Eigen::Vector3d>& x,
+                    const Pose& handle, std::vector<BundleSection>* section_out) {
   const int n = spec.jointCount();
   const Eigen::Vector3d brush_x = handle.rotation * Eigen::Vector3d::UnitX();
   const Eigen::Vector3d brush_y = handle.rotation * Eigen::Vector3d::UnitY();
   std::vector<BundleSection>& section = *section_out;
-  std::vector<Eigen::Vector3d>& centre = *centre_out;
   section.assign(n + 1, BundleSection{});
   for (int j = 0; j <= n; ++j) {
     // Tangent at joint j: the mean of the adjacent segment directions.
@@ -120,6 +116,19 @@ void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& ha
       q.flare = kSlabFlare;
     }
   }
+}
+
+// Each point's bundle section, and the centre it is drawn around: the joint,
+// raised until the bundle reaches only as deep below the canvas as the
+// spine's load presses it (bundlePressDepth).
+void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
+                  std::vector<BundleSection>* section_out,
+                  std::vector<Eigen::Vector3d>* centre_out) {
+  const std::vector<Eigen::Vector3d>& x = spine.joints_mm;
+  const int n = spec.jointCount();
+  bundleSections(spec, x, handle, section_out);
+  const std::vector<BundleSection>& section = *section_out;
+  std::vector<Eigen::Vector3d>& centre = *centre_out;
   // How hard this spine's bundle presses the paper: the canvas forces on its
   // joints (eq. 5's multipliers). The solver puts the contact load on
   // whichever joints are held on the canvas, while the hair between them
@@ -152,6 +161,21 @@ BundlePlacement bundlePlacement(const SpineSpec& spec, const SpineState& spine,
     depth[j] = std::max(0.0, section[j].depth() - centre[j].z());
   }
   return BundlePlacement{std::move(raise), std::move(depth)};
+}
+
+std::vector<double> bundleReachBelowPoints(const SpineSpec& spec,
+                                           const std::vector<Eigen::Vector3d>& joints_mm,
+                                           const Pose& handle) {
+  std::vector<BundleSection> section;
+  bundleSections(spec, joints_mm, handle, &section);
+  std::vector<double> reach(section.size());
+  // At the root the tube's section ends (no half solid there): it reaches
+  // its section's extent downwards; at a joint, the half solid's depth.
+  for (size_t j = 0; j < section.size(); ++j)
+    reach[j] = section[j].empty() ? 0
+               : j == 0           ? section[j].extentAcross(Eigen::Vector3d::UnitZ())
+                                  : section[j].depth();
+  return reach;
 }
 
 void buildSpineGeometry(const Brush& brush, const BrushState& state,

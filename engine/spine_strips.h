@@ -101,6 +101,16 @@ struct BundlePlacement {
 BundlePlacement bundlePlacement(const SpineSpec& spec, const SpineState& spine,
                                 const Pose& handle);
 
+// How far (mm) below each point 0..n of a spine (joints_mm, root first, in the
+// world) its hair bundle reaches, unpressed, as buildSpineGeometry draws it for a
+// brush held at `handle`: at the root the tube's section, at each joint the
+// half solid that rounds the bundle off (for a round bundle of radius r, r
+// whichever way the hair points). With the points, the lowest the bundle
+// reaches: where it first touches the paper (engine/first_contact.h).
+std::vector<double> bundleReachBelowPoints(const SpineSpec& spec,
+                                           const std::vector<Eigen::Vector3d>& joints_mm,
+                                           const Pose& handle);
+
 // Appends the triangles of every spine's half tube (and the half solids at its
 // joints) to `triangles`. Each spine's load is the sum of its canvas forces
 // (SpineState::solution.normal_force_n; none given is no load): where a joint's

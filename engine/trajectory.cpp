@@ -17,9 +17,13 @@ constexpr const char* kFormatLine = "# bristle-trajectory/1";
 // Quaternions are normalised on read; below this norm the direction is noise.
 constexpr double kMinQuaternionNorm = 1e-6;
 
+// Field ids: the required columns 0..7, then the optional ones. z_mm (kZ) is
+// required unless depth_mm (kDepth) stands in its place.
 const std::array<const char*, 8> kRequired = {"t_s", "x_mm", "y_mm", "z_mm",
                                               "qw",  "qx",   "qy",   "qz"};
-const std::array<const char*, 4> kOptional = {"buttons", "fx_n", "fy_n", "fz_n"};
+const std::array<const char*, 5> kOptional = {"buttons", "fx_n", "fy_n", "fz_n", "depth_mm"};
+constexpr int kT = 0, kZ = 3, kQw = 4, kQz = 7, kButtons = 8, kFx = 9, kFz = 11, kDepth = 12;
+constexpr int kFields = 13;
 
 std::string trim(std::string_view s) {
   size_t b = 0, e = s.size();
@@ -40,6 +44,119 @@ std::vector<std::string> splitCsv(std::string_view line) {
     }
   }
   return out;
+}
+
+// "line 7" or "line 7, column 3 (z_mm)": where a message points.
+std::string place(int line_no, int column = 0, const std::string& name = "") {
+  std::string w = "line " + std::to_string(line_no);
+  if (column > 0) w += ", column " + std::to_string(column) + " (" + name + ")";
+  return w;
+}
+
+// The first non-blank line must be the format line, of this version.
+void checkFormatLine(const std::string& line, const std::string& path, int line_no) {
+  if (line.rfind("# bristle-trajectory/", 0) == 0 && line != kFormatLine)
+    throw dataError(path, place(line_no), "unknown format version '" + line.substr(2) +
+                                              "' (expected bristle-trajectory/1)");
+  if (line != kFormatLine)
+    throw dataError(path, place(line_no), "the first line must be '# bristle-trajectory/1'");
+}
+
+// The header: each cell's field id, every required column present once, the
+// height as z_mm or depth_mm (not both), the forces all three or none.
+std::vector<int> parseHeader(const std::vector<std::string>& cells, const std::string& path,
+                             int line_no) {
+  std::vector<int> column_of;
+  std::array<int, kFields> count{};
+  for (size_t c = 0; c < cells.size(); ++c) {
+    int id = -1;
+    for (int f = 0; f < kFields; ++f)
+      if (cells[c] == columnName(f)) id = f;
+    const std::string here = place(line_no, static_cast<int>(c) + 1, cells[c]);
+    if (id < 0) throw dataError(path, here, "unknown column '" + cells[c] + "'");
+    if (++count[id] > 1) throw dataError(path, here, "duplicate column");
+    if ((id == kZ && count[kDepth] > 0) || (id == kDepth && count[kZ] > 0))
+      throw dataError(path, here,
+                      "z_mm and depth_mm both give the handle's height; give one of them");
+    column_of.push_back(id);
+  }
+  for (int r = 0; r < static_cast<int>(kRequired.size()); ++r)
+    if (count[r] == 0 && !(r == kZ && count[kDepth] > 0))
+      throw dataError(path, place(line_no),
+                      std::string("header lacks the required column '") + kRequired[r] + "'" +
+                          (r == kZ ? " (or depth_mm in its place)" : ""));
+  const int nforce = count[kFx] + count[kFx + 1] + count[kFz];
+  if (nforce != 0 && nforce != 3)
+    throw dataError(path, place(line_no), "force columns fx_n,fy_n,fz_n come all three or none");
+  return column_of;
+}
+
+// One cell (1-based `column` of line `line_no`) as the number of field `id`,
+// within that field's limits. The place is spelt out only for an error: a
+// trajectory may hold millions of cells.
+double parseCell(const std::string& s, int id, const std::string& path, int line_no, int column) {
+  const std::string name = columnName(id);
+  auto fail = [&](const std::string& what) {
+    return dataError(path, place(line_no, column, name), what);
+  };
+  double value = 0;
+  auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (ec == std::errc::result_out_of_range && ptr == s.data() + s.size())
+    throw fail("'" + s + "' is outside the range of a double");
+  if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
+    throw fail("'" + s + "' is not a number");
+  if (!std::isfinite(value)) throw fail("must be finite");
+  if (id == kT && std::fabs(value) > kMaxTimeS)
+    throw fail("t_s = " + s + " is outside the limit of +-1e9 s");
+  if (((id >= 1 && id <= kZ) || id == kDepth) && std::fabs(value) > kMaxPositionMm)
+    throw fail(name + " = " + s + " is outside the limit of +-100000 mm");
+  if (id >= kQw && id <= kQz && std::fabs(value) > kMaxQuaternionComponent)
+    throw fail(name + " = " + s +
+               " is outside the limit of +-1e6 (quaternions are normalised on read)");
+  if (id == kButtons && (value < 0 || value != std::floor(value) || value > 65535))
+    throw fail("must be a non-negative integer bitmask");
+  return value;
+}
+
+// One data line as a sample; `previous` is the sample before it, if any (time
+// must increase strictly).
+TrajectorySample parseRow(const std::vector<std::string>& cells, const std::vector<int>& column_of,
+                          const std::string& path, int line_no,
+                          const TrajectorySample* previous) {
+  if (cells.size() != column_of.size()) {
+    // Name the first column that is missing or extra.
+    const size_t c = std::min(cells.size(), column_of.size());
+    const std::string name =
+        c < column_of.size() ? columnName(column_of[c]) : std::string("not in the header");
+    throw dataError(path, place(line_no, static_cast<int>(c) + 1, name),
+                    "has " + std::to_string(cells.size()) + " fields, the header has " +
+                        std::to_string(column_of.size()));
+  }
+  std::array<double, kFields> v{};
+  std::array<bool, kFields> present{};
+  size_t t_column = 0;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    const int id = column_of[c];
+    v[id] = parseCell(cells[c], id, path, line_no, static_cast<int>(c) + 1);
+    present[id] = true;
+    if (id == kT) t_column = c;
+  }
+  TrajectorySample s;
+  s.line = line_no;
+  s.t_s = v[kT];
+  if (previous && !(s.t_s > previous->t_s))
+    throw dataError(path, place(line_no, static_cast<int>(t_column) + 1, "t_s"),
+                    "t_s = " + cells[t_column] +
+                        " is not after the previous sample's time (time must increase strictly)");
+  s.pose.position_mm = Eigen::Vector3d(v[1], v[2], v[kZ]);
+  Eigen::Quaterniond q(v[kQw], v[kQw + 1], v[kQw + 2], v[kQz]);
+  if (q.norm() < kMinQuaternionNorm)
+    throw dataError(path, place(line_no), "quaternion (qw,qx,qy,qz) has near-zero norm");
+  s.pose.rotation = q.normalized();
+  s.buttons = static_cast<int>(v[kButtons]);
+  if (present[kFx]) s.force_n = Eigen::Vector3d(v[kFx], v[kFx + 1], v[kFz]);
+  s.depth_mm = v[kDepth];
+  return s;
 }
 
 }  // namespace
@@ -68,122 +185,34 @@ Trajectory parseTrajectory(const std::string& text, const std::string& path) {
   std::string raw;
   int line_no = 0;
   bool seen_format = false;
-  std::vector<int> column_of;  // column index -> field id (0..11)
-  auto where = [&](int col, const std::string& name) {
-    std::string w = "line " + std::to_string(line_no);
-    if (col > 0) w += ", column " + std::to_string(col) + " (" + name + ")";
-    return w;
-  };
-
+  std::vector<int> column_of;  // column index -> field id
   while (std::getline(in, raw)) {
     ++line_no;
     const std::string line = trim(raw);
     if (line.empty()) continue;
     if (!seen_format) {
-      if (line.rfind("# bristle-trajectory/", 0) == 0 && line != kFormatLine)
-        throw dataError(path, where(0, ""), "unknown format version '" + line.substr(2) +
-                                                "' (expected bristle-trajectory/1)");
-      if (line != kFormatLine)
-        throw dataError(path, where(0, ""),
-                        "the first line must be '# bristle-trajectory/1'");
+      checkFormatLine(line, path, line_no);
       seen_format = true;
       continue;
     }
     if (line[0] == '#') continue;
     const std::vector<std::string> cells = splitCsv(line);
-    if (column_of.empty()) {  // header line
-      std::array<int, 12> count{};
-      for (size_t c = 0; c < cells.size(); ++c) {
-        int id = -1;
-        for (size_t r = 0; r < kRequired.size(); ++r)
-          if (cells[c] == kRequired[r]) id = static_cast<int>(r);
-        for (size_t o = 0; o < kOptional.size(); ++o)
-          if (cells[c] == kOptional[o]) id = static_cast<int>(kRequired.size() + o);
-        if (id < 0)
-          throw dataError(path, where(static_cast<int>(c) + 1, cells[c]),
-                          "unknown column '" + cells[c] + "'");
-        if (++count[id] > 1)
-          throw dataError(path, where(static_cast<int>(c) + 1, cells[c]), "duplicate column");
-        column_of.push_back(id);
+    if (column_of.empty()) {
+      column_of = parseHeader(cells, path, line_no);
+      for (size_t c = 0; c < column_of.size(); ++c) {
+        if (column_of[c] == kT) traj.t_column = static_cast<int>(c) + 1;
+        if (column_of[c] == kDepth) traj.depth_column = static_cast<int>(c) + 1;
       }
-      for (size_t r = 0; r < kRequired.size(); ++r)
-        if (count[r] == 0)
-          throw dataError(path, where(0, ""),
-                          std::string("header lacks the required column '") + kRequired[r] + "'");
-      const int nforce = count[9] + count[10] + count[11];
-      if (nforce != 0 && nforce != 3)
-        throw dataError(path, where(0, ""), "force columns fx_n,fy_n,fz_n come all three or none");
       continue;
     }
-    if (cells.size() != column_of.size()) {
-      // Name the first column that is missing or extra.
-      const size_t c = std::min(cells.size(), column_of.size());
-      const std::string name =
-          c < column_of.size() ? columnName(column_of[c]) : std::string("not in the header");
-      throw dataError(path, where(static_cast<int>(c) + 1, name),
-                      "has " + std::to_string(cells.size()) + " fields, the header has " +
-                          std::to_string(column_of.size()));
-    }
-    std::array<double, 12> v{};
-    std::array<bool, 12> present{};
-    size_t t_column = 0;
-    for (size_t c = 0; c < cells.size(); ++c) {
-      const int id = column_of[c];
-      const std::string name = columnName(id);
-      const std::string& s = cells[c];
-      double value = 0;
-      auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-      if (ec == std::errc::result_out_of_range && ptr == s.data() + s.size())
-        throw dataError(path, where(static_cast<int>(c) + 1, name),
-                        "'" + s + "' is outside the range of a double");
-      if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
-        throw dataError(path, where(static_cast<int>(c) + 1, name),
-                        "'" + s + "' is not a number");
-      if (!std::isfinite(value))
-        throw dataError(path, where(static_cast<int>(c) + 1, name), "must be finite");
-      if (id == 0 && std::fabs(value) > kMaxTimeS)
-        throw dataError(path, where(static_cast<int>(c) + 1, name),
-                        "t_s = " + s + " is outside the limit of +-1e9 s");
-      if (id >= 1 && id <= 3 && std::fabs(value) > kMaxPositionMm)
-        throw dataError(path, where(static_cast<int>(c) + 1, name),
-                        name + " = " + s + " is outside the limit of +-100000 mm");
-      if (id >= 4 && id <= 7 && std::fabs(value) > kMaxQuaternionComponent)
-        throw dataError(path, where(static_cast<int>(c) + 1, name),
-                        name + " = " + s + " is outside the limit of +-1e6 (quaternions are "
-                        "normalised on read)");
-      if (id == 8 && (value < 0 || value != std::floor(value) || value > 65535))
-        throw dataError(path, where(static_cast<int>(c) + 1, name),
-                        "must be a non-negative integer bitmask");
-      v[id] = value;
-      present[id] = true;
-      if (id == 0) {
-        t_column = c;
-        traj.t_column = static_cast<int>(c) + 1;
-      }
-    }
-    TrajectorySample s;
-    s.line = line_no;
-    s.t_s = v[0];
-    if (!traj.samples.empty() && !(s.t_s > traj.samples.back().t_s))
-      throw dataError(path, where(static_cast<int>(t_column) + 1, "t_s"),
-                      "t_s = " + cells[t_column] +
-                          " is not after the previous sample's time (time must increase strictly)");
-    s.pose.position_mm = Eigen::Vector3d(v[1], v[2], v[3]);
-    Eigen::Quaterniond q(v[4], v[5], v[6], v[7]);
-    if (q.norm() < kMinQuaternionNorm)
-      throw dataError(path, where(0, ""), "quaternion (qw,qx,qy,qz) has near-zero norm");
-    s.pose.rotation = q.normalized();
-    s.buttons = static_cast<int>(v[8]);
-    if (present[9]) s.force_n = Eigen::Vector3d(v[9], v[10], v[11]);
-    traj.samples.push_back(s);
+    traj.samples.push_back(parseRow(cells, column_of, path, line_no,
+                                    traj.samples.empty() ? nullptr : &traj.samples.back()));
   }
   if (!seen_format) throw dataError(path, "line 1", "empty file (expected '# bristle-trajectory/1')");
   if (column_of.empty()) throw dataError(path, "header", "missing header line");
   if (traj.samples.size() < 2)
     throw dataError(path, "line " + std::to_string(line_no),
                     "a trajectory needs at least 2 samples");
-  // Ensure time order is strictly increasing (checked above); order samples'
-  // quaternions along the shortest path is done by slerp itself.
   return traj;
 }
 

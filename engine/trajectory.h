@@ -28,12 +28,26 @@ struct TrajectorySample {
   int buttons = 0;                                    // bitmask, 0 when absent
   std::optional<Eigen::Vector3d> force_n;             // recorded sessions only
   int line = 0;                                       // 1-based line in the file
+  // A file with a depth_mm column: the press depth past the brush's first
+  // contact (mm; positive into the paper, negative above it). Its
+  // pose.position_mm.z() is 0 until resolveDepths (engine/first_contact.h)
+  // gives the ferrule's height for a brush.
+  double depth_mm = 0;
 };
 
 struct Trajectory {
   std::string path;  // for messages
   int t_column = 1;  // 1-based column of t_s in the file, for messages
   std::vector<TrajectorySample> samples;
+  // 1-based column of depth_mm when the file gives heights as press depth past
+  // first contact (docs/formats.md, "Heights relative to the paper"), 0 when it
+  // gives the ferrule's z_mm.
+  int depth_column = 0;
+  // Whether resolveDepths has turned the depths into a brush's ferrule heights.
+  bool depths_resolved = false;
+
+  // Whether the poses still wait for a brush: depths not yet resolved.
+  bool needsBrush() const { return depth_column != 0 && !depths_resolved; }
 
   double startTime() const { return samples.front().t_s; }
   double endTime() const { return samples.back().t_s; }

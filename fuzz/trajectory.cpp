@@ -1,9 +1,11 @@
 // Fuzz target: the trajectory reader (bristle-trajectory/1 CSV), then what
-// render does with a trajectory before it allocates the simulation: the check
-// against a brush and the plan of its steps (limited per trajectory and per
-// second of gesture).
+// render does with a trajectory before it allocates the simulation: its depths
+// (if it gives depth_mm) made the brush's ferrule heights, the check against
+// the brush and the plan of its steps (limited per trajectory and per second
+// of gesture).
 
 #include "engine/brush.h"
+#include "engine/first_contact.h"
 #include "engine/simulation.h"
 #include "engine/trajectory.h"
 #include "engine/text_file.h"
@@ -13,7 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const bristle::Brush round =
       bristle::loadBrush(BRISTLE_SOURCE_DIR "/scenes/brushes/round.json");
   try {
-    const bristle::Trajectory t = bristle::parseTrajectory(bristle::fuzz::text(data, size), "t.csv");
+    const bristle::Trajectory t = bristle::resolveDepths(
+        bristle::parseTrajectory(bristle::fuzz::text(data, size), "t.csv"), round);
     bristle::validateTrajectoryForBrush(t, round);
     const std::vector<double> steps = bristle::planStepTimes(t, round, bristle::SimOptions{});
     if (steps.size() > static_cast<std::size_t>(bristle::kMaxPlannedSteps) + 1) std::abort();

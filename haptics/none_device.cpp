@@ -5,11 +5,17 @@
 #include <time.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace bristle::haptics {
 
 NoneDevice::NoneDevice(Trajectory trajectory, const NoneDeviceOptions& options)
-    : trajectory_(std::move(trajectory)), options_(options) {}
+    : trajectory_(std::move(trajectory)), options_(options) {
+  // It plays poses: depths past first contact must have become a brush's
+  // ferrule heights (resolveDepths) before it gets them.
+  if (trajectory_.needsBrush())
+    throw std::logic_error(trajectory_.path + ": depth_mm not resolved for the brush");
+}
 
 NoneDevice::~NoneDevice() { stop(); }
 

@@ -497,8 +497,9 @@ TEST_CASE("batch: the demo's manifest resolves, and a second run renders nothing
     if (job.contains("options") && job["options"].contains("at")) job["options"]["at"] = 0.25;
     jobs.push_back(job);
   }
-  // A sheet, strokes with and without a lift, a preview at rest and one along a trajectory.
-  REQUIRE(jobs.size() == 5);
+  // A sheet, strokes (in press depths, none lifted), a preview at rest and one
+  // along a trajectory.
+  REQUIRE(jobs.size() == 4);
   const std::string path = writeManifest(dir, {{"format", "bristle-batch/1"}, {"jobs", jobs}});
   const std::string out = dir.file("out");
   r = runBristle("batch '" + path + "' --out '" + out + "' --json --jobs 2");

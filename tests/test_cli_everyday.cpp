@@ -3,6 +3,7 @@
 // `replay` taking its brush from the session's header.
 
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,8 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "engine/brush.h"
+#include "engine/first_contact.h"
 #include "engine/pigments.h"
 #include "render/png_io.h"
 
@@ -322,4 +325,30 @@ TEST_CASE("brush names in scenes, sheets and batch manifests", "[cli][names]") {
   const RunResult batch = runShell(d, b + " batch m.json --out out --json");
   CHECK(batch.code == 0);
   CHECK_THAT(batch.out, Contains("\"status\":\"rendered\""));
+}
+
+TEST_CASE("brushes: each brush's hair length and first contact held upright", "[cli][brushes]") {
+  TempDir d;
+  fs::create_directories(d.path() / "lib");
+  for (const char* name : {"round", "bright"})
+    fs::copy_file(sourcePath("scenes/brushes/" + std::string(name) + ".json"),
+                  d.path() / "lib" / (std::string(name) + ".json"));
+  const RunResult r = runShell(d, "'" + kBin + "' brushes --library lib");
+  REQUIRE(r.code == 0);
+  // The listing prints one decimal, as engine/first_contact.h computes it:
+  // the round's 20 mm of hair touch at 20.4 mm (its bundles reach below the
+  // tips), the bright's 11 mm at 12.0 (its slabs' half solids, 1 mm deep).
+  for (const char* name : {"round", "bright"}) {
+    const Brush b = loadBrush(sourcePath("scenes/brushes/" + std::string(name) + ".json"));
+    char expected[64];
+    std::snprintf(expected, sizeof expected, "touches at %4.1f mm upright",
+                  firstContactHeightMm(b));
+    INFO(r.out);
+    const size_t line = r.out.find(std::string(name) + " ");
+    REQUIRE(line != std::string::npos);
+    const std::string text = r.out.substr(line, r.out.find('\n', line) - line);
+    CHECK_THAT(text, Contains(expected));
+  }
+  CHECK_THAT(r.out, Contains("round        20.0 mm long, touches at 20.4 mm upright"));
+  CHECK_THAT(r.out, Contains("bright       11.0 mm long, touches at 12.0 mm upright"));
 }

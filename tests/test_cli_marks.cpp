@@ -69,8 +69,8 @@ Coverage renderCase(const std::string& name, Case c, const TempDir& dir, const s
     const Eigen::Quaterniond yaw(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
     for (TrajectorySample& s : t.samples) s.pose.rotation = s.pose.rotation * yaw;
     const double shift =
-        firstContactHeightMm(brush, tiltRotation(c.tilt_deg) * yaw) -
-        firstContactHeightMm(brush, tiltRotation(c.tilt_deg));
+        spineContactHeightMm(brush, tiltRotation(c.tilt_deg) * yaw) -
+        spineContactHeightMm(brush, tiltRotation(c.tilt_deg));
     for (TrajectorySample& s : t.samples) s.pose.position_mm.z() += shift;
   }
   std::string stem = name;  // (built up with +=: GCC 12 warns falsely on a + chain)
@@ -415,4 +415,70 @@ TEST_CASE("marks: a double-loaded flat blends its two paints where they meet", "
   // spines whose bundles meet in seams, moves in steps of up to 0.28
   // (measured).
   CHECK(biggest_step < 0.4);
+}
+
+namespace {
+
+// A pull in press depths past first contact (docs/formats.md, "Heights
+// relative to the paper"): from `hover_mm`, down to `press_mm` in 0.3 s, 20 mm
+// along +x in 0.6 s, back up to `hover_mm` in 0.3 s, the handle held at `q`.
+std::string depthPullCsv(double hover_mm, double press_mm, const Eigen::Quaterniond& q) {
+  std::ostringstream f;
+  f << "# bristle-trajectory/1\nt_s,x_mm,y_mm,depth_mm,qw,qx,qy,qz\n" << std::setprecision(10);
+  auto row = [&](double t, double x, double depth) {
+    f << t << ',' << x << ",0," << depth << ',' << q.w() << ',' << q.x() << ',' << q.y() << ','
+      << q.z() << '\n';
+  };
+  for (int i = 0; i <= 30; ++i) row(0.01 * i, 0, hover_mm + (press_mm - hover_mm) * i / 30.0);
+  for (int i = 1; i <= 60; ++i) row(0.3 + 0.01 * i, 20.0 * i / 60, press_mm);
+  for (int i = 1; i <= 30; ++i) row(0.9 + 0.01 * i, 20, press_mm + (hover_mm - press_mm) * i / 30.0);
+  return f.str();
+}
+
+}  // namespace
+
+TEST_CASE("marks: one depth trajectory presses every library brush alike and a hover not at all",
+          "[marks][depth]") {
+  // The same file for every brush, no lift per brush: 4 mm past first contact.
+  // In ferrule heights made for the 20 mm round, the same pull would leave
+  // the 11 mm bright (first contact at 13 mm, tilted 20 degrees) no mark and
+  // start the 30 mm calligraphy brush (28.4 mm) with its hairs in the paper.
+  const char* name = GENERATE("round", "flat", "bright", "filbert", "badger", "fan", "calligraphy");
+  INFO(name);
+  TempDir dir;
+  const std::string brush = sourcePath("scenes/brushes/" + std::string(name) + ".json");
+  const Brush loaded = loadBrush(brush);
+  const std::string solver = loaded.volume.present() ? "ipopt" : "slsqp";
+  // Tilted 20 degrees back from the pull (the hairs trail); a brush whose hair
+  // lies in a row is turned a quarter about its axis to be pulled broadside,
+  // as renderCase does, and its first contact follows it with no shift by hand.
+  Eigen::Quaterniond q = tiltRotation(20);
+  if (rowBrush(loaded))
+    q = q * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  auto render = [&](const std::string& stem, double hover_mm, double press_mm) {
+    const std::string csv = dir.write(stem + ".csv", depthPullCsv(hover_mm, press_mm, q));
+    const std::string png = dir.file(stem + ".png");
+    RunResult r = runBristle("render -q --solver " + solver + " --brush '" + brush +
+                             "' --trajectory '" + csv + "' -o '" + png + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("failed solve") == std::string::npos);
+    r.out = png;
+    return r;
+  };
+  const RunResult pressed = render("pressed", -3, 4);
+  const Coverage img = loadCoveragePng(pressed.out);
+  double x0 = 0, x1 = 0;
+  REQUIRE(inkXRangeMm(img, 0.1, &x0, &x1));
+  INFO("ink from x = " << x0 << " to " << x1 << " mm");
+  // Every brush touches all along the 20 mm pull: the mark is the contact
+  // patch swept 20 mm, so at least that long, less a pixel at each end
+  // (measured: 25.1 to 29.6 mm over the seven brushes).
+  CHECK(x1 - x0 >= 20 - 2 * kPixelMm);
+
+  // Held 1 mm above first contact all the way, it never touches: a blank image
+  // and render's warning saying so.
+  const RunResult hover = render("hover", -3, -1);
+  CHECK_THAT(hover.err, Catch::Matchers::Contains("never touched the canvas"));
+  CHECK(inkedPixels(loadCoveragePng(hover.out)) == 0);
 }

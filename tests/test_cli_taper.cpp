@@ -73,7 +73,7 @@ TEST_CASE("taper: a round lifted while moving narrows to a point", "[marks][tape
   const std::string brush_path = sourcePath("scenes/brushes/round.json");
   const Brush brush = loadBrush(brush_path);
   // The trajectory really presses and really lifts off.
-  const double contact_z = firstContactHeightMm(brush, tiltRotation(kTiltDeg));
+  const double contact_z = spineContactHeightMm(brush, tiltRotation(kTiltDeg));
   REQUIRE(kPressZMm < contact_z - 5);
   REQUIRE(kEndZMm > contact_z + 1);
 

@@ -14,6 +14,7 @@
 
 #include "engine/brush.h"
 #include "engine/error.h"
+#include "engine/text_file.h"
 #include "engine/trajectory.h"
 #include "test_helpers.h"
 #include "temp_dir.h"
@@ -514,7 +515,8 @@ TEST_CASE("friction out of range is 65 naming the field", "[readers]") {
 
 TEST_CASE("every trajectory in scenes/trajectories parses", "[readers]") {
   int count = 0;
-  for (const auto& entry : fs::directory_iterator(kSourceDir / "scenes/trajectories")) {
+  // With scenes/trajectories/depth/, the same strokes in press depths.
+  for (const auto& entry : fs::recursive_directory_iterator(kSourceDir / "scenes/trajectories")) {
     if (entry.path().extension() != ".csv") continue;
     ++count;
     INFO(entry.path().string());
@@ -768,6 +770,67 @@ TEST_CASE("buttons must be a non-negative integer bitmask", "[readers]") {
   CHECK_TRAJ_ERROR(withButtons(""), "line 4, column 9 (buttons)", "is not a number");
   CHECK(parseTrajectory(withButtons("5"), "t.csv").samples[1].buttons == 5);
   CHECK(parseTrajectory(withButtons("0"), "t.csv").samples[1].buttons == 0);
+}
+
+// ------------------------------------------- trajectory: heights relative to the paper
+
+TEST_CASE("depth_mm in place of z_mm parses as press depth past first contact", "[readers]") {
+  const std::string header = "t_s,x_mm,y_mm,depth_mm,qw,qx,qy,qz";
+  const Trajectory t =
+      parseTrajectory(traj(header, {"0,1,2,-3,1,0,0,0", "1,1,2,4.5,1,0,0,0"}), "t.csv");
+  CHECK(t.depth_column == 4);
+  CHECK(t.needsBrush());
+  REQUIRE(t.samples.size() == 2);
+  CHECK(t.samples[0].depth_mm == -3);  // negative: hovering above first contact
+  CHECK(t.samples[1].depth_mm == 4.5);
+  // No height until a brush gives one (resolveDepths).
+  CHECK(t.samples[1].pose.position_mm == Eigen::Vector3d(1, 2, 0));
+  // In any column, with the optional columns.
+  const Trajectory moved = parseTrajectory(
+      traj("depth_mm,t_s,x_mm,y_mm,qw,qx,qy,qz,buttons", {"2,0,0,0,1,0,0,0,1", "3,1,0,0,1,0,0,0,0"}),
+      "t.csv");
+  CHECK(moved.depth_column == 1);
+  CHECK(moved.samples[1].depth_mm == 3);
+  // A file with z_mm needs no brush.
+  CHECK(parseTrajectory(kTraj, "t.csv").depth_column == 0);
+  CHECK_FALSE(parseTrajectory(kTraj, "t.csv").needsBrush());
+}
+
+TEST_CASE("the depth_mm example of docs/formats.md parses", "[readers]") {
+  const std::string doc = readTextFile((kSourceDir / "docs/formats.md").string());
+  const size_t section = doc.find("### Heights relative to the paper");
+  REQUIRE(section != std::string::npos);
+  const size_t start = doc.find('\n', doc.find("```", section)) + 1;
+  const size_t end = doc.find("```", start);
+  const Trajectory t = parseTrajectory(doc.substr(start, end - start), "formats.md");
+  CHECK(t.depth_column == 4);
+  CHECK(t.samples.size() == 4);
+  CHECK(t.samples[1].depth_mm == 4);
+}
+
+TEST_CASE("depth_mm with z_mm, twice, non-finite or over the limit is 65 naming line and column",
+          "[readers]") {
+  const std::vector<std::string> rows = {"0,0,0,10,1,0,0,0,1", "1,0,0,10,1,0,0,0,1"};
+  CHECK_TRAJ_ERROR(traj(kHeader + ",depth_mm", rows), "t.csv: line 2, column 9 (depth_mm)",
+                   "z_mm and depth_mm", "give one");
+  CHECK_TRAJ_ERROR(traj("t_s,x_mm,y_mm,depth_mm,z_mm,qw,qx,qy,qz", rows),
+                   "t.csv: line 2, column 5 (z_mm)", "z_mm and depth_mm");
+  CHECK_TRAJ_ERROR(traj("t_s,x_mm,y_mm,depth_mm,depth_mm,qx,qy,qz", rows),
+                   "line 2, column 5 (depth_mm)", "duplicate column");
+  // Neither: the missing height names both ways to give it.
+  CHECK_TRAJ_ERROR(traj("t_s,x_mm,y_mm,qw,qx,qy,qz", {"0,0,0,1,0,0,0", "1,0,0,1,0,0,0"}),
+                   "t.csv: line 2", "required column 'z_mm'", "depth_mm");
+  const std::string header = "t_s,x_mm,y_mm,depth_mm,qw,qx,qy,qz";
+  auto bad = [&](const std::string& depth) {
+    return traj(header, {"0,0,0,1,1,0,0,0", "0.5,0,0," + depth + ",1,0,0,0", "1,0,0,1,1,0,0,0"});
+  };
+  for (const char* cell : {"nan", "inf", "-inf"}) {
+    INFO(cell);
+    CHECK_TRAJ_ERROR(bad(cell), "t.csv: line 4, column 4 (depth_mm)", "must be finite");
+  }
+  CHECK_TRAJ_ERROR(bad("1e999"), "line 4, column 4 (depth_mm)", "outside the range of a double");
+  CHECK_TRAJ_ERROR(bad("-200000"), "line 4, column 4 (depth_mm)", "limit of +-100000 mm");
+  CHECK_TRAJ_ERROR(bad("deep"), "line 4, column 4 (depth_mm)", "is not a number");
 }
 
 // ------------------------------------------------------- brush geometry sections

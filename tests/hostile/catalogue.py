@@ -518,6 +518,29 @@ case("traj-t-column-named", "a long span when t_s is not the first column", rend
      "here, over the limit of 10000000 per trajectory",
      all_of(brush(), trajectory(text="# bristle-trajectory/1\nx_mm,y_mm,t_s,z_mm,qw,qx,qy,qz\n"
                                 "15,40,0,25,1,0,0,0\n15,40,1e7,25,1,0,0,0\n")))
+DEPTH_HEADER = "t_s,x_mm,y_mm,depth_mm,qw,qx,qy,qz"
+case("traj-z-and-depth", "a trajectory giving both z_mm and depth_mm", ["validate", "t.csv"], 65,
+     "t.csv: line 2, column 9 (depth_mm): z_mm and depth_mm both give the handle's height; "
+     "give one of them",
+     trajectory(text="# bristle-trajectory/1\n" + HEADER + ",depth_mm\n"
+                "0,15,40,25,1,0,0,0,-2\n1,15,40,25,1,0,0,0,3\n"))
+case("traj-depth-nan", "a press depth of nan", ["validate", "t.csv"], 65,
+     "t.csv: line 4, column 4 (depth_mm): must be finite",
+     trajectory(text="# bristle-trajectory/1\n" + DEPTH_HEADER + "\n"
+                "0,15,40,-2,1,0,0,0\n1,15,40,nan,1,0,0,0\n"))
+case("traj-depth-through-ferrule", "a press depth that puts the ferrule into the paper",
+     render(), 65,
+     "t.csv: line 4: the ferrule goes below the canvas (spine 0 root at z = -6.284 mm); z must "
+     "stay >= 0 (depth_mm = 25 presses 'round' too deep)",
+     all_of(brush(), trajectory(text="# bristle-trajectory/1\n" + DEPTH_HEADER + "\n" +
+                                "".join(",".join(str(v) for v in r) + "\n"
+                                        for r in [[0, 15, 40, -2, *REST], [1, 15, 40, 25, *REST]]))))
+case("traj-depth-starts-pressed", "a depth trajectory that starts pressed into the paper",
+     ["validate", "b.json", "t.csv"], 65,
+     "t.csv: line 3: the brush starts below the canvas (spine 0 joint 4 at z = -1.6 mm at rest); "
+     "start the trajectory with the hairs above z = 0 (a negative depth_mm, here 2)",
+     all_of(brush(), trajectory(text="# bristle-trajectory/1\n" + DEPTH_HEADER + "\n"
+                                "0,15,40,2,1,0,0,0\n1,15,40,-3,1,0,0,0\n")))
 case("scene-span-1e7", "a scene stroke whose trajectory spans 1e7 s",
      ["render", "s.json", "-o", "o.png"], 65,
      "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "

@@ -41,7 +41,7 @@ double restLowestZMm(const Brush& brush, const Pose& handle) {
   return lowest;
 }
 
-double firstContactHeightMm(const Brush& brush, const Eigen::Quaterniond& tilt) {
+double spineContactHeightMm(const Brush& brush, const Eigen::Quaterniond& tilt) {
   Pose high;
   high.position_mm = Eigen::Vector3d(0, 0, kHighMm);
   high.rotation = tilt;
@@ -75,7 +75,7 @@ CaseTrajectory makeCaseTrajectoryDetailed(const Brush& brush, const Case& c) {
     throw Error(ExitCode::kUsage, "pull speed must be > 0");
   const Eigen::Quaterniond rot = tiltRotation(c.tilt_deg);
   CaseTrajectory out;
-  out.contact_height_mm = firstContactHeightMm(brush, rot);
+  out.contact_height_mm = spineContactHeightMm(brush, rot);
   out.asked_depth_mm = c.press_fraction * hairLengthMm(brush);
   // The lowest root sits at handle z + min_s (R root_s).z; keep it >= kMinRootZMm.
   double lowest_root = std::numeric_limits<double>::infinity();

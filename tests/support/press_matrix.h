@@ -27,8 +27,11 @@ Eigen::Quaterniond tiltRotation(double tilt_deg);
 double restLowestZMm(const Brush& brush, const Pose& handle);
 
 // The handle height (z of the pose, mm) at which the brush at rest, with this
-// orientation, first touches z = 0.
-double firstContactHeightMm(const Brush& brush, const Eigen::Quaterniond& tilt);
+// orientation, first touches z = 0 with a spine joint: where the solver's
+// contact (eq. 5) begins. The hair bundles around the spines reach lower and
+// touch first (bristle::firstContactHeightMm, engine/first_contact.h, what a
+// trajectory's depth_mm counts from); the press matrix counts from the spines.
+double spineContactHeightMm(const Brush& brush, const Eigen::Quaterniond& tilt);
 
 // The longest spine of the brush (mm): what a press fraction is a fraction of.
 double hairLengthMm(const Brush& brush);
@@ -59,7 +62,7 @@ inline constexpr double kMinRootZMm = 0.5;   // the ferrule stays at least this 
 
 struct CaseTrajectory {
   Trajectory trajectory;
-  double contact_height_mm = 0;  // handle z of first contact (firstContactHeightMm)
+  double contact_height_mm = 0;  // handle z of first contact (spineContactHeightMm)
   double depth_mm = 0;           // handle z below first contact at the deepest
   double asked_depth_mm = 0;     // press_fraction * hair length
   bool clamped = false;          // depth < asked: the ferrule would have hit the canvas
