@@ -1,4 +1,4 @@
-// `bristle batch`: renders the jobs of a manifest (engine/batch.h), each in its
+// `bristle batch`: renders the jobs of a manifest (batch/manifest.h), each in its
 // own bristle process, a few at a time. What a farm needs from it:
 // - a job that fails (bad input, a crash) fails alone and is logged;
 // - an output appears only complete: the child writes into a private folder,
@@ -31,9 +31,11 @@
 #include <sstream>
 #include <thread>
 
+#include "batch/job_key.h"
+#include "batch/manifest.h"
+#include "batch/shard.h"
 #include "cli/commands.h"
 #include "engine/atomic_output.h"
-#include "engine/batch.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "render/png_io.h"

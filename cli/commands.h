@@ -87,7 +87,7 @@ struct SheetArgs {
   bool quiet = false;
 };
 int runSheet(const SheetArgs& args);
-// `bristle batch`: the jobs of a manifest (engine/batch.h), each in its own
+// `bristle batch`: the jobs of a manifest (batch/manifest.h), each in its own
 // process, up to `jobs` at once (cli/batch_command.cpp).
 struct BatchArgs {
   std::string manifest, out_dir, shard, log;

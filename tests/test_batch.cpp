@@ -1,4 +1,4 @@
-// Batch manifests (engine/batch.h): the reader's rules, sharding that covers
+// Batch manifests (batch/manifest.h, batch/shard.h, batch/job_key.h): the reader's rules, sharding that covers
 // every job exactly once, the shard a scheduler's environment names, the
 // command line a job runs, and the key that decides whether an output is up to
 // date.
@@ -10,10 +10,13 @@
 #include <set>
 #include <tuple>
 
+#include "batch/job_key.h"
+#include "batch/manifest.h"
+#include "batch/shard.h"
 #include "engine/atomic_output.h"
-#include "engine/batch.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
+#include "engine/sheet.h"
 #include "test_helpers.h"
 #include "temp_dir.h"
 
@@ -67,9 +70,10 @@ TEST_CASE("batch manifest: jobs, defaults and resolved paths", "[batch]") {
   CHECK(m.jobs[0].input == "/data/paintings/petals.json");
   CHECK(m.jobs[0].output == "p.png");
   // A job's own options win over the defaults; the rest of the defaults stay.
-  CHECK(m.jobs[0].options["px-per-mm"] == 6);
-  CHECK(m.jobs[0].options["solver"] == "slsqp");
-  CHECK(m.jobs[0].options["impasto"] == true);
+  using Words = std::vector<std::string>;
+  CHECK(m.jobs[0].options.at("px-per-mm") == Words{"6"});
+  CHECK(m.jobs[0].options.at("solver") == Words{"slsqp"});
+  CHECK(m.jobs[0].options.at("impasto").empty());  // a flag: no words after it
   CHECK(m.jobs[1].kind == BatchJobKind::kStroke);
   CHECK(m.jobs[1].id == "round-s");
   CHECK(m.jobs[1].brush == "/data/batch/b.json");
@@ -339,4 +343,39 @@ TEST_CASE("batch outputs are written beneath --out, never through a symbolic lin
   // A folder not yet made is fine for the check; a file in the way is not.
   CHECK_FALSE(testing::catchError([&] { checkBeneath(out, "new/x.png"); }).thrown);
   CHECK(testing::catchError([&] { checkBeneath(out, "a/b/x.png/y.png"); }).code == 73);
+}
+
+TEST_CASE("batch: a false flag in a job takes back the defaults' true", "[batch]") {
+  const BatchManifest m = parse(R"({"format": "bristle-batch/1",
+      "defaults": {"options": {"impasto": true, "bits": 16}},
+      "jobs": [{"id": "a", "scene": "s.json", "options": {"impasto": false}},
+               {"id": "b", "scene": "s.json"}]})");
+  CHECK(batchJobArguments(m.jobs[0]) ==
+        std::vector<std::string>{"render", "/data/batch/s.json", "--bits", "16"});
+  CHECK(batchJobArguments(m.jobs[1]) ==
+        std::vector<std::string>{"render", "/data/batch/s.json", "--bits", "16", "--impasto"});
+}
+
+TEST_CASE("a batch sheet job is keyed by the sheet's inputs: a trajectory edit re-renders it",
+          "[sheet][batch]") {
+  TempDir d;
+  const fs::path src(BRISTLE_SOURCE_DIR);
+  fs::create_directories(d.path() / "b");
+  fs::create_directories(d.path() / "t");
+  fs::copy_file(src / "scenes/brushes/round.json", d.path() / "b/round.json");
+  fs::copy_file(src / "scenes/trajectories/straight-pull.csv", d.path() / "t/straight-pull.csv");
+  const std::string sheet = d.write("sheet.json", R"({"format": "bristle-sheet/1", "name": "copy",
+      "brushes": ["b/round.json"], "trajectories": ["t/straight-pull.csv"]})");
+  const BatchManifest m = parseBatchManifest(
+      R"({"format": "bristle-batch/1", "jobs": [{"id": "s", "sheet": "sheet.json"}]})",
+      d.file("m.json"), d.path().string());
+  REQUIRE(m.jobs.size() == 1);
+  const BatchJob& job = m.jobs[0];
+  // The same files, in the same order, as the sheet's PNG hash covers.
+  const std::vector<std::string> inputs = batchJobInputs(job, "m.json");
+  CHECK(inputs == loadSheet(sheet).inputs);
+  CHECK(fnv1a64Files(inputs) == sheetInputsHash(loadSheet(sheet)));
+  const std::uint64_t key = batchJobKey(job, inputs);
+  std::ofstream(d.path() / "t/straight-pull.csv", std::ios::app) << "# edited\n";
+  CHECK(batchJobKey(job, batchJobInputs(job, "m.json")) != key);
 }

@@ -1,0 +1,30 @@
+#pragma once
+// Whether a batch job's output is up to date: the key of what the job reads and
+// runs.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "batch/manifest.h"
+
+namespace bristle {
+
+// Every file the job reads (the scene or sheet first, then what it references),
+// by loading the job's input with the render's own readers; throws their
+// bristle::Error (66 missing, 65 bad data) so a broken job fails before a
+// process is started for it. A file the manifest itself names is reported as
+// `manifest: /jobs/N/field: ...`.
+std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& manifest);
+
+// The up-to-date key of a job: FNV-1a 64 over the bristle version, the program
+// that renders, the job's command line (batchJobArguments) and the bytes of
+// every input file. `program` identifies the renderer's code: the command line
+// passes the FNV-1a 64 of its own executable, so a rebuilt bristle (same
+// version, changed code) renders every job again instead of keeping pixels an
+// older build made. Paths do not enter the key, so a checkout moved elsewhere
+// keeps its outputs.
+std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& inputs,
+                          std::uint64_t program = 0);
+
+}  // namespace bristle
