@@ -27,6 +27,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -35,6 +36,7 @@
 #include "batch/manifest.h"
 #include "batch/shard.h"
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
@@ -555,6 +557,52 @@ int runBatch(const BatchArgs& args) {
     printError(e.what());
     return static_cast<int>(e.code());
   }
+}
+
+Subcommand registerBatch(CLI::App& app) {
+  auto ba = std::make_shared<BatchArgs>();
+  CLI::App* batch =
+      app.add_subcommand("batch", "Render the jobs of a manifest, a few at a time");
+  batch->footer(
+      "Examples:\n"
+      "  bristle batch scenes/batch/standard.json --out renders/ --jobs 2\n"
+      "  bristle batch jobs.json --out renders/ --shard 1/4 --json\n"
+      "  sbatch --array=0-3 scripts/slurm/bristle-batch.sbatch jobs.json renders/\n"
+      "Each job runs in its own bristle process; outputs appear only complete, and are\n"
+      "skipped when already up to date (the job's key is stored in the PNG). A failed job\n"
+      "does not stop the others. Without --shard, the shard comes from Slurm's\n"
+      "SLURM_ARRAY_TASK_ID/_COUNT/_MIN or Kubernetes' JOB_COMPLETION_INDEX (+ --shard-count).\n"
+      "SIGTERM or Ctrl-C abandons running jobs and leaves no partial file.\n"
+      "Each job's log entry lists its warnings and figures (painted pixels, failed solves,\n"
+      "paint laid down); the warnings are also printed on stderr.\n"
+      "Exit: 0 when every job of the shard succeeded, else the first failed job's code;\n"
+      "1 with --fail-on-warning when a job has warnings and none failed;\n"
+      "143/130 when stopped by SIGTERM/SIGINT. See docs/batch.md.");
+  batch->add_option("manifest", ba->manifest, "Batch manifest (bristle-batch/1 JSON)")
+      ->required();
+  batch->add_option("--out", ba->out_dir, "Output folder (created if missing)")->required();
+  batch->add_option("-j,--jobs", ba->jobs, "Jobs rendered at once (processes)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 256));
+  batch->add_option("--shard", ba->shard,
+                    "Render only shard I of N (I/N, 0-based): jobs k with k mod N = I");
+  batch->add_option("--shard-count", ba->shard_count,
+                    "Shard count for a Kubernetes Indexed Job (JOB_COMPLETION_INDEX is the index)")
+      ->check(CLI::Range(1, 100000));
+  batch->add_flag("--overwrite", ba->overwrite,
+                  "Render every job, even when its output is up to date");
+  batch->add_flag("--json", ba->json, "One JSON object per job on stdout, then a summary");
+  batch->add_option("--log", ba->log,
+                    "Job log (JSON lines; default "
+                    "OUT/logs/batch-<time>-<host>-<pid>-shard-I-of-N.jsonl)");
+  batch->add_flag("--dry-run", ba->dry_run,
+                  "List the shard's jobs and whether they would render, then a summary line; "
+                  "render nothing");
+  batch->add_flag("--fail-on-warning", ba->fail_on_warning,
+                  "Exit 1 when a job has warnings (and none failed): a brush that never touched "
+                  "the paper, no visible paint, failed solves");
+  batch->add_flag("-q,--quiet", ba->quiet, "No progress, no summary");
+  return {batch, [ba] { return runBatch(*ba); }};
 }
 
 }  // namespace bristle::cli

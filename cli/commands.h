@@ -1,8 +1,10 @@
 #pragma once
 // One function per subcommand, each returning its exit code (docs/design.md,
-// "Style habits", item 12).
-// cli/main.cpp owns the command line (CLI11) and nothing else.
+// "Style habits", item 12), and one per subcommand that registers it: its
+// options, help and examples, in the subcommand's own file. cli/main.cpp
+// calls the registrations and runs the subcommand that was parsed.
 
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -12,11 +14,32 @@
 #include "engine/simulation.h"
 #include "engine/solver_pair.h"
 
+namespace CLI {
+class App;
+}
+
 namespace bristle {
 struct CanvasGrid;
 }
 
 namespace bristle::cli {
+
+// A registered subcommand: its CLI11 subcommand, and what runs it once its
+// options are parsed (returning the exit code).
+struct Subcommand {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+Subcommand registerRender(CLI::App& app);
+Subcommand registerValidate(CLI::App& app);
+Subcommand registerBrushes(CLI::App& app);
+Subcommand registerPigments(CLI::App& app);
+Subcommand registerPreview(CLI::App& app);
+Subcommand registerRecord(CLI::App& app);
+Subcommand registerReplay(CLI::App& app);
+Subcommand registerSheet(CLI::App& app);
+Subcommand registerBatch(CLI::App& app);
+Subcommand registerCompare(CLI::App& app);
 
 struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::string scene;  // positional: a bristle-scene/1 file instead of --brush/--trajectory

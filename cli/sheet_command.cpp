@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "cli/inputs.h"
 #include "cli/progress.h"
 #include "engine/atomic_output.h"
@@ -89,6 +91,30 @@ int runSheet(const SheetArgs& args) {
     if (!isStdio(args.output)) std::cout << args.output << "\n";
   }
   return 0;
+}
+
+Subcommand registerSheet(CLI::App& app) {
+  auto sh = std::make_shared<SheetArgs>();
+  CLI::App* sheet = app.add_subcommand(
+      "sheet", "Render a stroke sheet: a labelled grid of brushes x trajectories");
+  sheet->footer(
+      "Examples:\n"
+      "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
+      "  bristle sheet scenes/sheets/small.json -o small.png --px-per-mm 4 --solver slsqp\n"
+      "Every cell is one brush along one trajectory on its own canvas, all at one scale,\n"
+      "centred on its inked area; rows are brushes (their names), columns trajectories\n"
+      "(their file stems). The sheet format is docs/sheet-format.md.");
+  sheet->add_option("sheet", sh->sheet, "Sheet file (bristle-sheet/1 JSON)")->required();
+  addPngOutput(sheet, sh->output);
+  addPxPerMm(sheet, sh->px_per_mm, "Resolution, instead of the sheet's px_per_mm",
+             /*show_default=*/false);
+  addSolverOption(
+      sheet, "--solver", [sh](SolverKind k) { sh->solver = k; },
+      "Spine solver, instead of the sheet's", "");
+  addSolverMaxIterations(sheet, sh->solver_max_iterations);
+  sheet->add_flag("--impasto", sh->impasto, "Light the paint's thickness from the upper left");
+  sheet->add_flag("-q,--quiet", sh->quiet, "No progress, no summary, no output path on stdout");
+  return {sheet, [sh] { return runSheet(*sh); }};
 }
 
 }  // namespace bristle::cli
