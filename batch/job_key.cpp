@@ -1,11 +1,15 @@
 #include "batch/job_key.h"
 
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
 #include "bristle/version.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "engine/scene.h"
 #include "engine/sheet.h"
 #include "engine/text_file.h"
+#include "render/png_io.h"
 
 namespace bristle {
 
@@ -57,6 +61,27 @@ std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& i
   }
   h = fnv1a64(std::to_string(fnv1a64Files(inputs)), h);
   return h;
+}
+
+bool batchOutputUpToDate(const std::string& path, const std::string& key,
+                         std::vector<std::string>* warnings) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  bool same = false;
+  try {
+    for (const auto& [k, v] : render::readPngText(path)) {
+      if (k == kBatchKeyText) same = v == key;
+      if (k == kBatchWarningsText) {
+        const nlohmann::json list = nlohmann::json::parse(v, nullptr, false);
+        if (list.is_array())
+          for (const nlohmann::json& w : list)
+            if (w.is_string()) warnings->push_back(w.get<std::string>());
+      }
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  return same;
 }
 
 }  // namespace bristle

@@ -1,6 +1,6 @@
 #pragma once
 // Whether a batch job's output is up to date: the key of what the job reads and
-// runs.
+// runs, and the PNG text that carries it.
 
 #include <cstdint>
 #include <string>
@@ -9,6 +9,12 @@
 #include "batch/manifest.h"
 
 namespace bristle {
+
+// The PNG text key that carries a job's up-to-date key (16 hex digits), and the
+// one that carries its warnings (a JSON list of strings), so that a run that
+// skips the job still reports them.
+inline constexpr const char* kBatchKeyText = "bristle:batch-key";
+inline constexpr const char* kBatchWarningsText = "bristle:batch-warnings";
 
 // Every file the job reads (the scene or sheet first, then what it references),
 // by loading the job's input with the render's own readers; throws their
@@ -26,5 +32,11 @@ std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& 
 // keeps its outputs.
 std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& inputs,
                           std::uint64_t program = 0);
+
+// Whether `path` is a complete PNG whose kBatchKeyText is `key` (a missing,
+// corrupt or truncated file is not: it is rendered again); *warnings gets the
+// warnings kept with it.
+bool batchOutputUpToDate(const std::string& path, const std::string& key,
+                         std::vector<std::string>* warnings);
 
 }  // namespace bristle
