@@ -14,7 +14,6 @@
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
-#include "render/png_io.h"
 
 namespace bristle {
 namespace {
@@ -186,7 +185,8 @@ void BatchRun::render(const std::vector<Pending>& queued, const BatchProgress& p
     p.err = tag + ".stderr";
     ChildCommand c{{program_}, p.err};
     for (std::string& a : batchJobArguments(*p.job)) c.argv.push_back(std::move(a));
-    c.argv.insert(c.argv.end(), {"-o", p.png, "--quiet"});
+    // The child stamps the key (and its warnings) into the PNG it writes.
+    c.argv.insert(c.argv.end(), {"-o", p.png, "--quiet", "--batch-key", p.key});
     if (p.job->kind == BatchJobKind::kStroke || p.job->kind == BatchJobKind::kScene) {
       // `render` reports its figures; `sheet` and `preview` have none.
       p.stats = tag + ".stats.json";
@@ -216,8 +216,8 @@ void BatchRun::render(const std::vector<Pending>& queued, const BatchProgress& p
   fs::remove_all(private_dir_, ec);
 }
 
-// A finished child: its warnings and figures read, the key and warnings
-// stamped into its PNG and the PNG written into place; or its failure.
+// A finished child: its PNG (already carrying the key) moved into place, its
+// warnings and figures read; or its failure.
 BatchJobOutcome BatchRun::complete(const Pending& p, int status) const {
   BatchJobOutcome o;
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
@@ -231,12 +231,8 @@ BatchJobOutcome BatchRun::complete(const Pending& p, int status) const {
           o.figures = std::move(stats);
         }
       }
-      std::string png = render::withPngText(readBytes(p.png), kBatchKeyText, p.key);
-      if (!o.warnings.empty())
-        png = render::withPngText(png, kBatchWarningsText,
-                                  nlohmann::json(o.warnings).dump(-1, ' ', true));
       // Beneath --out, never through a symbolic link out of it.
-      writeFileBeneath(options_.out_dir, p.job->output, png);
+      moveFileBeneath(p.png, options_.out_dir, p.job->output);
       o.status = BatchJobStatus::kRendered;
     } catch (const Error& e) {
       o.code = static_cast<int>(e.code());

@@ -5,8 +5,8 @@
 // private folder beneath --out and renamed into place when it succeeded. What
 // a farm needs from it:
 // - a job that fails (bad input, a crash) fails alone and is logged;
-// - an output appears only complete: the batch stamps the job's key (and its
-//   warnings) into the PNG and writes it into place;
+// - an output appears only complete, already carrying its key: the job's own
+//   process writes the key and its warnings into the PNG (--batch-key);
 // - outputs whose key matches are skipped, so a rerun does only what changed;
 // - SIGTERM/SIGINT stop the run between jobs: running jobs are abandoned, their
 //   files removed, and the log says so;

@@ -9,7 +9,6 @@
 #include "engine/scene.h"
 #include "engine/sheet.h"
 #include "engine/text_file.h"
-#include "render/png_io.h"
 
 namespace bristle {
 
@@ -82,6 +81,16 @@ bool batchOutputUpToDate(const std::string& path, const std::string& key,
     return false;
   }
   return same;
+}
+
+render::PngText batchPngText(const std::string& key, const std::vector<std::string>& warnings) {
+  render::PngText text;
+  if (key.empty()) return text;
+  text.push_back({kBatchKeyText, key});
+  // ASCII (ensure_ascii) so that the chunk is plain tEXt/zTXt.
+  if (!warnings.empty())
+    text.push_back({kBatchWarningsText, nlohmann::json(warnings).dump(-1, ' ', true)});
+  return text;
 }
 
 }  // namespace bristle

@@ -1,12 +1,15 @@
 #pragma once
 // Whether a batch job's output is up to date: the key of what the job reads and
-// runs, and the PNG text that carries it.
+// runs, and the PNG text that carries it. The job's own process writes that
+// text (batchPngText, through the hidden option --batch-key of render, sheet
+// and preview), so the batch never rewrites a PNG.
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "batch/manifest.h"
+#include "render/png_io.h"
 
 namespace bristle {
 
@@ -38,5 +41,9 @@ std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& i
 // warnings kept with it.
 bool batchOutputUpToDate(const std::string& path, const std::string& key,
                          std::vector<std::string>* warnings);
+
+// The PNG text a job's own process adds when the batch runs it with
+// `--batch-key KEY`: the key and, when there are any, the job's warnings.
+render::PngText batchPngText(const std::string& key, const std::vector<std::string>& warnings);
 
 }  // namespace bristle

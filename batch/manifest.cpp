@@ -21,9 +21,10 @@ namespace fs = std::filesystem;
 // Options a job may not set: the batch owns where the job writes and what it
 // prints, and a job writes nothing but its PNG (side files such as a trace
 // would escape the atomic write and the up-to-date check).
-const std::set<std::string> kReservedOptions = {"o",     "output",     "quiet", "help",
-                                                "trace", "forces",     "brush", "trajectory",
-                                                "version"};
+// --batch-key is the batch's own (batch/job_key.h).
+const std::set<std::string> kReservedOptions = {
+    "o", "output", "quiet", "help", "trace", "forces", "brush", "trajectory", "version",
+    "batch-key"};
 
 std::string resolve(const std::string& base_dir, const std::string& p) {
   const fs::path path(p);

@@ -1,7 +1,7 @@
 #pragma once
 // Batch manifests (`bristle-batch/1`): many renders described in one file, and
 // the command line each job runs. Nothing here starts a process or touches the
-// output folder (cli/batch_command.cpp does). docs/batch.md is the user's reference.
+// output folder (batch/batch_run.h does). docs/batch.md is the user's reference.
 
 #include <map>
 #include <string>

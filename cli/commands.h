@@ -55,6 +55,7 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::vector<double> offset_mm;           // x, y, z added to every handle position
   bool quiet = false;
+  std::string batch_key;  // --batch-key (hidden): from `bristle batch` (batch/job_key.h)
 };
 int runRender(const RenderArgs& args);
 // A whole scene (called by runRender when args.scene is set).
@@ -70,6 +71,7 @@ struct PreviewArgs {
   double px_per_mm = 8;
   double clip_mm = 0.1;
   bool quiet = false;
+  std::string batch_key;  // --batch-key (hidden): from `bristle batch`
 };
 int runPreview(const PreviewArgs& args);
 
@@ -108,10 +110,11 @@ struct SheetArgs {
   int solver_max_iterations = kDefaultSolverMaxIterations;
   bool impasto = false;
   bool quiet = false;
+  std::string batch_key;  // --batch-key (hidden): from `bristle batch`
 };
 int runSheet(const SheetArgs& args);
 // `bristle batch`: the jobs of a manifest (batch/manifest.h), each in its own
-// process, up to `jobs` at once (cli/batch_command.cpp).
+// process, up to `jobs` at once (batch/batch_run.h).
 struct BatchArgs {
   std::string manifest, out_dir, shard, log;
   int jobs = 1;

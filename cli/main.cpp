@@ -12,6 +12,7 @@
 #include "bristle/version.h"
 #include "cli/commands.h"
 #include "cli/inputs.h"
+#include "cli/options.h"
 #include "engine/error.h"
 #include "engine/temp_files.h"
 
@@ -98,6 +99,7 @@ int main(int argc, char** argv) {
   // Brush names, on the command line and in the scenes, sheets and manifests it reads.
   bristle::setBrushLibraryDirs(cliBrushLibraryDirs());
   CLI::App app(kDescription, "bristle");
+  useHelpFormatter(app);
   app.footer(kFooter);
   app.set_version_flag("--version", std::string("bristle ") + bristle::kVersion);
   app.require_subcommand(0, 1);

@@ -1,5 +1,8 @@
 #include "cli/options.h"
 
+#include <memory>
+#include <vector>
+
 namespace bristle::cli {
 
 void addPaintOptions(CLI::App* app, PaintOptions& p) {
@@ -66,5 +69,29 @@ CLI::Option* addPxPerMm(CLI::App* app, double& px_per_mm, const std::string& hel
 void addPngOutput(CLI::App* app, std::string& output) {
   app->add_option("-o,--output", output, "Output PNG; - writes it to stdout")->required();
 }
+
+void addBatchKey(CLI::App* app, std::string& key) {
+  app->add_option("--batch-key", key)->group("");
+}
+
+namespace {
+
+class HelpFormatter : public CLI::Formatter {
+ public:
+  std::string make_help(const CLI::App* app, std::string name,
+                        CLI::AppFormatMode mode) const override {
+    std::string out = CLI::Formatter::make_help(app, name, mode);
+    const std::vector<std::string> groups = app->get_groups();
+    if (groups.empty() || !groups.back().empty()) return out;
+    // The options end "\n", then CLI11's extra "\n", then the "\n" before the footer.
+    const std::size_t footer = out.size() - make_footer(app).size();
+    if (footer >= 3 && out.compare(footer - 3, 3, "\n\n\n") == 0) out.erase(footer - 1, 1);
+    return out;
+  }
+};
+
+}  // namespace
+
+void useHelpFormatter(CLI::App& app) { app.formatter(std::make_shared<HelpFormatter>()); }
 
 }  // namespace bristle::cli

@@ -36,4 +36,14 @@ CLI::Option* addPxPerMm(CLI::App* app, double& px_per_mm, const std::string& hel
 // -o/--output of a PNG ("-": standard output).
 void addPngOutput(CLI::App* app, std::string& output);
 
+// The hidden --batch-key KEY of render, sheet and preview: `bristle batch`
+// passes each job its key, which the PNG then carries with the job's warnings
+// (batch/job_key.h). Not in --help: it is for the batch, not for people.
+void addBatchKey(CLI::App* app, std::string& key);
+
+// CLI11's help layout, less the blank line CLI11 2.1 adds after the options
+// when the last option group is the hidden one (--batch-key). Set on the
+// program before its subcommands are added: they take their parent's.
+void useHelpFormatter(CLI::App& app);
+
 }  // namespace bristle::cli

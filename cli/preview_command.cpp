@@ -9,6 +9,7 @@
 #include <iostream>
 #include <memory>
 
+#include "batch/job_key.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/inputs.h"
@@ -96,7 +97,9 @@ int runPreview(const PreviewArgs& args) {
   opt.width_px = args.width_px;
   opt.height_px = args.height_px;
   const render::Image8 image = render::renderPreview(scene, opt);
-  render::writePng(args.output, image, {{"Software", "bristle preview"}, {"bristle:brush", brush.name}});
+  render::PngText text = {{"Software", "bristle preview"}, {"bristle:brush", brush.name}};
+  for (auto& entry : batchPngText(args.batch_key, {})) text.push_back(std::move(entry));
+  render::writePng(args.output, image, text);
   if (!args.quiet && !isStdio(args.output)) std::cout << args.output << "\n";
   return 0;
 }
@@ -136,6 +139,7 @@ Subcommand registerPreview(CLI::App& app) {
   addPxPerMm(preview, pv->px_per_mm,
              "Footprint resolution; as render's, it also sets how finely a step is split");
   preview->add_flag("-q,--quiet", pv->quiet, "No output path on stdout");
+  addBatchKey(preview, pv->batch_key);
   return {preview, [pv] { return runPreview(*pv); }};
 }
 

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <memory>
 
+#include "batch/job_key.h"
 #include "bristle/version.h"
 #include "cli/commands.h"
 #include "cli/options.h"
@@ -41,6 +42,27 @@ void warnFailedSolves(const SimStats& stats) {
   const std::string w = failedSolvesWarning(stats);
   if (!w.empty()) printError("warning: " + w);
 }
+
+namespace {
+
+// The figures and warnings of a stroke (printed as they are found).
+RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_name) {
+  const render::StrokeResult& result = png_result.stroke;
+  RunStats stats;
+  stats.painted_pixels = png_result.ink_pixels;
+  stats.pixels = png_result.pixels;
+  stats.sim = result.stats;
+  stats.paint_laid_mm3 = result.deposited_mm3;
+  stats.paint_picked_up_mm3 = result.picked_up_mm3;
+  if (!result.touched)
+    stats.warn("the brush never touched the canvas (" + traj_name + "): the image is blank");
+  else if (png_result.ink_pixels == 0)
+    stats.warn("the brush touched the canvas (" + traj_name + ") but left no visible paint");
+  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
+  return stats;
+}
+
+}  // namespace
 
 int runRender(const RenderArgs& args) {
   if (!args.scene.empty()) return runRenderScene(args);
@@ -106,24 +128,18 @@ int runRender(const RenderArgs& args) {
                    "); continuing from its last good state");
     progress.update(0, 1, step, steps);
   };
+  const std::string traj_name = isStdio(args.trajectory) ? std::string(kStdinName) : args.trajectory;
+  RunStats stats;
+  // The warnings are known before the PNG is written, so that a batch job's
+  // PNG carries them with its key.
   const StrokePngResult png_result =
-      renderStrokePng(brush, trajectory, png, args.output, on_step);
+      renderStrokePng(brush, trajectory, png, args.output, on_step, [&](const StrokePngResult& r) {
+        stats = strokeStats(r, traj_name);
+        return batchPngText(args.batch_key, stats.warnings);
+      });
   const render::StrokeResult& result = png_result.stroke;
   if (trace) trace->commit();
   if (forces) forces->commit();
-
-  RunStats stats;
-  stats.painted_pixels = png_result.ink_pixels;
-  stats.pixels = png_result.pixels;
-  stats.sim = result.stats;
-  stats.paint_laid_mm3 = result.deposited_mm3;
-  stats.paint_picked_up_mm3 = result.picked_up_mm3;
-  const std::string traj_name = isStdio(args.trajectory) ? std::string(kStdinName) : args.trajectory;
-  if (!result.touched)
-    stats.warn("the brush never touched the canvas (" + traj_name + "): the image is blank");
-  else if (png_result.ink_pixels == 0)
-    stats.warn("the brush touched the canvas (" + traj_name + ") but left no visible paint");
-  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
   writeRunStats(args.stats, stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;
@@ -191,6 +207,7 @@ Subcommand registerRender(CLI::App& app) {
       ->check(CLI::Range(0.001, 2.0));
   addPaintOptions(render, *r);
   render->add_flag("-q,--quiet", r->quiet, "No progress, no output path on stdout");
+  addBatchKey(render, r->batch_key);
   return {render, [render, r] {
             for (const CLI::Option* o : render->get_options())
               if (o->count() > 0 && !o->get_positional()) r->given.push_back(o->get_name());

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <map>
 #include <set>
 #include <tuple>
@@ -16,6 +17,7 @@
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
+#include "render/png_io.h"
 #include "engine/sheet.h"
 #include "test_helpers.h"
 #include "temp_dir.h"
@@ -356,6 +358,14 @@ TEST_CASE("batch: a false flag in a job takes back the defaults' true", "[batch]
         std::vector<std::string>{"render", "/data/batch/s.json", "--bits", "16", "--impasto"});
 }
 
+TEST_CASE("a batch job cannot set the batch's own --batch-key", "[batch][errors]") {
+  const auto [code, message] = parseError(
+      R"({"format": "bristle-batch/1", "jobs": [{"id": "a", "scene": "s.json",
+          "options": {"batch-key": "0123456789abcdef"}}]})");
+  CHECK(code == 65);
+  CHECK_THAT(message, Contains("/jobs/0/options/batch-key") && Contains("cannot set --batch-key"));
+}
+
 TEST_CASE("a batch sheet job is keyed by the sheet's inputs: a trajectory edit re-renders it",
           "[sheet][batch]") {
   TempDir d;
@@ -378,4 +388,53 @@ TEST_CASE("a batch sheet job is keyed by the sheet's inputs: a trajectory edit r
   const std::uint64_t key = batchJobKey(job, inputs);
   std::ofstream(d.path() / "t/straight-pull.csv", std::ios::app) << "# edited\n";
   CHECK(batchJobKey(job, batchJobInputs(job, "m.json")) != key);
+}
+
+TEST_CASE("batch PNG text: the key a job's process writes is what the up-to-date check reads",
+          "[batch]") {
+  TempDir d;
+  const std::string png = d.file("x.png");
+  const render::Image8 image{2, 1, 3, {1, 2, 3, 4, 5, 6}};
+  // No key: no text at all (a render outside a batch is unchanged).
+  CHECK(batchPngText("", {"w"}).empty());
+  render::writePng(png, image, batchPngText("0123456789abcdef", {}));
+  std::vector<std::string> warnings;
+  CHECK(batchOutputUpToDate(png, "0123456789abcdef", &warnings));
+  CHECK(warnings.empty());
+  CHECK_FALSE(batchOutputUpToDate(png, "fedcba9876543210", &warnings));
+  // Warnings travel with the key, any text included.
+  const std::vector<std::string> said = {"the brush never touched the canvas (t.csv)",
+                                         "caf\u00e9 \"quoted\""};
+  render::writePng(png, image, batchPngText("0123456789abcdef", said));
+  CHECK(batchOutputUpToDate(png, "0123456789abcdef", &warnings));
+  CHECK(warnings == said);
+  // A truncated file or none is not up to date.
+  const std::string bytes = [&] {
+    std::ifstream in(png, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }();
+  std::ofstream(png, std::ios::binary) << bytes.substr(0, bytes.size() - 10);
+  CHECK_FALSE(batchOutputUpToDate(png, "0123456789abcdef", &warnings));
+  CHECK_FALSE(batchOutputUpToDate(d.file("none.png"), "0123456789abcdef", &warnings));
+}
+
+TEST_CASE("batch outputs are moved beneath --out, never through a symbolic link",
+          "[batch][errors]") {
+  TempDir s;
+  const std::string out = s.file("out");
+  fs::create_directories(s.path() / "out/.private");
+  fs::create_directories(s.path() / "elsewhere");
+  const std::string from = s.write("out/.private/0.png", "bytes");
+  moveFileBeneath(from, out, "a/b/x.png");
+  CHECK(fs::is_regular_file(s.path() / "out/a/b/x.png"));
+  CHECK_FALSE(fs::exists(from));
+  fs::create_directory_symlink("../../elsewhere", s.path() / "out/a/link");
+  s.write("out/.private/1.png", "bytes");
+  const testing::Caught moved = testing::catchError(
+      [&] { moveFileBeneath(s.file("out/.private/1.png"), out, "a/link/x.png"); });
+  CHECK(moved.code == 73);
+  CHECK_THAT(moved.message, Contains("is a symbolic link; a batch writes only beneath --out"));
+  CHECK(fs::is_empty(s.path() / "elsewhere"));
 }
