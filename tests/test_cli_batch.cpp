@@ -146,7 +146,7 @@ TEST_CASE("batch: --jobs 1, --jobs 2 and 4 shards give the same pixels", "[cli][
     CHECK(e.path().filename().string().rfind(".bristle-batch-", 0) == std::string::npos);
 }
 
-TEST_CASE("batch: up-to-date outputs are skipped; a changed input or --overwrite renders again",
+TEST_CASE("batch: up-to-date outputs are skipped, and a changed input or --overwrite renders again",
           "[cli][batch]") {
   TempDir dir;
   const std::string m = writeManifest(dir, manifest(dir, 3));
@@ -366,7 +366,7 @@ TEST_CASE("batch: a sheet job is keyed by every file the sheet reads", "[cli][ba
   CHECK(jsonLines(r.out).at("tiny")["status"] == "rendered");
 }
 
-TEST_CASE("batch: each job logs its warnings and figures; --fail-on-warning fails on them",
+TEST_CASE("batch: each job logs its warnings and figures, and --fail-on-warning fails on them",
           "[cli][batch][warnings]") {
   TempDir d;
   json m = manifest(d, 1);
@@ -542,7 +542,7 @@ TEST_CASE("batch: the demo's manifest resolves, and a second run renders nothing
   }
 }
 
-TEST_CASE("render --batch-key: the PNG carries the key; the pixels and --help are unchanged",
+TEST_CASE("render --batch-key: the PNG carries the key, and the pixels and --help are unchanged",
           "[cli][batch]") {
   TempDir d;
   const std::string traj = d.write("dab.csv", dab(2));
