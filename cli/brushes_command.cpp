@@ -3,11 +3,15 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/inputs.h"
+#include "cli/options.h"
 #include "engine/brush.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
@@ -71,6 +75,26 @@ int runBrushes(const std::string& library_dir) {
     }
   }
   return code;
+}
+
+Subcommand registerBrushes(CLI::App& app) {
+  // The library: the source tree's, else the install's; BRISTLE_BRUSHES points elsewhere.
+  auto library = std::make_shared<std::string>(
+      std::getenv("BRISTLE_BRUSHES") ? std::getenv("BRISTLE_BRUSHES") : defaultBrushLibrary());
+  CLI::App* brushes = app.add_subcommand("brushes", "List the brush library, one line each");
+  brushes->footer(
+      "Examples:\n"
+      "  bristle brushes\n"
+      "  bristle brushes --library scenes/brushes\n"
+      "Each name listed works wherever a brush is taken (--brush round). A name is looked\n"
+      "up as NAME.json in the source tree's scenes/brushes, then the install's\n"
+      "share/bristle/brushes, then each folder of BRISTLE_BRUSH_PATH (colon-separated).\n"
+      "A brush that contains '/' or ends in .json is a path, used as given.");
+  brushes->add_option("--library", *library,
+                      "Folder of brush files (default: $BRISTLE_BRUSHES, "
+                      "else the source tree's scenes/brushes, else the "
+                      "install's share/bristle/brushes)");
+  return {brushes, [library] { return runBrushes(*library); }};
 }
 
 }  // namespace bristle::cli

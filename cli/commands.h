@@ -1,8 +1,10 @@
 #pragma once
 // One function per subcommand, each returning its exit code (docs/design.md,
-// "Style habits", item 12).
-// cli/main.cpp owns the command line (CLI11) and nothing else.
+// "Style habits", item 12), and one per subcommand that registers it: its
+// options, help and examples, in the subcommand's own file. cli/main.cpp
+// calls the registrations and runs the subcommand that was parsed.
 
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -12,11 +14,32 @@
 #include "engine/simulation.h"
 #include "engine/solver_pair.h"
 
+namespace CLI {
+class App;
+}
+
 namespace bristle {
 struct CanvasGrid;
 }
 
 namespace bristle::cli {
+
+// A registered subcommand: its CLI11 subcommand, and what runs it once its
+// options are parsed (returning the exit code).
+struct Subcommand {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+Subcommand registerRender(CLI::App& app);
+Subcommand registerValidate(CLI::App& app);
+Subcommand registerBrushes(CLI::App& app);
+Subcommand registerPigments(CLI::App& app);
+Subcommand registerPreview(CLI::App& app);
+Subcommand registerRecord(CLI::App& app);
+Subcommand registerReplay(CLI::App& app);
+Subcommand registerSheet(CLI::App& app);
+Subcommand registerBatch(CLI::App& app);
+Subcommand registerCompare(CLI::App& app);
 
 struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::string scene;  // positional: a bristle-scene/1 file instead of --brush/--trajectory
@@ -32,6 +55,7 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::vector<double> offset_mm;           // x, y, z added to every handle position
   bool quiet = false;
+  std::string batch_key;  // --batch-key (hidden): from `bristle batch` (batch/job_key.h)
 };
 int runRender(const RenderArgs& args);
 // A whole scene (called by runRender when args.scene is set).
@@ -47,6 +71,7 @@ struct PreviewArgs {
   double px_per_mm = 8;
   double clip_mm = 0.1;
   bool quiet = false;
+  std::string batch_key;  // --batch-key (hidden): from `bristle batch`
 };
 int runPreview(const PreviewArgs& args);
 
@@ -85,10 +110,11 @@ struct SheetArgs {
   int solver_max_iterations = kDefaultSolverMaxIterations;
   bool impasto = false;
   bool quiet = false;
+  std::string batch_key;  // --batch-key (hidden): from `bristle batch`
 };
 int runSheet(const SheetArgs& args);
-// `bristle batch`: the jobs of a manifest (engine/batch.h), each in its own
-// process, up to `jobs` at once (cli/batch_command.cpp).
+// `bristle batch`: the jobs of a manifest (batch/manifest.h), each in its own
+// process, up to `jobs` at once (batch/batch_run.h).
 struct BatchArgs {
   std::string manifest, out_dir, shard, log;
   int jobs = 1;

@@ -9,11 +9,13 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "cli/inputs.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
@@ -308,6 +310,51 @@ int runCompare(const CompareArgs& args) {
   }
   std::fflush(stdout);
   return pass ? 0 : fail;
+}
+
+Subcommand registerCompare(CLI::App& app) {
+  auto cmp = std::make_shared<CompareArgs>();
+  CLI::App* compare = app.add_subcommand(
+      "compare", "Compare two PNGs: hash, differences, PSNR, SSIM against a tolerance");
+  compare->footer(
+      "Examples:\n"
+      "  bristle compare golden/round-s-curve.png new.png --tolerance strict --diff d.png\n"
+      "  bristle compare a.png b.png --json --max-abs 4 --min-ssim 0.995\n"
+      "  bristle compare golden/round-s-curve.png new.png --align canvas --tolerance strict\n"
+      "Differences are in 8-bit steps (1/255 of full scale) whatever the bit depth.\n"
+      "Presets: exact (equal pixels; the default), strict (max abs <= 2, <= 0.1% of pixels\n"
+      "over 1), loose (SSIM >= 0.99, <= 1% of pixels over 8). Exit 0 within tolerance, 1 not\n"
+      "(also when the sizes differ).\n"
+      "--align canvas compares two renders (strokes or scenes) where their canvases overlap,\n"
+      "by the bristle:canvas text each PNG carries, so renders on canvases of different\n"
+      "extent compare; ink outside the overlap counts as differing pixels. Both must have\n"
+      "one px/mm; a PNG without the text is refused (65). See docs/golden-tests.md.");
+  compare->add_option("a", cmp->a, "First PNG (the reference); - reads stdin")->required();
+  compare->add_option("b", cmp->b, "Second PNG; - reads stdin")->required();
+  compare->add_option("--diff", cmp->diff, "Write the amplified difference image (PNG)");
+  compare->add_option("--align", cmp->align,
+                      "canvas: compare two renders where their canvases overlap, by the "
+                      "bristle:canvas text each PNG carries")
+      ->check(CLI::IsMember({"canvas"}));
+  compare->add_option("--diff-gain", cmp->diff_gain, "Amplification of --diff")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 65535.0));
+  compare->add_flag("--json", cmp->json, "One JSON object on stdout: metrics, tolerance, verdict");
+  compare->add_option("--tolerance", cmp->tolerance, "Preset: exact, strict or loose")
+      ->check(CLI::IsMember({"exact", "strict", "loose"}));
+  compare->add_option("--max-abs", cmp->max_abs, "Largest channel difference allowed (8-bit steps)")
+      ->check(CLI::Range(0.0, 255.0));
+  compare->add_option("--pixel-threshold", cmp->pixel_threshold,
+                      "A pixel differs when a channel differs by more than this (8-bit steps)")
+      ->check(CLI::Range(0.0, 255.0));
+  compare->add_option("--max-percent-over", cmp->max_percent_over,
+                      "Largest % of pixels over --pixel-threshold allowed")
+      ->check(CLI::Range(0.0, 100.0));
+  compare->add_option("--min-ssim", cmp->min_ssim, "Smallest SSIM allowed")
+      ->check(CLI::Range(-1.0, 1.0));
+  compare->add_option("--min-psnr", cmp->min_psnr_db, "Smallest PSNR allowed (dB)")
+      ->check(CLI::Range(0.0, 1000.0));
+  return {compare, [cmp] { return runCompare(*cmp); }};
 }
 
 }  // namespace bristle::cli

@@ -12,7 +12,10 @@
 #include <cstdio>
 #include <iostream>
 
+#include <memory>
+
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "engine/error.h"
 #include "engine/pigments.h"
 
@@ -49,6 +52,24 @@ int runPigments(const std::string& swatches) {
   }
   std::fflush(stdout);
   return std::cout.good() && !std::ferror(stdout) ? 0 : static_cast<int>(ExitCode::kIoError);
+}
+
+Subcommand registerPigments(CLI::App& app) {
+  auto swatches = std::make_shared<std::string>("auto");
+  CLI::App* pigments = app.add_subcommand(
+      "pigments", "List the pigment table: names, colours, Kubelka-Munk K and S");
+  pigments->footer(
+      "Examples:\n"
+      "  bristle pigments\n"
+      "  bristle pigments --swatches never\n"
+      "The colour is what a film of the paint (2 units thick) shows over white paper.\n"
+      "Any name listed, or a colour #rrggbb, works as --paint. See docs/paint.md.");
+  pigments->add_option("--swatches", *swatches,
+                       "Colour swatches (24-bit ANSI): auto (when stdout is a terminal), "
+                       "always, never")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "always", "never"}));
+  return {pigments, [swatches] { return runPigments(*swatches); }};
 }
 
 }  // namespace bristle::cli

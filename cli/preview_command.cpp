@@ -7,8 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
+#include "batch/job_key.h"
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "cli/inputs.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
@@ -95,9 +98,50 @@ int runPreview(const PreviewArgs& args) {
   opt.width_px = args.width_px;
   opt.height_px = args.height_px;
   const render::Image8 image = render::renderPreview(scene, opt);
-  render::writePng(args.output, image, {{"Software", "bristle preview"}, {"bristle:brush", brush.name}});
+  render::PngText text = {{"Software", "bristle preview"}, {"bristle:brush", brush.name}};
+  for (auto& entry : batchPngText(args.batch_key, {})) text.push_back(std::move(entry));
+  render::writePng(args.output, image, text);
   if (!args.quiet && !isStdio(args.output)) std::cout << args.output << "\n";
   return 0;
+}
+
+Subcommand registerPreview(CLI::App& app) {
+  auto pv = std::make_shared<PreviewArgs>();
+  CLI::App* preview = app.add_subcommand(
+      "preview", "Draw a brush in 3D, at rest or at a time of a trajectory");
+  preview->footer(
+      "Examples:\n"
+      "  bristle preview fan -o fan.png\n"
+      "  bristle preview round --trajectory scenes/trajectories/s-curve.csv \\\n"
+      "      --at 1.2 -o round-1.2s.png\n"
+      "The inset shows the footprint: what of the brush touches the paper.");
+  preview->add_option("brush", pv->brush,
+                      "Brush: a library name (round) or a file (bristle-brush/1 JSON)")
+      ->required();
+  addPngOutput(preview, pv->output);
+  CLI::Option* trajectory = preview->add_option(
+      "--trajectory", pv->trajectory, "Simulate along this trajectory (- reads stdin) ...");
+  // Without a trajectory there is no time to go to and nothing to shift: refused
+  // (exit 64), not silently ignored.
+  preview->add_option("--at", pv->at_s,
+                      "... up to this time (s): the last step at or before it of `bristle "
+                      "render` (same --px-per-mm)")
+      ->capture_default_str()
+      ->needs(trajectory);
+  preview->add_option("--offset-mm", pv->offset_mm, "Shift the trajectory by X Y Z mm")
+      ->expected(3)
+      ->needs(trajectory);
+  preview->add_option("--width", pv->width_px, "Image width (px)")
+      ->capture_default_str()
+      ->check(CLI::Range(64, 4096));
+  preview->add_option("--height", pv->height_px, "Image height (px)")
+      ->capture_default_str()
+      ->check(CLI::Range(64, 4096));
+  addPxPerMm(preview, pv->px_per_mm,
+             "Footprint resolution; as render's, it also sets how finely a step is split");
+  preview->add_flag("-q,--quiet", pv->quiet, "No output path on stdout");
+  addBatchKey(preview, pv->batch_key);
+  return {preview, [pv] { return runPreview(*pv); }};
 }
 
 }  // namespace bristle::cli

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "cli/inputs.h"
 #include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
@@ -239,6 +240,75 @@ int runReplay(const ReplayArgs& args) {
   renderSession(brush, std::move(session), args.session, png, args.output);
   if (!args.quiet && !isStdio(args.output)) std::cout << args.output << "\n";
   return 0;
+}
+
+Subcommand registerRecord(CLI::App& app) {
+  auto rec = std::make_shared<RecordArgs>();
+  CLI::App* record = app.add_subcommand(
+      "record", "Paint live with a haptic device (or play a trajectory) and record the session");
+  record->footer(
+      "Examples:\n"
+      "  bristle record --brush round -o session.csv --png live.png\n"
+      "  bristle record --device none --trajectory scenes/trajectories/s-curve.csv \\\n"
+      "      --brush round -o session.csv --forces forces.csv\n"
+      "The session (bristle-trajectory/1 with buttons and forces) is written as it goes.\n"
+      "Ends on Ctrl-C, --duration, or the end of --trajectory. BRISTLE_HD_LIBRARY names\n"
+      "the OpenHaptics library (default libHD.so). Exit 69: device unavailable or failed.");
+  record->add_option("--brush", rec->brush,
+                     "Brush: a library name (round) or a file (bristle-brush/1 JSON)")
+      ->required();
+  record->add_option("-o,--output", rec->output, "Session file to write (CSV)")->required();
+  record->add_option("--device", rec->device, "Haptic device")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "openhaptics", "none"}));
+  record->add_option("--trajectory", rec->trajectory,
+                     "Trajectory the 'none' device plays as the stylus (bristle-trajectory/1; - "
+                     "reads stdin)");
+  record->add_option("--forces", rec->forces, "Write every servo tick's force (CSV, 1 kHz)");
+  record->add_option("--png", rec->png,
+                     "Render the recorded stroke to this PNG at the end (- writes it to stdout)");
+  record->add_option("--duration", rec->duration_s, "Stop after this many seconds (0: no limit)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 86400.0));
+  record->add_option("--sim-rate-hz", rec->sim_rate_hz, "Simulation frames per second")
+      ->capture_default_str()
+      ->check(CLI::Range(5.0, 500.0));
+  record->add_option("--session-rate-hz", rec->session_rate_hz, "Session rows per second")
+      ->capture_default_str()
+      ->check(CLI::Range(10.0, 1000.0));
+  addPxPerMm(record, rec->px_per_mm, "Resolution of --png");
+  addSolver(record, rec->solver, "Spine solver of the --png render (as replay's)");
+  addSolverOption(
+      record, "--live-solver", [rec](SolverKind k) { rec->live_solver = k; },
+      "Spine solver of the live simulation (SLSQP keeps 30 Hz on 2 cores)",
+      solverKindName(rec->live_solver));
+  addPaintOptions(record, *rec);
+  record->add_flag("-q,--quiet", rec->quiet, "No summary, no output paths on stdout");
+  return {record, [rec] { return runRecord(*rec); }};
+}
+
+Subcommand registerReplay(CLI::App& app) {
+  auto rep = std::make_shared<ReplayArgs>();
+  CLI::App* replay =
+      app.add_subcommand("replay", "Render a recorded session (same pixels as live)");
+  replay->footer(
+      "Examples:\n"
+      "  bristle replay session.csv -o replay.png\n"
+      "  bristle replay session.csv --brush flat -o as-flat.png\n"
+      "Without --brush, the brush is the one the session's header records (a library\n"
+      "name, or a file's path), and it must be the same file: a hash that differs from\n"
+      "the header's brush_fnv1a64 is an error (65). With --brush, it is a warning.\n"
+      "Give the --png options of the recording (--paint, --px-per-mm, ...) to get its pixels.");
+  replay->add_option("session", rep->session, "Session file (from bristle record)")->required();
+  replay->add_option("--brush", rep->brush,
+                     "Brush, instead of the one the session's header records (a library name "
+                     "or a file)");
+  addPngOutput(replay, rep->output);
+  addPxPerMm(replay, rep->px_per_mm, "Canvas resolution (pixels per mm)");
+  addSolver(replay, rep->solver, "Spine solver");
+  addPaintOptions(replay, *rep);
+  replay->add_flag("-q,--quiet", rep->quiet, "No output path on stdout");
+  return {replay, [rep] { return runReplay(*rep); }};
 }
 
 }  // namespace bristle::cli

@@ -4,8 +4,10 @@
 #include <iostream>
 #include <memory>
 
+#include "batch/job_key.h"
 #include "bristle/version.h"
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "cli/inputs.h"
 #include "cli/progress.h"
 #include "cli/run_stats.h"
@@ -41,6 +43,27 @@ void warnFailedSolves(const SimStats& stats) {
   const std::string w = failedSolvesWarning(stats);
   if (!w.empty()) printError("warning: " + w);
 }
+
+namespace {
+
+// The figures and warnings of a stroke (printed as they are found).
+RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_name) {
+  const render::StrokeResult& result = png_result.stroke;
+  RunStats stats;
+  stats.painted_pixels = png_result.ink_pixels;
+  stats.pixels = png_result.pixels;
+  stats.sim = result.stats;
+  stats.paint_laid_mm3 = result.deposited_mm3;
+  stats.paint_picked_up_mm3 = result.picked_up_mm3;
+  if (!result.touched)
+    stats.warn("the brush never touched the canvas (" + traj_name + "): the image is blank");
+  else if (png_result.ink_pixels == 0)
+    stats.warn("the brush touched the canvas (" + traj_name + ") but left no visible paint");
+  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
+  return stats;
+}
+
+}  // namespace
 
 int runRender(const RenderArgs& args) {
   if (!args.scene.empty()) return runRenderScene(args);
@@ -108,24 +131,18 @@ int runRender(const RenderArgs& args) {
                    "); continuing from its last good state");
     progress.update(0, 1, step, steps);
   };
+  const std::string traj_name = isStdio(args.trajectory) ? std::string(kStdinName) : args.trajectory;
+  RunStats stats;
+  // The warnings are known before the PNG is written, so that a batch job's
+  // PNG carries them with its key.
   const StrokePngResult png_result =
-      renderStrokePng(brush, trajectory, png, args.output, on_step);
+      renderStrokePng(brush, trajectory, png, args.output, on_step, [&](const StrokePngResult& r) {
+        stats = strokeStats(r, traj_name);
+        return batchPngText(args.batch_key, stats.warnings);
+      });
   const render::StrokeResult& result = png_result.stroke;
   if (trace) trace->commit();
   if (forces) forces->commit();
-
-  RunStats stats;
-  stats.painted_pixels = png_result.ink_pixels;
-  stats.pixels = png_result.pixels;
-  stats.sim = result.stats;
-  stats.paint_laid_mm3 = result.deposited_mm3;
-  stats.paint_picked_up_mm3 = result.picked_up_mm3;
-  const std::string traj_name = isStdio(args.trajectory) ? std::string(kStdinName) : args.trajectory;
-  if (!result.touched)
-    stats.warn("the brush never touched the canvas (" + traj_name + "): the image is blank");
-  else if (png_result.ink_pixels == 0)
-    stats.warn("the brush touched the canvas (" + traj_name + ") but left no visible paint");
-  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
   writeRunStats(args.stats, stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;
@@ -141,6 +158,64 @@ int runRender(const RenderArgs& args) {
     if (!isStdio(args.output)) std::cout << args.output << "\n";
   }
   return 0;
+}
+
+Subcommand registerRender(CLI::App& app) {
+  auto r = std::make_shared<RenderArgs>();
+  CLI::App* render =
+      app.add_subcommand("render", "Render a scene, or a stroke: a brush along a trajectory");
+  render->footer(
+      "Examples:\n"
+      "  bristle render scenes/paintings/petals.json -o petals.png --impasto\n"
+      "  bristle render --brush round \\\n"
+      "      --trajectory scenes/trajectories/s-curve.csv -o s.png --trace s.jsonl\n"
+      "  bristle render --brush flat --trajectory T.csv -o petal.png \\\n"
+      "      --paint cadmium-red,titanium-white --load across --impasto\n"
+      "  bristle render --brush round --trajectory T.csv -o dry.png \\\n"
+      "      --paint burnt-umber --amount 0.15 --paper-tooth 0.06\n"
+      "  bristle render --brush round --trajectory - -o - < T.csv | bristle compare ref.png -\n"
+      "The canvas is sized to everything the brush can reach plus a 5 mm margin.\n"
+      "Paints: a pigment name (bristle pigments lists them: ultramarine, cadmium-yellow,\n"
+      "titanium-white, sumi-ink, ...) or #rrggbb.");
+  render->add_option("scene", r->scene, "A scene (bristle-scene/1 JSON): a whole painting");
+  render->add_option("--brush", r->brush,
+                     "Brush: a library name (round) or a file (bristle-brush/1 JSON)");
+  render->add_option("--trajectory", r->trajectory,
+                     "Trajectory (bristle-trajectory/1 CSV); - reads stdin");
+  addPngOutput(render, r->output);
+  render->add_option("--trace", r->trace, "Write the per-step trace (JSON lines)");
+  render->add_option("--forces", r->forces, "Write the force on the handle per step (CSV)");
+  render->add_option("--stats", r->stats,
+                     "Write the run's figures and warnings (JSON: painted pixels, failed "
+                     "solves, paint laid down, ...)");
+  addSolver(render, r->solver, "Spine solver");
+  addSolverMaxIterations(render, r->solver_max_iterations);
+  render->add_option("--offset-mm", r->offset_mm,
+                     "Shift the trajectory by X Y Z mm (e.g. 0 0 10 to hold a longer brush "
+                     "higher)")
+      ->expected(3);
+  render->add_option("--ipopt-option", r->ipopt_options,
+                     "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone");
+  addPxPerMm(render, r->px_per_mm, "Canvas resolution (pixels per mm)");
+  render->add_option("--max-step-mm", r->max_step_mm,
+                     "Largest motion of a spine root per simulation step (mm)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 5.0));
+  render->add_option("--min-rate-hz", r->min_rate_hz, "Fewest simulation steps per second")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 10000.0));
+  render->add_option("--contact-band-mm", r->clip_mm,
+                     "Brush geometry below this height touches the paper (mm)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 2.0));
+  addPaintOptions(render, *r);
+  render->add_flag("-q,--quiet", r->quiet, "No progress, no output path on stdout");
+  addBatchKey(render, r->batch_key);
+  return {render, [render, r] {
+            for (const CLI::Option* o : render->get_options())
+              if (o->count() > 0 && !o->get_positional()) r->given.push_back(o->get_name());
+            return runRender(*r);
+          }};
 }
 
 }  // namespace bristle::cli

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "bristle/version.h"
+#include "batch/job_key.h"
 #include "cli/commands.h"
 #include "cli/inputs.h"
 #include "cli/progress.h"
@@ -24,10 +25,11 @@
 namespace bristle::cli {
 namespace {
 
-// The options that make sense with a scene: the scene says everything else.
+// The options that make sense with a scene: the scene says everything else
+// (--batch-key is the batch's own, cli/options.h).
 constexpr const char* kSceneOptions[] = {"--output", "--trace",   "--stats", "--impasto",
                                          "--bits",   "--quiet",   "--help",
-                                         "--solver-max-iterations"};
+                                         "--solver-max-iterations", "--batch-key"};
 
 // Was a stroke (its pointer, "/strokes/3") already named in a warning?
 bool warnedAbout(const std::vector<std::string>& warnings, const std::string& pointer) {
@@ -48,6 +50,29 @@ void checkSceneOptions(const RenderArgs& args) {
                       "--trace, --stats, --impasto, --bits, --solver-max-iterations and --quiet "
                       "are allowed");
   }
+}
+
+// The figures and warnings of a painting: those found before the run
+// (already printed), then the ones it brought (printed as they are found).
+RunStats sceneStats(const Scene& scene, const render::SceneResult& result,
+                    const std::vector<std::string>& warnings, const render::Image8& image8,
+                    const std::array<std::uint8_t, 3>& paper) {
+  RunStats stats;
+  stats.painted_pixels = render::inkPixels(image8, paper);
+  stats.pixels = long(image8.width) * image8.height;
+  stats.sim = result.stats;
+  stats.paint_laid_mm3 = result.deposited_mm3;
+  stats.paint_picked_up_mm3 = result.picked_up_mm3;
+  stats.warnings = warnings;  // printed before the run
+  // Strokes out of reach were named before the run; the others are news.
+  for (int i : result.untouched)
+    if (!warnedAbout(warnings, scene.strokes[size_t(i)].pointer))
+      stats.warn(scene.path + ": " + scene.strokes[size_t(i)].pointer +
+                 ": the brush never touched the canvas (trajectory " +
+                 scene.strokes[size_t(i)].trajectory_path + ")");
+  if (stats.painted_pixels == 0) stats.warn(scene.path + ": the painting holds no visible paint");
+  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
+  return stats;
 }
 
 }  // namespace
@@ -87,33 +112,19 @@ int runRenderScene(const RenderArgs& args) {
 
   render::ComposeOptions compose;
   compose.impasto = args.impasto;
+  const render::Image8 image8 = render::composeRgb8(canvas, compose);
+  const RunStats stats = sceneStats(scene, result, warnings, image8,
+      render::paperColour8(canvas.paper(), canvas.model(), canvas.grid().px_per_mm, compose));
   // The hash covers the scene and every brush and trajectory it read.
   render::PngText text = render::provenanceText(scene.inputs);
   text.push_back({"bristle:scene", scene.name});
   text.push_back({"bristle:canvas", canvasText(canvas.grid())});
-  const render::Image8 image8 = render::composeRgb8(canvas, compose);
+  for (auto& entry : batchPngText(args.batch_key, stats.warnings)) text.push_back(std::move(entry));
   if (args.bits == 16)
     render::writePng(args.output, render::composeRgb16(canvas, compose), text);
   else
     render::writePng(args.output, image8, text);
   if (trace) trace->commit();
-
-  RunStats stats;
-  stats.painted_pixels = render::inkPixels(
-      image8, render::paperColour8(canvas.paper(), canvas.model(), canvas.grid().px_per_mm, compose));
-  stats.pixels = long(image8.width) * image8.height;
-  stats.sim = result.stats;
-  stats.paint_laid_mm3 = result.deposited_mm3;
-  stats.paint_picked_up_mm3 = result.picked_up_mm3;
-  stats.warnings = warnings;  // printed before the run
-  // Strokes out of reach were named before the run; the others are news.
-  for (int i : result.untouched)
-    if (!warnedAbout(warnings, scene.strokes[size_t(i)].pointer))
-      stats.warn(scene.path + ": " + scene.strokes[size_t(i)].pointer +
-                 ": the brush never touched the canvas (trajectory " +
-                 scene.strokes[size_t(i)].trajectory_path + ")");
-  if (stats.painted_pixels == 0) stats.warn(scene.path + ": the painting holds no visible paint");
-  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
   writeRunStats(args.stats, stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;

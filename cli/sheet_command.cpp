@@ -7,10 +7,14 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
+#include "batch/job_key.h"
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "cli/inputs.h"
 #include "cli/progress.h"
+#include "cli/run_stats.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
@@ -27,6 +31,24 @@ std::string fmt(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.4g", v);
   return buf;
+}
+
+// The sheet's warnings (printed as they are found): cells without paint or
+// larger than their cell, failed solves.
+std::vector<std::string> sheetWarnings(const Sheet& sheet, const render::SheetImage& result) {
+  RunStats stats;
+  for (const render::SheetCell& c : result.cells) {
+    const std::string where = sheet.path + ": brush '" + sheet.brushLabel(c.brush) +
+                              "' on trajectory '" + sheet.trajectoryLabel(c.trajectory) + "'";
+    if (c.ink.width == 0)
+      stats.warn(where + ": the brush left no visible paint");
+    else if (c.clipped)
+      stats.warn(where + ": the stroke (" + fmt(c.ink.width / sheet.px_per_mm) + " x " +
+                 fmt(c.ink.height / sheet.px_per_mm) +
+                 " mm) is larger than the cell; its middle is shown (/cell_mm)");
+  }
+  if (const std::string w = failedSolvesWarning(result.stats); !w.empty()) stats.warn(w);
+  return stats.warnings;
 }
 
 }  // namespace
@@ -64,20 +86,10 @@ int runSheet(const SheetArgs& args) {
                                                 : " (brushes x trajectories)") +
                       ", cells " + fmt(result.cell_width_mm) + " x " +
                       fmt(result.cell_height_mm) + " mm at " + fmt(sheet.px_per_mm) + " px/mm"});
+  // Before the write, so that a batch job's PNG carries them with its key.
+  const std::vector<std::string> warnings = sheetWarnings(sheet, result);
+  for (auto& entry : batchPngText(args.batch_key, warnings)) text.push_back(std::move(entry));
   render::writePng(args.output, result.image, text);
-
-  for (const render::SheetCell& c : result.cells) {
-    const std::string where = sheet.path + ": brush '" + sheet.brushLabel(c.brush) +
-                              "' on trajectory '" + sheet.trajectoryLabel(c.trajectory) + "'";
-    if (c.ink.width == 0)
-      printError("warning: " + where + ": the brush left no visible paint");
-    else if (c.clipped)
-      printError("warning: " + where + ": the stroke (" +
-                 fmt(c.ink.width / sheet.px_per_mm) + " x " +
-                 fmt(c.ink.height / sheet.px_per_mm) +
-                 " mm) is larger than the cell; its middle is shown (/cell_mm)");
-  }
-  warnFailedSolves(result.stats);
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,
@@ -89,6 +101,31 @@ int runSheet(const SheetArgs& args) {
     if (!isStdio(args.output)) std::cout << args.output << "\n";
   }
   return 0;
+}
+
+Subcommand registerSheet(CLI::App& app) {
+  auto sh = std::make_shared<SheetArgs>();
+  CLI::App* sheet = app.add_subcommand(
+      "sheet", "Render a stroke sheet: a labelled grid of brushes x trajectories");
+  sheet->footer(
+      "Examples:\n"
+      "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
+      "  bristle sheet scenes/sheets/small.json -o small.png --px-per-mm 4 --solver slsqp\n"
+      "Every cell is one brush along one trajectory on its own canvas, all at one scale,\n"
+      "centred on its inked area; rows are brushes (their names), columns trajectories\n"
+      "(their file stems). The sheet format is docs/sheet-format.md.");
+  sheet->add_option("sheet", sh->sheet, "Sheet file (bristle-sheet/1 JSON)")->required();
+  addPngOutput(sheet, sh->output);
+  addPxPerMm(sheet, sh->px_per_mm, "Resolution, instead of the sheet's px_per_mm",
+             /*show_default=*/false);
+  addSolverOption(
+      sheet, "--solver", [sh](SolverKind k) { sh->solver = k; },
+      "Spine solver, instead of the sheet's", "");
+  addSolverMaxIterations(sheet, sh->solver_max_iterations);
+  sheet->add_flag("--impasto", sh->impasto, "Light the paint's thickness from the upper left");
+  sheet->add_flag("-q,--quiet", sh->quiet, "No progress, no summary, no output path on stdout");
+  addBatchKey(sheet, sh->batch_key);
+  return {sheet, [sh] { return runSheet(*sh); }};
 }
 
 }  // namespace bristle::cli

@@ -98,7 +98,8 @@ render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
 
 StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
                                 const StrokePngOptions& o, const std::string& output,
-                                const render::StepCallback& on_step) {
+                                const render::StepCallback& on_step,
+                                const MorePngText& more_text) {
   render::StrokeSetup setup;
   setup.load = paintLoadArgs(o);
   setup.load_where = "--paint";
@@ -126,6 +127,8 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
   r.ink_pixels = render::inkPixels(
       image8, render::paperColour8(setup.paper, setup.mix, grid.px_per_mm, compose));
   r.pixels = long(image8.width) * image8.height;
+  if (more_text)
+    for (auto& entry : more_text(r)) text.push_back(std::move(entry));
   if (o.bits == 16)
     render::writePng(output, render::composeRgb16(canvas, compose), text);
   else

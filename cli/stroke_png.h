@@ -5,6 +5,7 @@
 // command line's part: options to a StrokeSetup, and the PNG with its provenance;
 // the stroke itself is render::paintStroke (render/stroke_pipeline.h).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "engine/brush.h"
 #include "engine/solver_pair.h"
 #include "engine/trajectory.h"
+#include "render/png_io.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::cli {
@@ -38,10 +40,15 @@ void checkStrokePngOptions(const StrokePngOptions& options);
 
 render::StrokeOptions strokeOptions(const StrokePngOptions& options);
 
+// More PNG text, from what the stroke painted (e.g. its warnings), made just
+// before the PNG is written.
+using MorePngText = std::function<render::PngText(const StrokePngResult&)>;
+
 // Simulates the brush along the trajectory, paints and writes the PNG at
 // output (atomically). on_step sees every simulation step.
 StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
                                 const StrokePngOptions& options, const std::string& output,
-                                const render::StepCallback& on_step = {});
+                                const render::StepCallback& on_step = {},
+                                const MorePngText& more_text = {});
 
 }  // namespace bristle::cli

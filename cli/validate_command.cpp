@@ -5,10 +5,12 @@
 // as `render --brush B --trajectory T` would check them before its run.
 
 #include <iostream>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "cli/inputs.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
@@ -121,6 +123,25 @@ int runValidate(const std::vector<std::string>& files) {
   if (code == 0 && !brushes.empty() && !trajectories.empty())
     code = validatePairs(brushes, trajectories);
   return code;
+}
+
+Subcommand registerValidate(CLI::App& app) {
+  auto files = std::make_shared<std::vector<std::string>>();
+  CLI::App* validate = app.add_subcommand(
+      "validate", "Check brush and scene (.json) and trajectory (.csv) files");
+  validate->footer(
+      "Examples:\n"
+      "  bristle validate round\n"
+      "  bristle validate scenes/brushes/flat.json scenes/trajectories/s-curve.csv\n"
+      "  bristle validate scenes/paintings/calligraphy.json scenes/sheets/small.json\n"
+      "Each file is checked on its own (a .csv is a trajectory; a .json a scene or a sheet\n"
+      "when its format says so, else a brush), a scene or sheet with every file it names.\n"
+      "Brushes and trajectories given together are then checked in pairs as render checks\n"
+      "them before its run (the same messages): a brush that starts below the paper is\n"
+      "exit 65, one that never comes within reach of it a warning. Exit: the first error's.");
+  validate->add_option("files", *files, "Files to check; a library brush by its name (round)")
+      ->required();
+  return {validate, [files] { return runValidate(*files); }};
 }
 
 }  // namespace bristle::cli

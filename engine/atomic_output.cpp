@@ -212,6 +212,18 @@ void writeFileBeneath(const std::string& root, const std::string& relative,
   }
 }
 
+void moveFileBeneath(const std::string& from, const std::string& root,
+                     const std::string& relative) {
+  std::string name;
+  const Folder dir(openParentBeneath(root, relative, true, &name));
+  if (::renameat(AT_FDCWD, from.c_str(), dir.fd(), name.c_str()) == 0) return;
+  if (errno != EXDEV)
+    throw Error(ExitCode::kCantCreate, (fs::path(root) / relative).string() +
+                                           ": cannot create output: " + std::strerror(errno));
+  writeFileBeneath(root, relative, readTextFile(from));
+  ::unlink(from.c_str());
+}
+
 void checkOutputs(const std::vector<NamedFile>& outputs, const std::vector<NamedFile>& inputs) {
   for (size_t i = 0; i < outputs.size(); ++i) {
     const NamedFile& out = outputs[i];

@@ -57,6 +57,11 @@ void checkCanCreate(const std::string& path);
 // kCantCreate naming root/relative and the link; kIoError when writing fails.
 void writeFileBeneath(const std::string& root, const std::string& relative,
                       const std::string& bytes);
+// Moves the file `from` to root/relative with writeFileBeneath's checks: a
+// rename when both are on one file system (a batch's private folder is beneath
+// --out), else a copy written as writeFileBeneath writes. `from` is gone after.
+void moveFileBeneath(const std::string& from, const std::string& root,
+                     const std::string& relative);
 // writeFileBeneath's checks, creating nothing (a missing folder is fine).
 void checkBeneath(const std::string& root, const std::string& relative);
 

@@ -2,6 +2,9 @@
 // Strict reading of JSON input files: every key is either used or reported as
 // unknown, and every bad value is reported as `file: /json/pointer = value: rule`
 // (docs/design.md, "Style habits", item 3). Readers throw bristle::Error with kDataError.
+//
+// The readers' own header, shared with batch/ (the manifest reader) and not
+// installed: nlohmann-json stays out of the engine's installed API.
 
 #include <nlohmann/json.hpp>
 #include <set>

@@ -5,7 +5,7 @@
 
 #include <cstdlib>
 
-#include "engine/batch.h"
+#include "batch/manifest.h"
 #include "fuzz/fuzz_input.h"
 
 namespace {

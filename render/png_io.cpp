@@ -6,7 +6,6 @@
 #include "render/png_io.h"
 
 #include <png.h>
-#include <zlib.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -496,47 +495,6 @@ PngText readPngText(const std::string& path) {
   Decoder decoder;
   decodePng(path, Decode::kNative, &decoder, nullptr);
   return textOf(decoder);
-}
-
-
-}  // namespace bristle::render
-
-namespace bristle::render {
-namespace {
-
-void putU32(std::string* out, std::uint32_t v) {
-  for (int shift = 24; shift >= 0; shift -= 8) out->push_back(static_cast<char>((v >> shift) & 0xff));
-}
-
-std::uint32_t getU32(const std::string& s, std::size_t at) {
-  std::uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(s[at + i]);
-  return v;
-}
-
-}  // namespace
-
-std::string withPngText(const std::string& png, const std::string& key, const std::string& value) {
-  if (key.empty() || key.size() > 79) throw std::invalid_argument("PNG text key length");
-  // Signature (8 bytes), then IHDR: length (4) "IHDR" (4) data (13) CRC (4).
-  constexpr std::size_t kSignature = 8, kIhdrEnd = kSignature + 4 + 4 + 13 + 4;
-  static const char kPngSignature[] = "\x89PNG\r\n\x1a\n";
-  if (png.size() < kIhdrEnd || png.compare(0, kSignature, kPngSignature, kSignature) != 0 ||
-      png.compare(12, 4, "IHDR") != 0 || getU32(png, kSignature) != 13) {
-    throw Error(ExitCode::kDataError, "not a PNG (no signature and header chunk)");
-  }
-  std::string body = "tEXt" + key;
-  body.push_back('\0');
-  body += value;
-  std::string chunk;
-  putU32(&chunk, static_cast<std::uint32_t>(body.size() - 4));
-  chunk += body;
-  putU32(&chunk, static_cast<std::uint32_t>(
-                     ::crc32(0L, reinterpret_cast<const Bytef*>(body.data()), body.size())));
-  std::string out = png.substr(0, kIhdrEnd);
-  out += chunk;
-  out.append(png, kIhdrEnd);
-  return out;
 }
 
 }  // namespace bristle::render

@@ -57,15 +57,3 @@ Image16 readPngRgba16(const std::string& path, PngFormat* format = nullptr,
 PngText readPngText(const std::string& path);
 
 }  // namespace bristle::render
-
-namespace bristle::render {
-
-// The bytes of a PNG file with one more tEXt chunk (key, value: Latin-1, key
-// 1-79 characters), placed right after the header so readers that stop before
-// the image data still see it. The pixels are not decoded or re-encoded, so
-// they stay bit for bit what the renderer wrote. Throws Error(kDataError) when
-// the bytes do not start with a PNG signature and IHDR chunk.
-std::string withPngText(const std::string& png_bytes, const std::string& key,
-                        const std::string& value);
-
-}  // namespace bristle::render

@@ -68,49 +68,57 @@ Rgb8 sheetPaperColour(const Sheet& sheet, const ComposeOptions& compose) {
   return {c[0], c[1], c[2]};
 }
 
-SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
-                       const SheetStepCallback& on_step) {
-  const size_t nb = sheet.brushes.size(), nt = sheet.trajectories.size();
-  SheetImage out;
-  SheetLayout& L = out.layout;
-  L.rows = static_cast<int>(sheet.brushes_in_columns ? nt : nb);
-  L.cols = static_cast<int>(sheet.brushes_in_columns ? nb : nt);
-  const int n = L.rows * L.cols;
+namespace {
 
-  StrokeOptions stroke_options;
-  stroke_options.px_per_mm = sheet.px_per_mm;
-  stroke_options.clip_mm = options.clip_mm;
-  stroke_options.sim = sheet.sim;
+// The cells in layout order, each with the steps its simulation will plan
+// (for progress).
+struct PlannedCells {
+  std::vector<SheetCell> cells;
+  std::vector<long> steps;
+  long total_steps = 0;
+};
 
-  // The cells in layout order, with the planned steps of all, for progress.
-  long planned_total = 0;
-  std::vector<long> planned;
+PlannedCells planCells(const Sheet& sheet, const SheetLayout& L) {
+  PlannedCells plan;
   for (int r = 0; r < L.rows; ++r)
     for (int c = 0; c < L.cols; ++c) {
       SheetCell cell;
       cell.row = r, cell.col = c;
       cell.brush = size_t(sheet.brushes_in_columns ? c : r);
       cell.trajectory = size_t(sheet.brushes_in_columns ? r : c);
-      planned.push_back(static_cast<long>(
+      plan.steps.push_back(static_cast<long>(
           planStepTimes(sheet.cellTrajectory(cell.brush, cell.trajectory),
                         sheet.brushes[cell.brush], sheet.sim)
               .size()));
-      planned_total += planned.back();
-      out.cells.push_back(cell);
+      plan.total_steps += plan.steps.back();
+      plan.cells.push_back(cell);
     }
+  return plan;
+}
 
-  // A fixed cell size says how large the grid is before anything is simulated:
-  // refuse a picture past the limits now rather than after every stroke.
-  const double ppm = sheet.px_per_mm;
-  if (!sheet.autoCell()) {
-    const double grid_w = L.cols * (std::lround(sheet.cell_width_mm * ppm) + 1.0) + 1;
-    const double grid_h = L.rows * (std::lround(sheet.cell_height_mm * ppm) + 1.0) + 1;
-    checkSheetSize(sheet, grid_w, grid_h);
-  }
+void addStats(const SimStats& r, SimStats* s) {
+  s->steps += r.steps;
+  s->solved_steps += r.solved_steps;
+  s->resolves += r.resolves;
+  s->fallback_solves += r.fallback_solves;
+  s->failed_spine_solves += r.failed_spine_solves;
+  s->failed_steps += r.failed_steps;
+  s->longest_failed_run = std::max(s->longest_failed_run, r.longest_failed_run);
+  s->relaxed_spines += r.relaxed_spines;
+  s->iterations += r.iterations;
+}
 
-  // Every stroke on its own canvas by the function `bristle render --brush
-  // --trajectory` paints with (paintStroke): the canvas the stroke needs, a fresh
-  // brush load, fresh paper.
+// Every stroke on its own canvas by the function `bristle render --brush
+// --trajectory` paints with (paintStroke): the canvas the stroke needs, a fresh
+// brush load, fresh paper. Fills each cell's stroke and ink box and the sheet's
+// stats; returns each cell's composed canvas.
+std::vector<Image8> paintCells(const Sheet& sheet, const SheetRenderOptions& options,
+                               const PlannedCells& plan, const SheetStepCallback& on_step,
+                               SheetImage* out) {
+  StrokeOptions stroke_options;
+  stroke_options.px_per_mm = sheet.px_per_mm;
+  stroke_options.clip_mm = options.clip_mm;
+  stroke_options.sim = sheet.sim;
   const Rgb8 paper = sheetPaperColour(sheet, options.compose);
   StrokeSetup setup;
   setup.load = sheet.paint;
@@ -121,36 +129,35 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
   setup.stroke = stroke_options;
   StrokeRenderer renderer;  // one GL context for the whole sheet
   std::vector<Image8> strokes;
+  const int n = static_cast<int>(out->cells.size());
   long done = 0;
   for (int i = 0; i < n; ++i) {
-    SheetCell& cell = out.cells[size_t(i)];
+    SheetCell& cell = out->cells[size_t(i)];
     const Brush& brush = sheet.brushes[cell.brush];
     const Trajectory trajectory = sheet.cellTrajectory(cell.brush, cell.trajectory);
     StepCallback step_cb;
     if (on_step)
-      step_cb = [&](const BrushState&, int step, int) { on_step(i, n, done + step, planned_total); };
+      step_cb = [&](const BrushState&, int step, int) {
+        on_step(i, n, done + step, plan.total_steps);
+      };
     const PaintedStroke painted = paintStroke(renderer, brush, trajectory, setup, step_cb);
     cell.stroke = painted.stroke;
-    done += planned[size_t(i)];
+    done += plan.steps[size_t(i)];
     strokes.push_back(composeRgb8(painted.canvas, options.compose));
     cell.ink = inkBox(strokes.back(), paper);
-    SimStats& s = out.stats;
-    const SimStats& r = cell.stroke.stats;
-    s.steps += r.steps;
-    s.solved_steps += r.solved_steps;
-    s.resolves += r.resolves;
-    s.fallback_solves += r.fallback_solves;
-    s.failed_spine_solves += r.failed_spine_solves;
-    s.failed_steps += r.failed_steps;
-    s.longest_failed_run = std::max(s.longest_failed_run, r.longest_failed_run);
-    s.relaxed_spines += r.relaxed_spines;
-    s.iterations += r.iterations;
+    addStats(cell.stroke.stats, &out->stats);
   }
+  return strokes;
+}
 
-  // One cell size for all: the sheet's, or the largest ink plus a pad.
+// One cell size for all: the sheet's, or the largest ink plus a pad.
+void sizeCells(const Sheet& sheet, SheetImage* out) {
+  SheetLayout& L = out->layout;
+  const double ppm = sheet.px_per_mm;
   if (sheet.autoCell()) {
     int w = 0, h = 0;
-    for (const SheetCell& c : out.cells) w = std::max(w, c.ink.width), h = std::max(h, c.ink.height);
+    for (const SheetCell& c : out->cells)
+      w = std::max(w, c.ink.width), h = std::max(h, c.ink.height);
     const int pad = static_cast<int>(std::ceil(kSheetCellPadMm * ppm));
     L.cell_width_px = std::max(w, 1) + 2 * pad;
     L.cell_height_px = std::max(h, 1) + 2 * pad;
@@ -158,62 +165,74 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
     L.cell_width_px = std::max(1, static_cast<int>(std::lround(sheet.cell_width_mm * ppm)));
     L.cell_height_px = std::max(1, static_cast<int>(std::lround(sheet.cell_height_mm * ppm)));
   }
-  out.cell_width_mm = L.cell_width_px / ppm;
-  out.cell_height_mm = L.cell_height_px / ppm;
+  out->cell_width_mm = L.cell_width_px / ppm;
+  out->cell_height_mm = L.cell_height_px / ppm;
+}
 
-  // The layout: title, column labels above the grid, row labels left of it.
+// The rasterised labels and where the grid goes: title, column labels above
+// the grid, row labels left of it.
+struct Labels {
+  std::vector<Image8> rows, cols;
+  Image8 title;
+  int margin = 0, header_y = 0, pitch_x = 0, pitch_y = 0;
+};
+
+// Places the title, labels and grid in L and sizes the picture.
+Labels layOutLabels(const Sheet& sheet, SheetLayout* L) {
   Font font;
+  Labels labels;
   const int label_px = sheet.label_px;
   const int title_px = label_px * 3 / 2;
-  const int margin = std::max(8, label_px);
+  labels.margin = std::max(8, label_px);
+  const int margin = labels.margin;
   const int gap = std::max(4, label_px / 2);
   const int line_h = font.rasterize("Ag", label_px).height;
-  std::vector<Image8> row_masks, col_masks;
   int row_label_w = 0;
-  for (int r = 0; r < L.rows; ++r) {
+  for (int r = 0; r < L->rows; ++r) {
     const size_t k = size_t(r);
-    row_masks.push_back(font.rasterize(
+    labels.rows.push_back(font.rasterize(
         sheet.brushes_in_columns ? sheet.trajectoryLabel(k) : sheet.brushLabel(k), label_px));
-    row_label_w = std::max(row_label_w, row_masks.back().width);
+    row_label_w = std::max(row_label_w, labels.rows.back().width);
   }
-  for (int c = 0; c < L.cols; ++c) {
+  for (int c = 0; c < L->cols; ++c) {
     const size_t k = size_t(c);
-    col_masks.push_back(fittedText(
+    labels.cols.push_back(fittedText(
         font, sheet.brushes_in_columns ? sheet.brushLabel(k) : sheet.trajectoryLabel(k), label_px,
-        L.cell_width_px));
+        L->cell_width_px));
   }
-  Image8 title_mask;
   int y = margin;
   if (!sheet.title.empty()) {
-    title_mask = font.rasterize(sheet.title, title_px);
-    L.title = {margin, y, title_mask.width, title_mask.height};
-    y += title_mask.height + gap;
+    labels.title = font.rasterize(sheet.title, title_px);
+    L->title = {margin, y, labels.title.width, labels.title.height};
+    y += labels.title.height + gap;
   }
   const int grid_x = margin + row_label_w + gap;
-  const int header_y = y;
-  const int grid_y = header_y + line_h + gap / 2;
-  const int pitch_x = L.cell_width_px + kGridLinePx, pitch_y = L.cell_height_px + kGridLinePx;
-  L.grid = {grid_x, grid_y, L.cols * pitch_x + kGridLinePx, L.rows * pitch_y + kGridLinePx};
-  const double width = std::max<double>(double(grid_x) + L.grid.width + margin,
-                                        2.0 * margin + title_mask.width);
-  const double height = double(grid_y) + L.grid.height + margin;
+  labels.header_y = y;
+  const int grid_y = labels.header_y + line_h + gap / 2;
+  labels.pitch_x = L->cell_width_px + kGridLinePx;
+  labels.pitch_y = L->cell_height_px + kGridLinePx;
+  L->grid = {grid_x, grid_y, L->cols * labels.pitch_x + kGridLinePx,
+             L->rows * labels.pitch_y + kGridLinePx};
+  const double width = std::max<double>(double(grid_x) + L->grid.width + margin,
+                                        2.0 * margin + labels.title.width);
+  const double height = double(grid_y) + L->grid.height + margin;
   checkSheetSize(sheet, width, height);
-  L.width_px = static_cast<int>(width);
-  L.height_px = static_cast<int>(height);
+  L->width_px = static_cast<int>(width);
+  L->height_px = static_cast<int>(height);
+  return labels;
+}
 
-  Image8& img = out.image;
-  img.width = L.width_px, img.height = L.height_px, img.channels = 3;
-  img.pixels.assign(size_t(img.width) * img.height * 3, 0);
-  fill(&img, {0, 0, img.width, img.height}, paper);
-  fill(&img, L.grid, kGridColour);
-
-  for (SheetCell& cell : out.cells) {
-    const PixelRect dst{grid_x + kGridLinePx + cell.col * pitch_x,
-                        grid_y + kGridLinePx + cell.row * pitch_y, L.cell_width_px,
+// Copies each stroke's window, centred on its ink (on its canvas's centre when
+// there is none), into its cell; outside the canvas is bare paper.
+void drawCells(const std::vector<Image8>& strokes, const Labels& labels, Rgb8 paper,
+               SheetImage* out) {
+  SheetLayout& L = out->layout;
+  Image8& img = out->image;
+  for (SheetCell& cell : out->cells) {
+    const PixelRect dst{L.grid.x + kGridLinePx + cell.col * labels.pitch_x,
+                        L.grid.y + kGridLinePx + cell.row * labels.pitch_y, L.cell_width_px,
                         L.cell_height_px};
     L.cells.push_back(dst);
-    // The window of the stroke's canvas centred on its ink (on its canvas's
-    // centre when there is none); outside the canvas is bare paper.
     const Image8& src = strokes[L.cells.size() - 1];
     const int cx = cell.ink.width > 0 ? cell.ink.x + cell.ink.width / 2 : src.width / 2;
     const int cy = cell.ink.width > 0 ? cell.ink.y + cell.ink.height / 2 : src.height / 2;
@@ -231,22 +250,65 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
         }
       }
   }
+}
 
-  if (!sheet.title.empty()) blendMask(title_mask, L.title.x, L.title.y, kLabelColour, &img);
-  for (int r = 0; r < L.rows; ++r) {
-    const Image8& m = row_masks[size_t(r)];
-    const PixelRect box{margin, grid_y + kGridLinePx + r * pitch_y + (L.cell_height_px - m.height) / 2,
+void drawLabels(const Sheet& sheet, const Labels& labels, SheetLayout* L, Image8* img) {
+  if (!sheet.title.empty()) blendMask(labels.title, L->title.x, L->title.y, kLabelColour, img);
+  for (int r = 0; r < L->rows; ++r) {
+    const Image8& m = labels.rows[size_t(r)];
+    const PixelRect box{labels.margin,
+                        L->grid.y + kGridLinePx + r * labels.pitch_y +
+                            (L->cell_height_px - m.height) / 2,
                         m.width, m.height};
-    blendMask(m, box.x, box.y, kLabelColour, &img);
-    L.row_labels.push_back(box);
+    blendMask(m, box.x, box.y, kLabelColour, img);
+    L->row_labels.push_back(box);
   }
-  for (int c = 0; c < L.cols; ++c) {
-    const Image8& m = col_masks[size_t(c)];
-    const PixelRect box{grid_x + kGridLinePx + c * pitch_x + (L.cell_width_px - m.width) / 2,
-                        header_y, m.width, m.height};
-    blendMask(m, box.x, box.y, kLabelColour, &img);
-    L.column_labels.push_back(box);
+  for (int c = 0; c < L->cols; ++c) {
+    const Image8& m = labels.cols[size_t(c)];
+    const PixelRect box{L->grid.x + kGridLinePx + c * labels.pitch_x +
+                            (L->cell_width_px - m.width) / 2,
+                        labels.header_y, m.width, m.height};
+    blendMask(m, box.x, box.y, kLabelColour, img);
+    L->column_labels.push_back(box);
   }
+}
+
+}  // namespace
+
+// Plan the cells, paint every stroke, size the cells, lay out the labels, then
+// draw: paper, grid lines, the cells' windows, the labels.
+SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
+                       const SheetStepCallback& on_step) {
+  SheetImage out;
+  SheetLayout& L = out.layout;
+  L.rows = static_cast<int>(sheet.brushes_in_columns ? sheet.trajectories.size()
+                                                     : sheet.brushes.size());
+  L.cols = static_cast<int>(sheet.brushes_in_columns ? sheet.brushes.size()
+                                                     : sheet.trajectories.size());
+  PlannedCells plan = planCells(sheet, L);
+  out.cells = std::move(plan.cells);
+
+  // A fixed cell size says how large the grid is before anything is simulated:
+  // refuse a picture past the limits now rather than after every stroke.
+  const double ppm = sheet.px_per_mm;
+  if (!sheet.autoCell()) {
+    const double grid_w = L.cols * (std::lround(sheet.cell_width_mm * ppm) + 1.0) + 1;
+    const double grid_h = L.rows * (std::lround(sheet.cell_height_mm * ppm) + 1.0) + 1;
+    checkSheetSize(sheet, grid_w, grid_h);
+  }
+
+  const std::vector<Image8> strokes = paintCells(sheet, options, plan, on_step, &out);
+  sizeCells(sheet, &out);
+  const Labels labels = layOutLabels(sheet, &L);
+
+  const Rgb8 paper = sheetPaperColour(sheet, options.compose);
+  Image8& img = out.image;
+  img.width = L.width_px, img.height = L.height_px, img.channels = 3;
+  img.pixels.assign(size_t(img.width) * img.height * 3, 0);
+  fill(&img, {0, 0, img.width, img.height}, paper);
+  fill(&img, L.grid, kGridColour);
+  drawCells(strokes, labels, paper, &out);
+  drawLabels(sheet, labels, &L, &img);
   return out;
 }
 

@@ -1,4 +1,4 @@
-// Batch manifests (engine/batch.h): the reader's rules, sharding that covers
+// Batch manifests (batch/manifest.h, batch/shard.h, batch/job_key.h): the reader's rules, sharding that covers
 // every job exactly once, the shard a scheduler's environment names, the
 // command line a job runs, and the key that decides whether an output is up to
 // date.
@@ -6,14 +6,19 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <map>
 #include <set>
 #include <tuple>
 
+#include "batch/job_key.h"
+#include "batch/manifest.h"
+#include "batch/shard.h"
 #include "engine/atomic_output.h"
-#include "engine/batch.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
+#include "render/png_io.h"
+#include "engine/sheet.h"
 #include "test_helpers.h"
 #include "temp_dir.h"
 
@@ -67,9 +72,10 @@ TEST_CASE("batch manifest: jobs, defaults and resolved paths", "[batch]") {
   CHECK(m.jobs[0].input == "/data/paintings/petals.json");
   CHECK(m.jobs[0].output == "p.png");
   // A job's own options win over the defaults; the rest of the defaults stay.
-  CHECK(m.jobs[0].options["px-per-mm"] == 6);
-  CHECK(m.jobs[0].options["solver"] == "slsqp");
-  CHECK(m.jobs[0].options["impasto"] == true);
+  using Words = std::vector<std::string>;
+  CHECK(m.jobs[0].options.at("px-per-mm") == Words{"6"});
+  CHECK(m.jobs[0].options.at("solver") == Words{"slsqp"});
+  CHECK(m.jobs[0].options.at("impasto").empty());  // a flag: no words after it
   CHECK(m.jobs[1].kind == BatchJobKind::kStroke);
   CHECK(m.jobs[1].id == "round-s");
   CHECK(m.jobs[1].brush == "/data/batch/b.json");
@@ -339,4 +345,96 @@ TEST_CASE("batch outputs are written beneath --out, never through a symbolic lin
   // A folder not yet made is fine for the check; a file in the way is not.
   CHECK_FALSE(testing::catchError([&] { checkBeneath(out, "new/x.png"); }).thrown);
   CHECK(testing::catchError([&] { checkBeneath(out, "a/b/x.png/y.png"); }).code == 73);
+}
+
+TEST_CASE("batch: a false flag in a job takes back the defaults' true", "[batch]") {
+  const BatchManifest m = parse(R"({"format": "bristle-batch/1",
+      "defaults": {"options": {"impasto": true, "bits": 16}},
+      "jobs": [{"id": "a", "scene": "s.json", "options": {"impasto": false}},
+               {"id": "b", "scene": "s.json"}]})");
+  CHECK(batchJobArguments(m.jobs[0]) ==
+        std::vector<std::string>{"render", "/data/batch/s.json", "--bits", "16"});
+  CHECK(batchJobArguments(m.jobs[1]) ==
+        std::vector<std::string>{"render", "/data/batch/s.json", "--bits", "16", "--impasto"});
+}
+
+TEST_CASE("a batch job cannot set the batch's own --batch-key", "[batch][errors]") {
+  const auto [code, message] = parseError(
+      R"({"format": "bristle-batch/1", "jobs": [{"id": "a", "scene": "s.json",
+          "options": {"batch-key": "0123456789abcdef"}}]})");
+  CHECK(code == 65);
+  CHECK_THAT(message, Contains("/jobs/0/options/batch-key") && Contains("cannot set --batch-key"));
+}
+
+TEST_CASE("a batch sheet job is keyed by the sheet's inputs: a trajectory edit re-renders it",
+          "[sheet][batch]") {
+  TempDir d;
+  const fs::path src(BRISTLE_SOURCE_DIR);
+  fs::create_directories(d.path() / "b");
+  fs::create_directories(d.path() / "t");
+  fs::copy_file(src / "scenes/brushes/round.json", d.path() / "b/round.json");
+  fs::copy_file(src / "scenes/trajectories/straight-pull.csv", d.path() / "t/straight-pull.csv");
+  const std::string sheet = d.write("sheet.json", R"({"format": "bristle-sheet/1", "name": "copy",
+      "brushes": ["b/round.json"], "trajectories": ["t/straight-pull.csv"]})");
+  const BatchManifest m = parseBatchManifest(
+      R"({"format": "bristle-batch/1", "jobs": [{"id": "s", "sheet": "sheet.json"}]})",
+      d.file("m.json"), d.path().string());
+  REQUIRE(m.jobs.size() == 1);
+  const BatchJob& job = m.jobs[0];
+  // The same files, in the same order, as the sheet's PNG hash covers.
+  const std::vector<std::string> inputs = batchJobInputs(job, "m.json");
+  CHECK(inputs == loadSheet(sheet).inputs);
+  CHECK(fnv1a64Files(inputs) == sheetInputsHash(loadSheet(sheet)));
+  const std::uint64_t key = batchJobKey(job, inputs);
+  std::ofstream(d.path() / "t/straight-pull.csv", std::ios::app) << "# edited\n";
+  CHECK(batchJobKey(job, batchJobInputs(job, "m.json")) != key);
+}
+
+TEST_CASE("batch PNG text: the key a job's process writes is what the up-to-date check reads",
+          "[batch]") {
+  TempDir d;
+  const std::string png = d.file("x.png");
+  const render::Image8 image{2, 1, 3, {1, 2, 3, 4, 5, 6}};
+  // No key: no text at all (a render outside a batch is unchanged).
+  CHECK(batchPngText("", {"w"}).empty());
+  render::writePng(png, image, batchPngText("0123456789abcdef", {}));
+  std::vector<std::string> warnings;
+  CHECK(batchOutputUpToDate(png, "0123456789abcdef", &warnings));
+  CHECK(warnings.empty());
+  CHECK_FALSE(batchOutputUpToDate(png, "fedcba9876543210", &warnings));
+  // Warnings travel with the key, any text included.
+  const std::vector<std::string> said = {"the brush never touched the canvas (t.csv)",
+                                         "caf\u00e9 \"quoted\""};
+  render::writePng(png, image, batchPngText("0123456789abcdef", said));
+  CHECK(batchOutputUpToDate(png, "0123456789abcdef", &warnings));
+  CHECK(warnings == said);
+  // A truncated file or none is not up to date.
+  const std::string bytes = [&] {
+    std::ifstream in(png, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }();
+  std::ofstream(png, std::ios::binary) << bytes.substr(0, bytes.size() - 10);
+  CHECK_FALSE(batchOutputUpToDate(png, "0123456789abcdef", &warnings));
+  CHECK_FALSE(batchOutputUpToDate(d.file("none.png"), "0123456789abcdef", &warnings));
+}
+
+TEST_CASE("batch outputs are moved beneath --out, never through a symbolic link",
+          "[batch][errors]") {
+  TempDir s;
+  const std::string out = s.file("out");
+  fs::create_directories(s.path() / "out/.private");
+  fs::create_directories(s.path() / "elsewhere");
+  const std::string from = s.write("out/.private/0.png", "bytes");
+  moveFileBeneath(from, out, "a/b/x.png");
+  CHECK(fs::is_regular_file(s.path() / "out/a/b/x.png"));
+  CHECK_FALSE(fs::exists(from));
+  fs::create_directory_symlink("../../elsewhere", s.path() / "out/a/link");
+  s.write("out/.private/1.png", "bytes");
+  const testing::Caught moved = testing::catchError(
+      [&] { moveFileBeneath(s.file("out/.private/1.png"), out, "a/link/x.png"); });
+  CHECK(moved.code == 73);
+  CHECK_THAT(moved.message, Contains("is a symbolic link; a batch writes only beneath --out"));
+  CHECK(fs::is_empty(s.path() / "elsewhere"));
 }

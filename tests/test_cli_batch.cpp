@@ -59,6 +59,15 @@ json manifest(const TempDir& dir, int n) {
           {"jobs", jobs}};
 }
 
+// A job "above" whose brush stays far above the paper, never touching it: a
+// render with a warning.
+void addJobAbovePaper(const TempDir& dir, json* m) {
+  std::string high = "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
+  for (int i = 0; i <= 5; ++i) high += std::to_string(i * 0.1) + ",20,20,80,1,0,0,0\n";
+  dir.write("high.csv", high);
+  (*m)["jobs"].push_back({{"id", "above"}, {"brush", kRound}, {"trajectory", "high.csv"}});
+}
+
 std::string writeManifest(const TempDir& dir, const json& m) {
   return dir.write("jobs.json", m.dump(2));
 }
@@ -137,7 +146,7 @@ TEST_CASE("batch: --jobs 1, --jobs 2 and 4 shards give the same pixels", "[cli][
     CHECK(e.path().filename().string().rfind(".bristle-batch-", 0) == std::string::npos);
 }
 
-TEST_CASE("batch: up-to-date outputs are skipped; a changed input or --overwrite renders again",
+TEST_CASE("batch: up-to-date outputs are skipped, and a changed input or --overwrite renders again",
           "[cli][batch]") {
   TempDir dir;
   const std::string m = writeManifest(dir, manifest(dir, 3));
@@ -357,15 +366,11 @@ TEST_CASE("batch: a sheet job is keyed by every file the sheet reads", "[cli][ba
   CHECK(jsonLines(r.out).at("tiny")["status"] == "rendered");
 }
 
-TEST_CASE("batch: each job logs its warnings and figures; --fail-on-warning fails on them",
+TEST_CASE("batch: each job logs its warnings and figures, and --fail-on-warning fails on them",
           "[cli][batch][warnings]") {
   TempDir d;
   json m = manifest(d, 1);
-  // A second job far above the paper: its brush never touches it.
-  std::string high = "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
-  for (int i = 0; i <= 5; ++i) high += std::to_string(i * 0.1) + ",20,20,80,1,0,0,0\n";
-  d.write("high.csv", high);
-  m["jobs"].push_back({{"id", "above"}, {"brush", kRound}, {"trajectory", "high.csv"}});
+  addJobAbovePaper(d, &m);
   const std::string jobs = writeManifest(d, m);
   const std::string out = d.file("out");
 
@@ -386,6 +391,19 @@ TEST_CASE("batch: each job logs its warnings and figures; --fail-on-warning fail
   CHECK(above["figures"]["painted_pixels"] == 0);
   CHECK(above["figures"]["paint_laid_mm3"] == 0.0);
   CHECK(lines["summary"]["warned"] == 1);
+  // Each job's process wrote the key and warnings of its log entry into its
+  // PNG, beside the render's own text.
+  for (const std::string id : {"dab0", "above"}) {
+    INFO(id);
+    std::map<std::string, std::string> text;
+    for (const auto& [k, v] : render::readPngText(out + "/" + id + ".png")) text[k] = v;
+    CHECK(text.at("bristle:batch-key") == lines[id]["input_hash"].get<std::string>());
+    CHECK(text.count("bristle:canvas") == 1);
+    if (lines[id]["warnings"].empty())
+      CHECK(text.count("bristle:batch-warnings") == 0);
+    else
+      CHECK(json::parse(text.at("bristle:batch-warnings")) == lines[id]["warnings"]);
+  }
   // The job log holds the same entries.
   const std::string log = lines["summary"]["log"].get<std::string>();
   CHECK_THAT(readAll(log), Contains("the brush never touched the canvas"));
@@ -523,4 +541,29 @@ TEST_CASE("batch: the demo's manifest resolves, and a second run renders nothing
     CHECK(readAll(out + "/" + png) == before.first);
     CHECK(fs::last_write_time(out + "/" + png) == before.second);
   }
+}
+
+TEST_CASE("render --batch-key: the PNG carries the key, and the pixels and --help are unchanged",
+          "[cli][batch]") {
+  TempDir d;
+  const std::string traj = d.write("dab.csv", dab(2));
+  const std::string options = " --px-per-mm 4 --solver slsqp -q -o '";
+  REQUIRE(runBristle("render --brush round --trajectory '" + traj + "'" + options +
+                     d.file("k.png") + "' --batch-key 0123456789abcdef")
+              .code == 0);
+  REQUIRE(runBristle("render --brush round --trajectory '" + traj + "'" + options +
+                     d.file("plain.png") + "'")
+              .code == 0);
+  bool keyed = false, plain_keyed = false;
+  for (const auto& [k, v] : render::readPngText(d.file("k.png")))
+    keyed = keyed || (k == "bristle:batch-key" && v == "0123456789abcdef");
+  for (const auto& [k, v] : render::readPngText(d.file("plain.png")))
+    plain_keyed = plain_keyed || k == "bristle:batch-key";
+  CHECK(keyed);
+  CHECK_FALSE(plain_keyed);
+  // The same pixels either way, as bristle compare reads them.
+  CHECK(runBristle("compare '" + d.file("plain.png") + "' '" + d.file("k.png") + "'").code == 0);
+  // It is the batch's option, not one shown to people.
+  for (const std::string command : {"render", "sheet", "preview"})
+    CHECK(runBristle(command + " --help").out.find("batch-key") == std::string::npos);
 }

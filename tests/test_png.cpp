@@ -162,26 +162,6 @@ TEST_CASE("png: text chunks round-trip as tEXt, zTXt and iTXt", "[png]") {
   CHECK(readPngText(plain).empty());
 }
 
-TEST_CASE("png: a text chunk added to a file's bytes is read back, pixels untouched",
-          "[png][batch]") {
-  TempDir dir;
-  const std::string path = (dir.path() / "stamp.png").string();
-  const Image8 image = patternImage8(9, 4, 4);
-  writePng(path, image, {{"Software", "bristle"}});
-  const std::string stamped = bristle::render::withPngText(fileBytes(path), "bristle:batch-key",
-                                                           "0123456789abcdef");
-  std::ofstream((dir.path() / "stamped.png").string(), std::ios::binary) << stamped;
-  const std::string again = (dir.path() / "stamped.png").string();
-  // libpng checks every chunk's CRC when it reads: a wrong CRC would be an error.
-  CHECK(readPngRgba8(again).pixels == image.pixels);
-  const PngText text = readPngText(again);
-  CHECK(text == PngText{{"bristle:batch-key", "0123456789abcdef"}, {"Software", "bristle"}});
-  // The image data is the same bytes: only the new chunk was inserted.
-  CHECK(stamped.size() == fileBytes(path).size() + 12 + 17 + 1 + 16);
-  const auto err = expectError([] { bristle::render::withPngText("GIF89a", "k", "v"); });
-  CHECK(err.code() == ExitCode::kDataError);
-}
-
 TEST_CASE("png: an existing file is replaced", "[png]") {
   TempDir dir;
   const std::string path = (dir.path() / "out.png").string();

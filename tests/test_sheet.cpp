@@ -13,7 +13,6 @@
 #include <sstream>
 #include <string>
 
-#include "engine/batch.h"
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "engine/sheet.h"
@@ -345,22 +344,4 @@ TEST_CASE("the annotated example of docs/sheet-format.md is a sound sheet", "[sh
   fs::remove(saved);
   CHECK(e.message.empty());
   CHECK_FALSE(e.thrown);
-}
-
-TEST_CASE("a batch sheet job is keyed by the sheet's inputs: a trajectory edit re-renders it",
-          "[sheet][batch]") {
-  const SheetDir d;
-  const std::string sheet = d.write(SheetDir::sheet());
-  const BatchManifest m = parseBatchManifest(
-      R"({"format": "bristle-batch/1", "jobs": [{"id": "s", "sheet": "sheet.json"}]})",
-      (d.dir / "m.json").string(), d.dir.string());
-  REQUIRE(m.jobs.size() == 1);
-  const BatchJob& job = m.jobs[0];
-  // The same files, in the same order, as the sheet's PNG hash covers.
-  const std::vector<std::string> inputs = batchJobInputs(job, "m.json");
-  CHECK(inputs == loadSheet(sheet).inputs);
-  CHECK(fnv1a64Files(inputs) == sheetInputsHash(loadSheet(sheet)));
-  const std::uint64_t key = batchJobKey(job, inputs);
-  std::ofstream(d.dir / "t/straight-pull.csv", std::ios::app) << "# edited\n";
-  CHECK(batchJobKey(job, batchJobInputs(job, "m.json")) != key);
 }

@@ -1,19 +1,15 @@
-#include "engine/batch.h"
+#include "batch/manifest.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
 
-#include "bristle/version.h"
 #include "engine/brush_library.h"
 #include "engine/error.h"
-#include "engine/fnv1a64.h"
 #include "engine/json_reader.h"
-#include "engine/scene.h"
-#include "engine/sheet.h"
 #include "engine/text_file.h"
 
 namespace bristle {
@@ -21,14 +17,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kFormat = "bristle-batch/1";
 
 // Options a job may not set: the batch owns where the job writes and what it
 // prints, and a job writes nothing but its PNG (side files such as a trace
 // would escape the atomic write and the up-to-date check).
-const std::set<std::string> kReservedOptions = {"o",     "output",     "quiet", "help",
-                                                "trace", "forces",     "brush", "trajectory",
-                                                "version"};
+// --batch-key is the batch's own (batch/job_key.h).
+const std::set<std::string> kReservedOptions = {
+    "o", "output", "quiet", "help", "trace", "forces", "brush", "trajectory", "version",
+    "batch-key"};
 
 std::string resolve(const std::string& base_dir, const std::string& p) {
   const fs::path path(p);
@@ -55,7 +51,7 @@ enum class OptionType {
   kStrings,  // a string, or a non-empty list of them (repeatable NAME=VALUE)
 };
 
-// The options of `render`, `sheet` and `preview` (cli/main.cpp) a job may set, with their
+// The options of `render`, `sheet` and `preview` (cli/*_command.cpp) a job may set, with their
 // types. Whether the job's command accepts an option (a scene sets its own
 // paint) is the command's to say: the job then fails with its usage error.
 const std::map<std::string, OptionType>& knownOptions() {
@@ -148,6 +144,27 @@ std::string optionValue(const nlohmann::json& v) {
   return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
+// Sets each option of `options` (checked by checkOptions) on *merged as the
+// words of its command line; false removes a flag a default set.
+void mergeOptions(const nlohmann::json& options, BatchJobOptions* merged) {
+  for (const auto& [name, value] : options.items()) {
+    if (value.is_boolean()) {
+      if (value.get<bool>())
+        (*merged)[name] = {};
+      else
+        merged->erase(name);
+      continue;
+    }
+    std::vector<std::string>& words = (*merged)[name];
+    words.clear();
+    if (value.is_array()) {
+      for (const nlohmann::json& v : value) words.push_back(optionValue(v));
+    } else {
+      words.push_back(optionValue(value));
+    }
+  }
+}
+
 }  // namespace
 
 const char* batchJobKindName(BatchJobKind kind) {
@@ -166,14 +183,14 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
   if (!doc.is_object()) throw dataError(path, "/", "a batch manifest is a JSON object");
   JsonObject root(doc, "", path);
   const std::string format = root.string("format");
-  root.require(format == kFormat, "format", std::string("must be \"") + kFormat + "\"");
+  root.require(format == kBatchFormat, "format", std::string("must be \"") + kBatchFormat + "\"");
 
-  nlohmann::json defaults = nlohmann::json::object();
+  BatchJobOptions defaults;
   if (root.has("defaults")) {
     const JsonObject d = root.object("defaults");
     if (d.has("options")) {
-      defaults = d.raw("options");
-      checkOptions(d, "options", defaults);
+      checkOptions(d, "options", d.raw("options"));
+      mergeOptions(d.raw("options"), &defaults);
     }
     d.rejectUnknownKeys();
   }
@@ -243,7 +260,7 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
     if (o.has("options")) {
       const nlohmann::json& own = o.raw("options");
       checkOptions(o, "options", own);
-      for (const auto& [name, value] : own.items()) job.options[name] = value;
+      mergeOptions(own, &job.options);
     }
     o.rejectUnknownKeys();
     manifest.jobs.push_back(std::move(job));
@@ -253,68 +270,6 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
 
 BatchManifest loadBatchManifest(const std::string& path) {
   return parseBatchManifest(readTextFile(path), path, fs::path(path).parent_path().string());
-}
-
-Shard parseShard(const std::string& text) {
-  static const std::regex kShard("([0-9]{1,6})/([0-9]{1,6})");
-  std::smatch m;
-  if (std::regex_match(text, m, kShard)) {
-    const Shard s{std::stoi(m[1]), std::stoi(m[2])};
-    if (s.count >= 1 && s.index < s.count) return s;
-  }
-  throw Error(ExitCode::kUsage, "--shard " + text +
-                                    ": must be I/N with N >= 1 and 0 <= I < N (e.g. 0/4)");
-}
-
-namespace {
-
-// A non-negative integer variable, or -1 when unset; throws for junk.
-long envInteger(const std::function<const char*(const char*)>& env, const char* name) {
-  const char* v = env(name);
-  if (v == nullptr || *v == '\0') return -1;
-  char* end = nullptr;
-  const long n = std::strtol(v, &end, 10);
-  if (*end != '\0' || n < 0)
-    throw Error(ExitCode::kUsage, std::string(name) + "=" + v + ": not a non-negative integer");
-  return n;
-}
-
-}  // namespace
-
-Shard shardFromEnvironment(const std::function<const char*(const char*)>& env,
-                           int explicit_count) {
-  const long slurm_id = envInteger(env, "SLURM_ARRAY_TASK_ID");
-  if (slurm_id >= 0) {
-    const long count = envInteger(env, "SLURM_ARRAY_TASK_COUNT");
-    const long min = std::max(0L, envInteger(env, "SLURM_ARRAY_TASK_MIN"));
-    const long step = std::max(1L, envInteger(env, "SLURM_ARRAY_TASK_STEP"));
-    const long index = (slurm_id - min) / step;
-    if (count < 1 || slurm_id < min || (slurm_id - min) % step != 0 || index >= count) {
-      throw Error(ExitCode::kUsage,
-                  "SLURM_ARRAY_TASK_ID=" + std::to_string(slurm_id) + " with _MIN=" +
-                      std::to_string(min) + " _STEP=" + std::to_string(step) + " _COUNT=" +
-                      std::to_string(count) + ": not a task of the array");
-    }
-    return Shard{int(index), int(count)};
-  }
-  const long k8s = envInteger(env, "JOB_COMPLETION_INDEX");
-  if (k8s >= 0) {
-    if (explicit_count < 1 || k8s >= explicit_count)
-      throw Error(ExitCode::kUsage,
-                  "JOB_COMPLETION_INDEX=" + std::to_string(k8s) +
-                      ": give the Job's completions as --shard-count N (N > index)");
-    return Shard{int(k8s), explicit_count};
-  }
-  if (explicit_count > 1)
-    throw Error(ExitCode::kUsage,
-                "--shard-count without JOB_COMPLETION_INDEX: give --shard I/N instead");
-  return Shard{};
-}
-
-std::vector<int> jobsOfShard(int n, const Shard& shard) {
-  std::vector<int> mine;
-  for (int k = shard.index; k < n; k += shard.count) mine.push_back(k);
-  return mine;
 }
 
 std::vector<std::string> batchJobArguments(const BatchJob& job) {
@@ -330,70 +285,11 @@ std::vector<std::string> batchJobArguments(const BatchJob& job) {
       if (!job.trajectory.empty()) args.insert(args.end(), {"--trajectory", job.trajectory});
       break;
   }
-  // nlohmann's object keeps keys sorted: the same options give the same line.
-  for (const auto& [name, value] : job.options.items()) {
-    if (value.is_boolean()) {
-      if (value.get<bool>()) args.push_back("--" + name);
-      continue;
-    }
+  for (const auto& [name, words] : job.options) {
     args.push_back("--" + name);
-    if (value.is_array()) {
-      for (const nlohmann::json& v : value) args.push_back(optionValue(v));
-    } else {
-      args.push_back(optionValue(value));
-    }
+    args.insert(args.end(), words.begin(), words.end());
   }
   return args;
-}
-
-namespace {
-
-// A file the manifest names must be readable; else 66 naming the job's field.
-void requireReadable(const std::string& manifest, const std::string& pointer,
-                     const std::string& file) {
-  try {
-    readTextFile(file);
-  } catch (const Error& e) {
-    throw Error(e.code(), manifest + ": " + pointer + ": " + e.what());
-  }
-}
-
-}  // namespace
-
-std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& manifest) {
-  switch (job.kind) {
-    case BatchJobKind::kScene:
-      requireReadable(manifest, job.pointer + "/scene", job.input);
-      return loadScene(job.input).inputs;
-    case BatchJobKind::kSheet:
-      // The sheet, then its brushes and trajectories in the order listed: the
-      // files sheetInputsHash (engine/sheet.h) hashes into the sheet's PNG.
-      requireReadable(manifest, job.pointer + "/sheet", job.input);
-      return loadSheet(job.input).inputs;
-    case BatchJobKind::kStroke:
-      requireReadable(manifest, job.pointer + "/brush", job.brush);
-      requireReadable(manifest, job.pointer + "/trajectory", job.trajectory);
-      return {job.brush, job.trajectory};
-    case BatchJobKind::kPreview:
-      requireReadable(manifest, job.pointer + "/preview", job.brush);
-      if (job.trajectory.empty()) return {job.brush};
-      requireReadable(manifest, job.pointer + "/trajectory", job.trajectory);
-      return {job.brush, job.trajectory};
-  }
-  return {};
-}
-
-std::uint64_t batchJobKey(const BatchJob& job, const std::vector<std::string>& inputs,
-                          std::uint64_t program) {
-  std::uint64_t h = fnv1a64(std::string(kFormat) + "\n" + kVersion + "\n");
-  h = fnv1a64(std::to_string(program) + "\n", h);
-  for (const std::string& a : batchJobArguments(job)) {
-    // Input paths are replaced by their contents below; only the options count.
-    if (a == job.input || a == job.brush || a == job.trajectory) continue;
-    h = fnv1a64(a + "\n", h);
-  }
-  h = fnv1a64(std::to_string(fnv1a64Files(inputs)), h);
-  return h;
 }
 
 }  // namespace bristle

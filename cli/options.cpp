@@ -1,0 +1,97 @@
+#include "cli/options.h"
+
+#include <memory>
+#include <vector>
+
+namespace bristle::cli {
+
+void addPaintOptions(CLI::App* app, PaintOptions& p) {
+  app->add_option("--paint,--colour,--color", p.paint,
+                  "Paint(s) on the brush: NAME[,NAME..], pigment names or #rrggbb")
+      ->capture_default_str();
+  app->add_option("--load", p.load,
+                  "Loading: solid (one paint), across (2-3 paints side by side across the "
+                  "brush's width), tip (body paint, tip paint)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"solid", "across", "tip"}));
+  app->add_option("--amount", p.amount, "Paint on the brush, a fraction of its capacity (0, 1]")
+      ->capture_default_str();
+  app->add_option("--tip-length", p.tip_length,
+                  "--load tip: share of the hair length the tip paint covers")
+      ->capture_default_str();
+  app->add_option("--mix", p.mix, "Pigment mixing: km (Kubelka-Munk) or rgb (linear RGB)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"km", "rgb"}));
+  app->add_option("--paper-tooth", p.paper_tooth_mm,
+                  "Depth of the paper's grain (mm); light strokes catch only its peaks")
+      ->capture_default_str();
+  app->add_option("--paper-scale", p.paper_scale_mm, "Feature size of the paper's grain (mm)")
+      ->capture_default_str();
+  app->add_option("--paper-seed", p.paper_seed, "Seed of the paper's grain")
+      ->capture_default_str();
+  app->add_flag("--impasto", p.impasto, "Light the paint's thickness from the upper left");
+  app->add_option("--bits", p.bits, "Bits per PNG channel")
+      ->capture_default_str()
+      ->check(CLI::IsMember({8, 16}));
+  app->add_option("--background", p.background, "Paper colour (#rrggbb)")
+      ->capture_default_str();
+}
+
+CLI::Option* addSolverOption(CLI::App* app, const std::string& name,
+                             std::function<void(SolverKind)> set, const std::string& help,
+                             const std::string& shown) {
+  CLI::Option* o = app->add_option_function<std::string>(
+      name, [set](const std::string& text) { set(*parseSolverKind(text)); }, help);
+  if (!shown.empty()) o->default_str(shown);
+  return o->check(CLI::IsMember({"ipopt", "slsqp"}));
+}
+
+CLI::Option* addSolver(CLI::App* app, SolverKind& kind, const std::string& help) {
+  return addSolverOption(
+      app, "--solver", [&kind](SolverKind k) { kind = k; }, help, solverKindName(kind));
+}
+
+void addSolverMaxIterations(CLI::App* app, int& max_iterations) {
+  app->add_option("--solver-max-iterations", max_iterations,
+                  "Iteration limit per solve (Ipopt iterations, SLSQP energy evaluations); a "
+                  "spine that hits it with both solvers keeps its last state")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+}
+
+CLI::Option* addPxPerMm(CLI::App* app, double& px_per_mm, const std::string& help,
+                        bool show_default) {
+  CLI::Option* o = app->add_option("--px-per-mm", px_per_mm, help);
+  if (show_default) o->capture_default_str();
+  return o->check(CLI::Range(0.5, 100.0));
+}
+
+void addPngOutput(CLI::App* app, std::string& output) {
+  app->add_option("-o,--output", output, "Output PNG; - writes it to stdout")->required();
+}
+
+void addBatchKey(CLI::App* app, std::string& key) {
+  app->add_option("--batch-key", key)->group("");
+}
+
+namespace {
+
+class HelpFormatter : public CLI::Formatter {
+ public:
+  std::string make_help(const CLI::App* app, std::string name,
+                        CLI::AppFormatMode mode) const override {
+    std::string out = CLI::Formatter::make_help(app, name, mode);
+    const std::vector<std::string> groups = app->get_groups();
+    if (groups.empty() || !groups.back().empty()) return out;
+    // The options end "\n", then CLI11's extra "\n", then the "\n" before the footer.
+    const std::size_t footer = out.size() - make_footer(app).size();
+    if (footer >= 3 && out.compare(footer - 3, 3, "\n\n\n") == 0) out.erase(footer - 1, 1);
+    return out;
+  }
+};
+
+}  // namespace
+
+void useHelpFormatter(CLI::App& app) { app.formatter(std::make_shared<HelpFormatter>()); }
+
+}  // namespace bristle::cli

@@ -1,0 +1,49 @@
+#pragma once
+// The options several subcommands share, each registered by one function so
+// that its name, help, default and check are the same wherever it appears.
+// Only the files that register subcommands (cli/*_command.cpp, cli/main.cpp)
+// include CLI11.
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+#include "cli/paint_options.h"
+#include "engine/solver_pair.h"
+
+namespace bristle::cli {
+
+// Paint and paper options of a single-stroke render (render, record --png, replay).
+void addPaintOptions(CLI::App* app, PaintOptions& p);
+
+// --solver and its like: a name on the command line, a SolverKind from there on.
+// `set` receives the parsed kind; `shown` is the default --help shows (none if empty).
+CLI::Option* addSolverOption(CLI::App* app, const std::string& name,
+                             std::function<void(SolverKind)> set, const std::string& help,
+                             const std::string& shown);
+
+// --solver with its default shown, into `kind`.
+CLI::Option* addSolver(CLI::App* app, SolverKind& kind, const std::string& help);
+
+// The iteration limit of the spine solvers, the same for every command that simulates.
+void addSolverMaxIterations(CLI::App* app, int& max_iterations);
+
+// --px-per-mm, in the range every command accepts (0.5 to 100); the default is
+// shown unless `show_default` is false (a value that means "the file's own").
+CLI::Option* addPxPerMm(CLI::App* app, double& px_per_mm, const std::string& help,
+                        bool show_default = true);
+
+// -o/--output of a PNG ("-": standard output).
+void addPngOutput(CLI::App* app, std::string& output);
+
+// The hidden --batch-key KEY of render, sheet and preview: `bristle batch`
+// passes each job its key, which the PNG then carries with the job's warnings
+// (batch/job_key.h). Not in --help: it is for the batch, not for people.
+void addBatchKey(CLI::App* app, std::string& key);
+
+// CLI11's help layout, less the blank line CLI11 2.1 adds after the options
+// when the last option group is the hidden one (--batch-key). Set on the
+// program before its subcommands are added: they take their parent's.
+void useHelpFormatter(CLI::App& app);
+
+}  // namespace bristle::cli
