@@ -119,7 +119,7 @@ TEST_CASE("a scene renders: canvas size, paint on it, inputs hash, determinism",
   CHECK_THAT(trace, Contains("\"stroke\":1"));
 }
 
-TEST_CASE("a brush dragged through wet paint carries it on; dry_before stops that",
+TEST_CASE("a brush dragged through wet paint carries it on, and dry_before stops that",
           "[cli][scene]") {
   TempDir dir;
   json wet = crossingScene();

@@ -760,7 +760,7 @@ TEST_CASE("record: bad device libraries exit 69 naming the cause", "[haptics][cl
   }
 }
 
-TEST_CASE("replay: a cut-off session replays to its last complete line; another brush warns",
+TEST_CASE("replay: a cut-off session replays to its last complete line, and another brush warns",
           "[haptics][cli]") {
   TempDir dir;
   const std::string brush = sourcePath("scenes/brushes/round.json");

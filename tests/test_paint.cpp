@@ -173,7 +173,7 @@ TEST_CASE("Paints: names, colours and their errors", "[paint]") {
     }
 }
 
-TEST_CASE("BrushPaint: loading solid, across the width, at the tip; bad loads", "[paint]") {
+TEST_CASE("BrushPaint: loading solid, across the width, at the tip, and bad loads", "[paint]") {
   const Brush brush = fivesSpineBrush();
   BrushPaint paint(brush);
   SECTION("solid fills every texel with amount x capacity") {

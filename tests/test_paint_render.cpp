@@ -144,7 +144,7 @@ TEST_CASE("A double-loaded flat lays its two colours side by side, blended betwe
   CHECK(mid < right - 0.15 * (right - left));
 }
 
-TEST_CASE("A brush with little paint runs dry along the stroke; a full one does not",
+TEST_CASE("A brush with little paint runs dry along the stroke, and a full one does not",
           "[paint-render]") {
   const Brush flat = loadBrush(kFlat);
   const Trajectory pull = loadTrajectory(kBroadside);
@@ -278,7 +278,7 @@ TEST_CASE("Paint strokes are deterministic: same inputs, same pixels", "[paint-r
   CHECK(render(b) == first);  // a fresh one
 }
 
-TEST_CASE("Compose: paper shows through where there is no paint; impasto lights relief",
+TEST_CASE("Compose: paper shows through where there is no paint, and impasto lights relief",
           "[paint-render]") {
   CanvasGrid g;
   g.width_px = 40;

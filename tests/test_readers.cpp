@@ -178,7 +178,7 @@ TEST_CASE("round.json parses with the values in the file", "[readers]") {
   CHECK(b.reachMm() == Approx(21.7).margin(1e-3));  // spine 2: |root| = 1.7 mm
 }
 
-TEST_CASE("a brush with every optional block parses; omitted fields take defaults",
+TEST_CASE("a brush with every optional block parses, and omitted fields take defaults",
           "[readers]") {
   const Brush b = parseBrush(kBrush, "brush.json");
   CHECK(b.path == "brush.json");

@@ -134,7 +134,7 @@ TEST_CASE("omitted optional keys take the documented defaults", "[scene]") {
   CHECK(p.dilution == 0.0);
 }
 
-TEST_CASE("placement turns about the trajectory's origin, then shifts; heights stay",
+TEST_CASE("placement turns about the trajectory's origin, then shifts, and heights stay",
           "[scene]") {
   Placement pl;
   pl.rotate_deg = 90;

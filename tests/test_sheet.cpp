@@ -222,7 +222,7 @@ TEST_CASE("bad sheet values are 65 naming the JSON pointer and the rule", "[shee
   }
 }
 
-TEST_CASE("malformed sheet JSON is 65 with line and column; sheets are recognised", "[sheet]") {
+TEST_CASE("malformed sheet JSON is 65 with line and column, and sheets are recognised", "[sheet]") {
   const Caught e = catchError([] { parseSheet("{\n\"format\": ,}", "s.json", ""); });
   REQUIRE(e.thrown);
   CHECK(e.code == 65);
