@@ -58,19 +58,11 @@ struct BundleSection {
     return 1 / norm(d.dot(e1) / a, d.dot(e2) / b);
   }
   // Distance from the centre to the half solid's surface along d, any unit
-  // vector. The solid is |x / a|^p + ((y / b)^2 + (z / c)^2)^(p / 2) = 1
-  // (x along e1, y along e2, z along the hair): the ellipsoid for a round
-  // bundle, and for a slab a bar rounded only over its thickness and
-  // length, so that the chisel keeps its full width wherever it touches.
-  // Lifting off, a slab's contact then shrinks onto a line across the whole
-  // row, not onto the middle of each slab, and the stroke's end keeps its
-  // corners (docs/paint.md, "Square ends").
+  // vector.
   double radius(const Eigen::Vector3d& d) const {
     if (empty()) return 0;
-    const double x = d.dot(e1) / a, y = d.dot(e2) / b, z = d.dot(t) / c;
-    const double yz2 = y * y + z * z;
-    if (p == 2) return 1 / std::sqrt(x * x + yz2);
-    return 1 / std::pow(std::pow(std::fabs(x), p) + std::pow(yz2, 0.5 * p), 1 / p);
+    const double s = norm(d.dot(e1) / a, d.dot(e2) / b), z = d.dot(t) / c;
+    return 1 / std::sqrt(s * s + z * z);
   }
   // How far the section reaches from the centre along the unit vector d: its
   // support function, with the dual exponent q = p / (p - 1) (= r for a

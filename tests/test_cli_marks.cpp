@@ -293,8 +293,8 @@ TEST_CASE("marks: a flat's broadside pull has square ends", "[marks]") {
   // (SpineSpec::thickness_mm) and a surface that is pressed no deeper than
   // its bundles squared the stop to 1.0 mm (flat) and 0.5 mm (bright); square
   // corners (kSlabSectionExponent 24) and a surface that rises with its
-  // bundles (bundlePlacement) to 0.75 and 0.375 mm. The start now varies by
-  // 0.125 and 0.25 mm. What is left of the flat's stop is its outermost
+  // bundles (bundlePlacement) to 0.75 and 0.375 mm. The start varies by
+  // 0.375 mm for both. What is left of the flat's stop is its outermost
   // pixel row each side: the row's flare recedes as it lifts.
   const char* name = GENERATE("flat", "bright");
   INFO(name);
