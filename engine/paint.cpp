@@ -508,7 +508,8 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
                       : valley_reach;
       const float x =
           std::clamp((px[2] - reach * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
-      const float contact = x * (2 - x);
+      // A hair finer than the pixel touches only its share of it (px[3] < 1).
+      const float contact = x * (2 - x) * std::min(px[3], 1.0f);
       if (contact <= 0) continue;
       const int t = map.texel(px[0], px[1]);
       // Hairs differ (hairNoise, fixed per hair, so its effects streak along

@@ -36,6 +36,10 @@ static_assert(std::is_standard_layout_v<FootprintVertex> &&
 constexpr double kDepthFloorMm = -2.0;
 // Keeps the depth range non-degenerate when clip_mm is at or below the floor.
 constexpr double kMinDepthRangeMm = 1.0;
+// Triangles thinner than this (pixels) also leave a band this wide (kGeometryShader).
+// One pixel: a band that wide covers a pixel centre in every column (or row)
+// it crosses, whatever its offset and direction.
+constexpr double kMinCoverWidthPx = 1.0;
 
 constexpr const char* kVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 position_mm;
@@ -44,9 +48,12 @@ uniform vec2 origin_mm;      // window bottom-left corner
 uniform vec2 ndc_per_mm;     // 2 * px_per_mm / window size in pixels
 uniform float clip_mm;       // keep z <= clip_mm
 uniform float depth_floor_mm;
-out float gl_ClipDistance[1];
-out vec2 uv;
-out float depth_mm;
+out gl_PerVertex {
+  vec4 gl_Position;
+  float gl_ClipDistance[1];
+};
+out vec2 uv_v;
+out float depth_v;
 void main() {
   // Orthographic: window pixel c spans x0 + [c, c + 1] / px_per_mm exactly.
   vec2 ndc = (position_mm.xy - origin_mm) * ndc_per_mm - 1.0;
@@ -55,22 +62,92 @@ void main() {
                 (clip_mm - depth_floor_mm) - 1.0;
   gl_Position = vec4(ndc, z_ndc, 1.0);
   gl_ClipDistance[0] = clip_mm - position_mm.z;
-  uv = uv_in;
-  depth_mm = clip_mm - position_mm.z;
+  uv_v = uv_in;
+  depth_v = clip_mm - position_mm.z;
+}
+)";
+
+// Hair finer than a pixel (paper §4.2.1: strips stand in for lines of geometric
+// width). Rasterisation samples pixel centres, so a triangle thinner than a
+// pixel is drawn only where it happens to cover one: a fan's hairs dragged
+// along their own row, all on one line between two rows of centres, left no
+// footprint at all. A triangle thinner than kMinCoverWidthPx (its height h
+// over its longest edge, in pixels) is therefore drawn twice: as itself,
+// and behind everything (in depth) as a band that wide centred on that
+// edge, whose fragments carry the share of a pixel the hair covers
+// (cover = h / kMinCoverWidthPx) instead of 1. A pixel whose centre some
+// geometry covers keeps that geometry with coverage 1, exactly as before;
+// only pixels every centre sample missed take a band's fragment. Where hair
+// is dense nothing changes; a lone hair becomes a continuous line that
+// claims up to twice its area (about 1 + (1 - h) times: the pixels it hits
+// count whole, as they always did, and the ones it misses its share).
+constexpr const char* kGeometryShader = R"(#version 330 core
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 7) out;
+in gl_PerVertex {
+  vec4 gl_Position;
+  float gl_ClipDistance[1];
+} gl_in[];
+in vec2 uv_v[];
+in float depth_v[];
+uniform vec2 px_per_ndc;     // half the window size in pixels
+uniform float min_cover_px;  // thinner triangles also leave a band this wide
+out gl_PerVertex {
+  vec4 gl_Position;
+  float gl_ClipDistance[1];
+};
+out vec2 uv;
+out float depth_mm;
+out float cover;
+// Depth: the triangles as given in [-1, 0], the bands in [0, 1] (NDC).
+void put(int i, vec2 shift_ndc, float coverage, float depth_half) {
+  vec4 p = gl_in[i].gl_Position;
+  gl_Position = vec4(p.xy + shift_ndc, 0.5 * p.z + depth_half, 1.0);
+  gl_ClipDistance[0] = gl_in[i].gl_ClipDistance[0];
+  uv = uv_v[i];
+  depth_mm = depth_v[i];
+  cover = coverage;
+  EmitVertex();
+}
+void main() {
+  vec2 p[3];
+  for (int i = 0; i < 3; ++i) p[i] = gl_in[i].gl_Position.xy * px_per_ndc;
+  int a = 0;
+  float longest = -1.0;
+  for (int i = 0; i < 3; ++i) {
+    float e = length(p[(i + 1) % 3] - p[i]);
+    if (e > longest) { longest = e; a = i; }
+  }
+  int b = (a + 1) % 3, c = (a + 2) % 3;
+  vec2 ab = p[b] - p[a], ac = p[c] - p[a];
+  float h = longest > 0.0 ? abs(ab.x * ac.y - ab.y * ac.x) / longest : 0.0;
+  for (int i = 0; i < 3; ++i) put(i, vec2(0.0), 1.0, -0.5);
+  EndPrimitive();
+  if (h >= min_cover_px || h <= 0.0) return;
+  // The band |offset from ab| <= m / 2, with a's and b's attributes.
+  vec2 half_ndc = (0.5 * min_cover_px / longest) * vec2(-ab.y, ab.x) / px_per_ndc;
+  float share = h / min_cover_px;
+  put(a, -half_ndc, share, 0.5);
+  put(b, -half_ndc, share, 0.5);
+  put(a, half_ndc, share, 0.5);
+  put(b, half_ndc, share, 0.5);
+  EndPrimitive();
 }
 )";
 
 constexpr const char* kFragmentShader = R"(#version 330 core
 in vec2 uv;
 in float depth_mm;
+in float cover;
 layout(location = 0) out vec4 texel;
-void main() { texel = vec4(uv, depth_mm, 1.0); }
+void main() { texel = vec4(uv, depth_mm, cover); }
 )";
 
 void checkGl(const char* what) { render::checkGl("footprint renderer", what); }
 
 GLuint linkProgram() {
-  return render::linkProgram("footprint renderer", kVertexShader, kFragmentShader);
+  return render::linkProgram("footprint renderer", kVertexShader, kFragmentShader,
+                             kGeometryShader);
 }
 
 }  // namespace
@@ -80,6 +157,7 @@ struct FootprintRenderer::Impl {
   int max_size_px = 0;
   GLuint program = 0, vao = 0, vbo = 0, fbo = 0, color_texture = 0, depth_buffer = 0;
   GLint origin_loc = -1, ndc_per_mm_loc = -1, clip_loc = -1, floor_loc = -1;
+  GLint px_per_ndc_loc = -1, min_cover_loc = -1;
   int target_width_px = 0, target_height_px = 0;  // current FBO attachment size
 
   // Grows the FBO attachments to hold the window; never shrinks them, so a
@@ -125,6 +203,8 @@ FootprintRenderer::FootprintRenderer(int max_size_px) : impl_(std::make_unique<I
   s.ndc_per_mm_loc = glGetUniformLocation(s.program, "ndc_per_mm");
   s.clip_loc = glGetUniformLocation(s.program, "clip_mm");
   s.floor_loc = glGetUniformLocation(s.program, "depth_floor_mm");
+  s.px_per_ndc_loc = glGetUniformLocation(s.program, "px_per_ndc");
+  s.min_cover_loc = glGetUniformLocation(s.program, "min_cover_px");
 
   glGenVertexArrays(1, &s.vao);
   glBindVertexArray(s.vao);
@@ -219,6 +299,9 @@ void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
                 static_cast<float>(2.0 * window.px_per_mm / height));
     glUniform1f(s.clip_loc, static_cast<float>(clip_mm));
     glUniform1f(s.floor_loc, static_cast<float>(depth_floor_mm));
+    glUniform2f(s.px_per_ndc_loc, 0.5f * static_cast<float>(width),
+                0.5f * static_cast<float>(height));
+    glUniform1f(s.min_cover_loc, static_cast<float>(kMinCoverWidthPx));
     glBindVertexArray(s.vao);
     glBindBuffer(GL_ARRAY_BUFFER, s.vbo);
     glBufferData(GL_ARRAY_BUFFER,

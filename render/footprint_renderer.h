@@ -31,8 +31,11 @@ struct FootprintWindow {
 
 // Per pixel, 4 floats: u, v (texture coordinate of the touching brush point
 // nearest the canvas), depth_mm = clip_mm - z of that point (> 0 where touched),
-// coverage (1 where some geometry lies below the clip plane, else 0, and then
-// u = v = depth = 0). Row 0 is the top row, as in the canvas and in PNG files.
+// coverage: the share of the pixel the touching geometry covers, in (0, 1]: 1
+// where geometry below the clip plane covers the pixel's centre, less where
+// only a triangle thinner than a pixel passes by it (footprint_renderer.cpp,
+// kGeometryShader); 0 where nothing touches, and then u = v = depth = 0.
+// Row 0 is the top row, as in the canvas and in PNG files.
 struct FootprintImage {
   FootprintWindow window;
   std::vector<float> texels;  // width_px * height_px * 4

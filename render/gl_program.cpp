@@ -33,15 +33,20 @@ void checkGl(const char* who, const char* what) {
   }
 }
 
-GLuint linkProgram(const char* who, const char* vertex_source, const char* fragment_source) {
+GLuint linkProgram(const char* who, const char* vertex_source, const char* fragment_source,
+                   const char* geometry_source) {
   const GLuint vs = compileShader(who, GL_VERTEX_SHADER, vertex_source);
   const GLuint fs = compileShader(who, GL_FRAGMENT_SHADER, fragment_source);
+  const GLuint gs =
+      geometry_source ? compileShader(who, GL_GEOMETRY_SHADER, geometry_source) : 0;
   const GLuint program = glCreateProgram();
   glAttachShader(program, vs);
   glAttachShader(program, fs);
+  if (gs) glAttachShader(program, gs);
   glLinkProgram(program);
   glDeleteShader(vs);  // flagged; freed with the program
   glDeleteShader(fs);
+  if (gs) glDeleteShader(gs);
   GLint ok = GL_FALSE;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (ok != GL_TRUE) {

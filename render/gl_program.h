@@ -10,8 +10,10 @@ namespace bristle::render {
 // Throws std::runtime_error "<who>: GL error 0x.... after <what>" if GL reports one.
 void checkGl(const char* who, const char* what);
 
-// Compiles and links a vertex + fragment shader pair; throws std::runtime_error
-// with the driver's log, prefixed by `who`, when either fails.
-GLuint linkProgram(const char* who, const char* vertex_source, const char* fragment_source);
+// Compiles and links a vertex + fragment shader pair, with a geometry shader
+// between them when geometry_source is given; throws std::runtime_error with
+// the driver's log, prefixed by `who`, when any of them fails.
+GLuint linkProgram(const char* who, const char* vertex_source, const char* fragment_source,
+                   const char* geometry_source = nullptr);
 
 }  // namespace bristle::render

@@ -270,6 +270,69 @@ TEST_CASE("footprint: the same geometry renders to the same bytes", "[footprint]
   CHECK(hashTexels(first) == hashTexels(fresh));
 }
 
+TEST_CASE("footprint: a hair finer than a pixel covers its share where it misses every centre",
+          "[footprint]") {
+  // A strip 0.3 px wide, 32 px long, centred on the boundary between two rows
+  // of pixel centres (y = 5 px): sampling centres alone, it left no footprint
+  // at all (a fan dragged along its own row of hairs did exactly this).
+  const FootprintWindow window = makeWindow(0, 0, 40, 10, 4);  // 0.25 mm pixels
+  const double clip_mm = 0.5, width_px = 0.3, y_mid = 5.0 / 4;
+  const double half_mm = 0.5 * width_px / window.px_per_mm;
+  std::vector<FootprintVertex> tris;
+  addQuad(&tris, flatQuad(1.0, y_mid - half_mm, 9.0, y_mid + half_mm, 0.1, 0.25, 0.5));
+  FootprintImage image;
+  sharedRenderer().render(tris, window, clip_mm, &image);
+
+  double claimed = 0;  // covered area, in pixels
+  for (int row = 0; row < window.height_px; ++row)
+    for (int col = 0; col < window.width_px; ++col) {
+      const float* t = image.at(col, row);
+      if (t[3] == 0) continue;
+      INFO("col " << col << " row " << row << " coverage " << t[3]);
+      // Only the two rows beside the line, only within its length (one pixel
+      // of slack at each end, where the stretched triangles' tips fall).
+      CHECK((row == 4 || row == 5));
+      CHECK((col >= 3 && col <= 36));
+      // A share of the pixel, never more than the whole.
+      CHECK(t[3] > 0.0f);
+      CHECK(t[3] <= 1.0f);
+      // The hair's own texture coordinate and depth, not a neighbour's.
+      CHECK(t[0] == Approx(0.25f).margin(kInterpolationTol));
+      CHECK(t[2] == Approx(clip_mm - 0.1).margin(kInterpolationTol));
+      claimed += t[3];
+    }
+  // Every column the hair crosses is touched: a continuous line, not dots.
+  for (int col = 4; col < 36; ++col) {
+    INFO("col " << col);
+    CHECK((image.at(col, 4)[3] > 0 || image.at(col, 5)[3] > 0));
+  }
+  // Area: what the hair covers (32 x 0.3 px), within one column's share at
+  // either end (where the band's end meets a column part-way).
+  const double area = 32 * width_px;
+  INFO("claimed " << claimed << " px of " << area);
+  CHECK(claimed == Approx(area).margin(width_px));
+}
+
+TEST_CASE("footprint: a hair finer than a pixel never lowers the coverage of real geometry",
+          "[footprint]") {
+  // A wide quad under the pixel centres and a hair nearer the canvas that
+  // covers no centre: the pixels keep the quad's full coverage and texel.
+  const FootprintWindow window = makeWindow(0, 0, 20, 10, 4);
+  const double clip_mm = 0.5;
+  std::vector<FootprintVertex> tris;
+  addQuad(&tris, flatQuad(0.0, 0.0, 5.0, 2.5, 0.3, 0.75, 0.75));
+  addQuad(&tris, flatQuad(0.5, 1.25 - 0.02, 4.5, 1.25 + 0.02, 0.0, 0.25, 0.25));
+  FootprintImage image;
+  sharedRenderer().render(tris, window, clip_mm, &image);
+  for (int row = 0; row < window.height_px; ++row)
+    for (int col = 0; col < window.width_px; ++col) {
+      INFO("col " << col << " row " << row);
+      const float* t = image.at(col, row);
+      CHECK(t[3] == 1.0f);
+      CHECK(t[0] == Approx(0.75f).margin(kInterpolationTol));
+    }
+}
+
 TEST_CASE("footprint: a smaller window after a bigger one", "[footprint]") {
   const FootprintWindow big = makeWindow(3, 5, 64, 48, 8);
   const FootprintWindow small = makeWindow(3, 5, 24, 16, 8);  // bottom-left of big
