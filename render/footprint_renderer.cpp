@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -71,8 +72,10 @@ void main() {
 // width). Rasterisation samples pixel centres, so a triangle thinner than a
 // pixel is drawn only where it happens to cover one: a fan's hairs dragged
 // along their own row, all on one line between two rows of centres, left no
-// footprint at all. A triangle thinner than kMinCoverWidthPx (its height h
-// over its longest edge, in pixels) is therefore drawn twice: as itself,
+// footprint at all. A hair triangle (setHairTextureRange: the strips, each a
+// single hair; not the bundles and the surface, which stand for many) thinner
+// than kMinCoverWidthPx (its height h over its longest edge, in pixels) is
+// therefore drawn twice: as itself,
 // and behind everything (in depth) as a band that wide centred on that
 // edge, whose fragments carry the share of a pixel the hair covers
 // (cover = h / kMinCoverWidthPx) instead of 1. A pixel whose centre some
@@ -91,7 +94,8 @@ in gl_PerVertex {
 in vec2 uv_v[];
 in float depth_v[];
 uniform vec2 px_per_ndc;     // half the window size in pixels
-uniform float min_cover_px;  // thinner triangles also leave a band this wide
+uniform float min_cover_px;  // thinner hair triangles also leave a band this wide
+uniform vec2 hair_u;         // hair triangles: u in [hair_u.x, hair_u.y)
 out gl_PerVertex {
   vec4 gl_Position;
   float gl_ClipDistance[1];
@@ -123,7 +127,8 @@ void main() {
   float h = longest > 0.0 ? abs(ab.x * ac.y - ab.y * ac.x) / longest : 0.0;
   for (int i = 0; i < 3; ++i) put(i, vec2(0.0), 1.0, -0.5);
   EndPrimitive();
-  if (h >= min_cover_px || h <= 0.0) return;
+  bool hair = uv_v[0].x >= hair_u.x && uv_v[0].x < hair_u.y;
+  if (!hair || h >= min_cover_px || h <= 0.0) return;
   // The band |offset from ab| <= m / 2, with a's and b's attributes.
   vec2 half_ndc = (0.5 * min_cover_px / longest) * vec2(-ab.y, ab.x) / px_per_ndc;
   float share = h / min_cover_px;
@@ -157,7 +162,9 @@ struct FootprintRenderer::Impl {
   int max_size_px = 0;
   GLuint program = 0, vao = 0, vbo = 0, fbo = 0, color_texture = 0, depth_buffer = 0;
   GLint origin_loc = -1, ndc_per_mm_loc = -1, clip_loc = -1, floor_loc = -1;
-  GLint px_per_ndc_loc = -1, min_cover_loc = -1;
+  GLint px_per_ndc_loc = -1, min_cover_loc = -1, hair_u_loc = -1;
+  float hair_u_begin = std::numeric_limits<float>::lowest();
+  float hair_u_end = std::numeric_limits<float>::max();
   int target_width_px = 0, target_height_px = 0;  // current FBO attachment size
 
   // Grows the FBO attachments to hold the window; never shrinks them, so a
@@ -205,6 +212,7 @@ FootprintRenderer::FootprintRenderer(int max_size_px) : impl_(std::make_unique<I
   s.floor_loc = glGetUniformLocation(s.program, "depth_floor_mm");
   s.px_per_ndc_loc = glGetUniformLocation(s.program, "px_per_ndc");
   s.min_cover_loc = glGetUniformLocation(s.program, "min_cover_px");
+  s.hair_u_loc = glGetUniformLocation(s.program, "hair_u");
 
   glGenVertexArrays(1, &s.vao);
   glBindVertexArray(s.vao);
@@ -258,6 +266,11 @@ FootprintRenderer::FootprintRenderer(int max_size_px) : impl_(std::make_unique<I
 // The GL objects die with the context (Impl::context is destroyed last).
 FootprintRenderer::~FootprintRenderer() = default;
 
+void FootprintRenderer::setHairTextureRange(float u_begin, float u_end) {
+  impl_->hair_u_begin = u_begin;
+  impl_->hair_u_end = u_end;
+}
+
 void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
                                const FootprintWindow& window, double clip_mm,
                                FootprintImage* out) {
@@ -302,6 +315,7 @@ void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
     glUniform2f(s.px_per_ndc_loc, 0.5f * static_cast<float>(width),
                 0.5f * static_cast<float>(height));
     glUniform1f(s.min_cover_loc, static_cast<float>(kMinCoverWidthPx));
+    glUniform2f(s.hair_u_loc, s.hair_u_begin, s.hair_u_end);
     glBindVertexArray(s.vao);
     glBindBuffer(GL_ARRAY_BUFFER, s.vbo);
     glBufferData(GL_ARRAY_BUFFER,

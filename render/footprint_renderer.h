@@ -33,8 +33,9 @@ struct FootprintWindow {
 // nearest the canvas), depth_mm = clip_mm - z of that point (> 0 where touched),
 // coverage: the share of the pixel the touching geometry covers, in (0, 1]: 1
 // where geometry below the clip plane covers the pixel's centre, less where
-// only a triangle thinner than a pixel passes by it (footprint_renderer.cpp,
-// kGeometryShader); 0 where nothing touches, and then u = v = depth = 0.
+// only a hair triangle thinner than a pixel passes by it (setHairTextureRange;
+// footprint_renderer.cpp, kGeometryShader); 0 where nothing touches, and then
+// u = v = depth = 0.
 // Row 0 is the top row, as in the canvas and in PNG files.
 struct FootprintImage {
   FootprintWindow window;
@@ -52,6 +53,12 @@ class FootprintRenderer {
   ~FootprintRenderer();
   FootprintRenderer(const FootprintRenderer&) = delete;
   FootprintRenderer& operator=(const FootprintRenderer&) = delete;
+
+  // Which triangles are single hairs: those whose first vertex's u lies in
+  // [u_begin, u_end). A hair triangle thinner than a pixel also marks the
+  // pixels its centre samples miss, with coverage below 1 (see `coverage`
+  // above). By default every triangle counts as hair.
+  void setHairTextureRange(float u_begin, float u_end);
 
   // Renders the triangles (3 consecutive vertices each) clipped to z <= clip_mm.
   // Deterministic: one fixed readback path (float colour attachment of an FBO).

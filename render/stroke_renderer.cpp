@@ -47,7 +47,11 @@ CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
   return g;
 }
 
-StrokeRenderer::StrokeRenderer() : renderer_(2048) {}
+StrokeRenderer::StrokeRenderer() : renderer_(2048) {
+  // The strips are single hairs (paper §4.2); the surface and the spines'
+  // bundles stand for many hairs side by side and are sampled as they are.
+  renderer_.setHairTextureRange(kStripTextureOffsetU, kSpineTextureOffsetU);
+}
 StrokeRenderer::~StrokeRenderer() = default;
 
 bool StrokeRenderer::footprint(BrushGeometry& geometry, const BrushState& state,
@@ -181,6 +185,11 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
                                const BrushState& state, const StrokeOptions& options,
                                PaintCanvas* canvas, BrushPaint* paint, StrokeResult* result) {
   const CanvasGrid& grid = canvas->grid();
+  // The solver's contact counts as touching too, so that a brush that reached
+  // the paper but marked no pixel is told apart from one that never reached it.
+  for (const SpineState& spine : state.spines)
+    if (std::find(spine.contact.begin(), spine.contact.end(), true) != spine.contact.end())
+      result->touched = true;
   // One stamp per pixel of motion: a hair finer than a pixel, its tip dragged
   // 2 px a step, otherwise leaves a dotted line where a real one draws a line.
   const double spacing_mm = 1.0 / grid.px_per_mm;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -311,6 +312,28 @@ TEST_CASE("footprint: a hair finer than a pixel covers its share where it misses
   const double area = 32 * width_px;
   INFO("claimed " << claimed << " px of " << area);
   CHECK(claimed == Approx(area).margin(width_px));
+}
+
+TEST_CASE("footprint: only hair triangles mark the pixels their centres miss", "[footprint]") {
+  // The stroke renderer counts the strips (u in [2, 4)) as single hairs; the
+  // surface and the bundles (here u = 0.25) are sampled at pixel centres only.
+  const FootprintWindow window = makeWindow(0, 0, 40, 10, 4);
+  const double half_mm = 0.5 * 0.3 / window.px_per_mm;  // 0.3 px wide
+  auto covered = [&](double u) {
+    std::vector<FootprintVertex> tris;
+    addQuad(&tris, flatQuad(1.0, 1.25 - half_mm, 9.0, 1.25 + half_mm, 0.0, u, 0.5));
+    FootprintImage image;
+    sharedRenderer().render(tris, window, 0.5, &image);
+    int n = 0;
+    for (std::size_t i = 3; i < image.texels.size(); i += 4) n += image.texels[i] > 0;
+    return n;
+  };
+  sharedRenderer().setHairTextureRange(2.0f, 4.0f);
+  const int bundle = covered(0.25), hair = covered(2.5);
+  sharedRenderer().setHairTextureRange(std::numeric_limits<float>::lowest(),
+                                       std::numeric_limits<float>::max());
+  CHECK(bundle == 0);   // between two rows of centres: none covered
+  CHECK(hair >= 32);    // a pixel in each of the 32 columns it crosses
 }
 
 TEST_CASE("footprint: a hair finer than a pixel never lowers the coverage of real geometry",
