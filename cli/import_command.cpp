@@ -170,7 +170,7 @@ Subcommand registerImport(CLI::App& app) {
   cmd->footer(
       "Examples:\n"
       "  bristle import scenes/recordings/painting30sec-excerpt.dat -o painting.csv\n"
-      "  bristle render --brush round --trajectory painting.csv -o painting.png --px-per-mm 4\n"
+      "  bristle render --brush round --trajectory painting.csv -o painting.png --solver slsqp\n"
       "  bristle import scenes/recordings/painting30sec-excerpt.dat -o painting.json \\\n"
       "      --brush flat --paint ultramarine\n"
       "  bristle import scenes/recordings/three-strokes.svg -o svg.csv --speed-mm-s 60 \\\n"
