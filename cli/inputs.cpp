@@ -1,5 +1,7 @@
 #include "cli/inputs.h"
 
+#include "cli/commands.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -8,6 +10,7 @@
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "engine/text_file.h"
+#include "input/import.h"
 
 namespace bristle::cli {
 namespace fs = std::filesystem;
@@ -65,8 +68,15 @@ const std::string& stdinText() {
   return text;
 }
 
-Trajectory loadTrajectoryArg(const std::string& path) {
-  return isStdio(path) ? parseTrajectory(stdinText(), kStdinName) : loadTrajectory(path);
+Trajectory loadTrajectoryArg(const std::string& path, const Brush& brush) {
+  std::vector<std::string> warnings;
+  Trajectory t = isStdio(path)
+                     ? input::loadTrajectoryOrRecording(stdinText(), kStdinName, brush,
+                                                        brush.name, &warnings)
+                     : input::loadTrajectoryOrRecording(readTextFile(path), path, brush,
+                                                        brush.name, &warnings);
+  for (const std::string& w : warnings) printError("warning: " + w);
+  return t;
 }
 
 std::uint64_t inputsHash(const std::vector<std::string>& inputs) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/atomic_output.h"
+#include "engine/brush.h"
 #include "engine/brush_library.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
@@ -39,8 +40,10 @@ std::string defaultBrushLibrary();
 // later calls return the same text.
 const std::string& stdinText();
 
-// A trajectory file, or standard input for "-".
-Trajectory loadTrajectoryArg(const std::string& path);
+// A trajectory file, or standard input for "-". A pen recording or an SVG
+// (docs/input.md) is imported with the default mapping for `brush`, its
+// warnings printed; anything else is refused naming the formats expected.
+Trajectory loadTrajectoryArg(const std::string& path, const Brush& brush);
 
 // The bytes of every input in order (a file, or standard input for "-"),
 // hashed as the PNG's "bristle:inputs-fnv1a64" (render/compose.h).

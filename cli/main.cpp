@@ -40,6 +40,7 @@ constexpr const char* kFooter =
     "  bristle compare golden/round-s-curve.png new.png --tolerance strict --diff d.png\n"
     "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
     "  bristle batch scenes/batch/standard.json --out renders/ --jobs 2\n"
+    "  bristle import scenes/recordings/painting30sec-excerpt.dat -o painting.csv\n"
     "A brush is a library name (bristle brushes lists them) or a file; - is stdin for\n"
     "a trajectory and stdout for a PNG.\n"
     "\n"
@@ -70,7 +71,7 @@ Subcommand registerHelp(CLI::App& app, const std::vector<Subcommand>& commands) 
             }
             bristle::cli::printError("help: unknown command '" + *topic +
                                      "' (commands: render, preview, validate, brushes, "
-                                     "pigments, record, replay, sheet, batch, compare)");
+                                     "pigments, record, replay, sheet, batch, compare, import)");
             return static_cast<int>(bristle::ExitCode::kUsage);
           }};
 }
@@ -107,7 +108,7 @@ int main(int argc, char** argv) {
   const std::vector<Subcommand> commands = {
       registerRender(app),  registerValidate(app), registerBrushes(app), registerPigments(app),
       registerPreview(app), registerRecord(app),   registerReplay(app),  registerSheet(app),
-      registerBatch(app),   registerCompare(app)};
+      registerBatch(app),   registerCompare(app),  registerImport(app)};
   const Subcommand help = registerHelp(app, commands);
   if (const std::optional<int> code = parse(app, argc, argv)) return *code;
 

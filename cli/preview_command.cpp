@@ -47,7 +47,7 @@ int runPreview(const PreviewArgs& args) {
     rest.position_mm = Eigen::Vector3d(0, 0, brush.reachMm() + 2);
     sim.reset(rest, 0);
   } else {
-    Trajectory traj = resolveDepths(loadTrajectoryArg(args.trajectory), brush);
+    Trajectory traj = resolveDepths(loadTrajectoryArg(args.trajectory, brush), brush);
     if (args.offset_mm.size() == 3 &&
         !(std::fabs(args.offset_mm[0]) <= kMaxPositionMm &&
           std::fabs(args.offset_mm[1]) <= kMaxPositionMm &&

@@ -61,7 +61,7 @@ std::unique_ptr<haptics::Device> openDevice(const RecordArgs& args, const Brush&
     // planned as its replay will be, before the session is opened: one over
     // the step limits (docs/errors.md) would record for days a session that no
     // replay could render.
-    Trajectory played = resolveDepths(loadTrajectoryArg(args.trajectory), brush);
+    Trajectory played = resolveDepths(loadTrajectoryArg(args.trajectory, brush), brush);
     validateTrajectoryForBrush(played, brush);
     planStepTimes(played, brush, SimOptions{});
     return std::make_unique<haptics::NoneDevice>(std::move(played));

@@ -92,7 +92,7 @@ int runRender(const RenderArgs& args) {
   const Brush brush = loadBrush(brush_file);
   // Depths past first contact become this brush's ferrule heights before any
   // offset moves the handle.
-  Trajectory trajectory = resolveDepths(loadTrajectoryArg(args.trajectory), brush);
+  Trajectory trajectory = resolveDepths(loadTrajectoryArg(args.trajectory, brush), brush);
   if (args.offset_mm.size() == 3) {
     const Eigen::Vector3d offset(args.offset_mm[0], args.offset_mm[1], args.offset_mm[2]);
     if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");

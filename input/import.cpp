@@ -1,0 +1,47 @@
+#include "input/import.h"
+
+#include "engine/error.h"
+#include "engine/first_contact.h"
+#include "input/svg_geometry.h"
+
+namespace bristle::input {
+
+double hairLengthMm(const Brush& brush) { return firstContactHeightMm(brush); }
+
+std::string resolveMaxDepth(ImportOptions* options, const Brush& brush,
+                            const std::string& brush_name) {
+  if (options->max_depth_mm > 0) {
+    options->mapping.max_depth_mm = options->max_depth_mm;
+    return "--max-depth-mm " + formatNumber(options->max_depth_mm);
+  }
+  const double hair = hairLengthMm(brush);
+  options->mapping.max_depth_mm = options->max_depth_frac * hair;
+  return formatNumber(options->max_depth_frac) + " x the hair length " + formatNumber(hair) +
+         " mm of " + brush_name;
+}
+
+Recording readInput(const std::string& text, const std::string& path,
+                    const ImportOptions& options) {
+  const Format format = options.from ? *options.from : detectFormat(text, path);
+  if (format == Format::kTrajectory)
+    throw dataError(path, "line 1",
+                    "is already a bristle-trajectory/1 file: there is nothing to import");
+  SvgOptions svg = options.svg;
+  if (svg.mm_per_unit <= 0) svg.mm_per_unit = options.mapping.mm_per_unit;
+  return readRecording(text, path, format, svg);
+}
+
+Trajectory loadTrajectoryOrRecording(const std::string& text, const std::string& path,
+                                     const Brush& brush, const std::string& brush_name,
+                                     std::vector<std::string>* warnings) {
+  const Format format = detectFormat(text, path);
+  if (format == Format::kTrajectory) return parseTrajectory(text, path);
+  ImportOptions options;
+  options.from = format;
+  resolveMaxDepth(&options, brush, brush_name);
+  const Recording rec = readInput(text, path, options);
+  if (warnings) warnings->insert(warnings->end(), rec.warnings.begin(), rec.warnings.end());
+  return toTrajectory(rec, options.mapping);
+}
+
+}  // namespace bristle::input

@@ -1,0 +1,52 @@
+#pragma once
+// The geometry of SVG import (input/svg_paths.cpp), apart so that tests can
+// hold it against closed forms: transforms, lengths with units, pressure
+// profiles, and lib2geom's arc length and sampling of a path.
+
+#include <2geom/affine.h>
+#include <2geom/path.h>
+
+#include <string>
+#include <vector>
+
+namespace bristle::input {
+
+// Numbers separated by blanks and/or commas ("0,0 10 20"): an SVG points list,
+// viewBox or transform arguments. Throws Error(kDataError) "path: where: ..."
+// naming the first item that is not a finite number.
+std::vector<double> parseNumberList(const std::string& text, const std::string& path,
+                                    const std::string& where);
+
+// An SVG transform list ("translate(10 20) rotate(45) scale(2)"; matrix,
+// translate, scale, rotate with an optional centre, skewX, skewY) as a
+// lib2geom affine map from the element's user units to its parent's.
+Geom::Affine parseTransform(const std::string& text, const std::string& path,
+                            const std::string& where);
+
+// An SVG length with an absolute unit ("210mm", "8.5in", "600px", "600") in
+// mm, px and plain numbers taken as CSS px (96 per inch); 0 when it has a
+// relative unit (%, em) or does not parse.
+double lengthMm(const std::string& text);
+
+// A number as a message or a header shows it (up to 9 significant digits).
+std::string formatNumber(double v);
+
+// A pressure profile: pressure p at fraction u of a stroke's arc length.
+struct ProfilePoint {
+  double u = 0, p = 0;
+};
+// "u:p u:p ..." (u in [0, 1] increasing, p in [0, 1]) or a single pressure
+// "p" (held the whole stroke). Throws naming `where` and the broken rule.
+std::vector<ProfilePoint> parsePressureProfile(const std::string& text, const std::string& path,
+                                               const std::string& where);
+// Linear between the points, the end points' pressures held beyond them.
+double profilePressure(const std::vector<ProfilePoint>& profile, double u);
+
+// Arc length of a path in its own units (lib2geom's, each curve's length to
+// 1e-9 relative tolerance).
+double pathLength(const Geom::Path& path);
+// Points along the path at equal arc-length steps, the ends included:
+// max(2, ceil(segments) + 1) of them (lib2geom's arc-length parametrisation).
+std::vector<Geom::Point> samplePath(const Geom::Path& path, double segments);
+
+}  // namespace bristle::input

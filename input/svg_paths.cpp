@@ -1,0 +1,317 @@
+// SVG paths as pen motion (docs/input.md, "SVG"): pugixml reads the document,
+// lib2geom parses path data, applies the transforms and measures arc length.
+// Each <path> subpath, <polyline>, <polygon> and <line> is one stroke, drawn
+// in document order at a constant speed, sampled every sample_mm along its
+// arc length, its pressure following a profile over the fraction of its
+// length (the default ramps in, holds and ramps out; data-bristle-pressure on
+// the element or an ancestor overrides it). Between strokes the pen is up.
+
+#include <2geom/affine.h>
+#include <2geom/path.h>
+#include <2geom/pathvector.h>
+#include <2geom/sbasis-geometric.h>
+#include <2geom/svg-path-parser.h>
+#include <2geom/transforms.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <pugixml.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "engine/error.h"
+#include "input/recording.h"
+#include "input/svg_geometry.h"
+#include "input/text_fields.h"
+
+namespace bristle::input {
+
+namespace {
+
+using detail::trim;
+
+// The byte offsets of the text's line starts, for "line L" of an element.
+class LineIndex {
+ public:
+  explicit LineIndex(const std::string& text) {
+    starts_.push_back(0);
+    for (std::size_t i = 0; i < text.size(); ++i)
+      if (text[i] == '\n') starts_.push_back(i + 1);
+  }
+  int lineOf(std::ptrdiff_t offset) const {
+    if (offset < 0) return 0;
+    const auto it = std::upper_bound(starts_.begin(), starts_.end(),
+                                     static_cast<std::size_t>(offset));
+    return static_cast<int>(it - starts_.begin());
+  }
+
+ private:
+  std::vector<std::size_t> starts_;
+};
+
+// An element's local name: "svg:path" and "path" are both "path".
+std::string localName(const pugi::xml_node& n) {
+  const char* name = n.name();
+  const char* colon = std::strchr(name, ':');
+  return colon ? std::string(colon + 1) : std::string(name);
+}
+
+// Whether the element is in another XML namespace than SVG's by its prefix
+// (inkscape:, sodipodi:, ...): such elements are editors' notes, skipped.
+bool foreignPrefix(const pugi::xml_node& n) {
+  const char* colon = std::strchr(n.name(), ':');
+  return colon && std::strncmp(n.name(), "svg:", 4) != 0;
+}
+
+// Containers whose children are drawn; elements that draw nothing.
+const std::set<std::string> kGroups = {"svg", "g", "a", "switch"};
+const std::set<std::string> kNonDrawing = {
+    "defs",   "title",          "desc",          "metadata", "style",  "script",
+    "symbol", "clipPath",       "mask",          "marker",   "pattern", "linearGradient",
+    "radialGradient", "filter", "namedview"};
+const std::set<std::string> kStrokes = {"path", "polyline", "polygon", "line"};
+
+struct Frame {
+  pugi::xml_node node;
+  Geom::Affine ctm;      // user units of this node's children to the root's
+  std::string pressure;  // data-bristle-pressure in force ("" : the default)
+};
+
+struct PendingStroke {
+  Geom::Path path;  // in root user units
+  std::string where;  // "<path id="a"> (line 5)"
+  std::string profile_text;
+  std::vector<ProfilePoint> profile;
+  int line = 0;
+  double length_units = 0;
+};
+
+// "<path id="leaf"> (line 12)": how messages name an element.
+std::string describe(const pugi::xml_node& n, int line) {
+  std::string s = "<" + std::string(n.name());
+  if (const pugi::xml_attribute id = n.attribute("id")) s += " id=\"" + std::string(id.value()) + "\"";
+  return s + "> (line " + std::to_string(line) + ")";
+}
+
+// The scale the root element implies: its width (or height) against its
+// viewBox, in mm per user unit; a CSS pixel when it gives none.
+double documentMmPerUnit(const pugi::xml_node& root, const std::string& path, int line,
+                         std::string* note) {
+  constexpr double kPx = 25.4 / 96;
+  const char* vb = root.attribute("viewBox").value();
+  const std::vector<double> box = parseNumberList(vb, path, describe(root, line) + ": viewBox");
+  if (box.empty()) {
+    *note = "SVG user units = CSS px, 96 per inch (the root has no viewBox)";
+    return kPx;
+  }
+  if (box.size() != 4 || !(box[2] > 0) || !(box[3] > 0))
+    throw dataError(path, describe(root, line),
+                    "viewBox = \"" + std::string(vb) +
+                        "\": must be four numbers 'min-x min-y width height', width and height > 0");
+  for (const char* attr : {"width", "height"}) {
+    const std::string value(trim(root.attribute(attr).value()));
+    if (value.empty()) continue;
+    const double mm = lengthMm(value);
+    if (mm > 0) {
+      *note = "SVG " + std::string(attr) + "=\"" + value + "\" over viewBox " + attr +
+              " " + formatNumber(box[attr[0] == 'w' ? 2 : 3]) + " user units";
+      return mm / box[attr[0] == 'w' ? 2 : 3];
+    }
+  }
+  *note = "SVG user units = CSS px, 96 per inch (no width or height in absolute units)";
+  return kPx;
+}
+
+// The strokes of one drawing element, in root user units.
+void addStrokes(const pugi::xml_node& n, const std::string& name, const Geom::Affine& ctm,
+                const std::string& where, const std::string& path, Geom::PathVector* out) {
+  Geom::PathVector pv;
+  if (name == "path") {
+    const char* d = n.attribute("d").value();
+    try {
+      pv = Geom::parse_svg_path(d);
+    } catch (const std::exception& e) {
+      throw dataError(path, where, "d: malformed path data (" + std::string(e.what()) + ")");
+    }
+  } else if (name == "line") {
+    double v[4] = {0, 0, 0, 0};
+    const char* attrs[] = {"x1", "y1", "x2", "y2"};
+    for (int i = 0; i < 4; ++i) {
+      const std::vector<double> one =
+          parseNumberList(n.attribute(attrs[i]).value(), path, where + ": " + attrs[i]);
+      if (one.size() > 1) throw dataError(path, where, std::string(attrs[i]) + ": must be one number");
+      if (!one.empty()) v[i] = one[0];
+    }
+    Geom::Path p(Geom::Point(v[0], v[1]));
+    p.appendNew<Geom::LineSegment>(Geom::Point(v[2], v[3]));
+    pv.push_back(p);
+  } else {  // polyline, polygon
+    const std::vector<double> pts =
+        parseNumberList(n.attribute("points").value(), path, where + ": points");
+    if (pts.size() % 2 != 0)
+      throw dataError(path, where, "points: holds an odd count of numbers (" +
+                                       std::to_string(pts.size()) + "): must be x,y pairs");
+    if (pts.size() >= 4) {
+      Geom::Path p(Geom::Point(pts[0], pts[1]));
+      for (std::size_t i = 2; i + 1 < pts.size(); i += 2)
+        p.appendNew<Geom::LineSegment>(Geom::Point(pts[i], pts[i + 1]));
+      if (name == "polygon") p.close(true);
+      pv.push_back(p);
+    }
+  }
+  for (Geom::Path& p : pv) {
+    p *= ctm;
+    out->push_back(p);
+  }
+}
+
+}  // namespace
+
+Recording readSvg(const std::string& text, const std::string& path, const SvgOptions& options,
+                  std::size_t max_samples) {
+  const LineIndex lines(text);
+  pugi::xml_document doc;
+  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
+  if (!parsed)
+    throw dataError(path, "line " + std::to_string(lines.lineOf(parsed.offset)),
+                    std::string("malformed XML (") + parsed.description() + ")");
+  const pugi::xml_node root = doc.document_element();
+  const int root_line = lines.lineOf(root.offset_debug());
+  if (localName(root) != "svg")
+    throw dataError(path, describe(root, root_line),
+                    "the document element must be <svg> (an SVG file)");
+
+  Recording rec;
+  rec.path = path;
+  rec.format = Format::kSvg;
+  const double doc_scale = documentMmPerUnit(root, path, root_line, &rec.units_note);
+  rec.mm_per_unit = options.mm_per_unit > 0 ? options.mm_per_unit : doc_scale;
+  if (options.mm_per_unit > 0)
+    rec.units_note = "SVG user units at " + formatNumber(1 / options.mm_per_unit) +
+                     " per mm (given on the command line)";
+
+  // Walk the tree in document order with an explicit stack (no recursion, so
+  // no depth of nesting can overflow the stack), gathering the strokes.
+  std::vector<PendingStroke> strokes;
+  std::map<std::string, int> unsupported;  // element name -> count
+  std::string first_unsupported;
+  int empty_subpaths = 0;
+  std::vector<Frame> stack;
+  for (pugi::xml_node c = root.last_child(); c; c = c.previous_sibling())
+    stack.push_back({c, Geom::identity(), ""});
+  const std::string root_profile = root.attribute("data-bristle-pressure").value();
+  for (Frame& f : stack) f.pressure = root_profile;
+  const Geom::Affine root_ctm = parseTransform(root.attribute("transform").value(), path,
+                                               describe(root, root_line) + ": transform");
+  for (Frame& f : stack) f.ctm = root_ctm;
+  while (!stack.empty()) {
+    const Frame f = stack.back();
+    stack.pop_back();
+    const pugi::xml_node n = f.node;
+    if (n.type() != pugi::node_element || foreignPrefix(n)) continue;
+    const std::string name = localName(n);
+    if (kNonDrawing.count(name)) continue;
+    const int line = lines.lineOf(n.offset_debug());
+    const std::string where = describe(n, line);
+    if (std::strcmp(n.attribute("display").value(), "none") == 0) continue;
+    const Geom::Affine ctm =
+        parseTransform(n.attribute("transform").value(), path, where + ": transform") * f.ctm;
+    const pugi::xml_attribute own = n.attribute("data-bristle-pressure");
+    const std::string pressure = own ? std::string(own.value()) : f.pressure;
+    if (kGroups.count(name) && name != "svg") {
+      for (pugi::xml_node c = n.last_child(); c; c = c.previous_sibling())
+        stack.push_back({c, ctm, pressure});
+      continue;
+    }
+    if (!kStrokes.count(name)) {
+      if (unsupported[name]++ == 0 && first_unsupported.empty()) first_unsupported = where;
+      continue;
+    }
+    const std::string profile_text = pressure.empty() ? options.pressure_profile : pressure;
+    const std::vector<ProfilePoint> profile =
+        parsePressureProfile(profile_text, path, where + ": data-bristle-pressure");
+    Geom::PathVector pv;
+    addStrokes(n, name, ctm, where, path, &pv);
+    for (const Geom::Path& p : pv) {
+      PendingStroke s;
+      s.path = p;
+      s.where = where;
+      s.line = line;
+      s.profile = profile;
+      s.length_units = pathLength(p);
+      if (!std::isfinite(s.length_units))
+        throw dataError(path, where, "has a coordinate that is not finite");
+      if (s.length_units <= 0) {
+        ++empty_subpaths;
+        continue;
+      }
+      strokes.push_back(std::move(s));
+    }
+  }
+
+  std::string skipped;
+  for (const auto& [name, count] : unsupported)
+    skipped += (skipped.empty() ? "" : ", ") + std::to_string(count) + " <" + name + ">";
+  if (strokes.empty()) {
+    if (!first_unsupported.empty())
+      throw dataError(path, first_unsupported,
+                      "no drawable path: bristle imports <path>, <polyline>, <polygon> and "
+                      "<line>, and this SVG holds only elements it does not (" + skipped + ")");
+    throw dataError(path, describe(root, root_line),
+                    "no drawable path: no <path>, <polyline>, <polygon> or <line> of any "
+                    "length");
+  }
+  if (!skipped.empty())
+    rec.warnings.push_back(path + ": skipped " + skipped +
+                           " (bristle imports <path>, <polyline>, <polygon> and <line>; "
+                           "convert shapes and text to paths)");
+  if (empty_subpaths > 0)
+    rec.warnings.push_back(path + ": skipped " + std::to_string(empty_subpaths) +
+                           " subpath(s) of zero length");
+
+  // Sample counts first: a huge path is refused before anything is stored.
+  const double mm = rec.mm_per_unit;
+  std::size_t total = 0;
+  for (const PendingStroke& s : strokes) {
+    const double n = std::ceil(s.length_units * mm / options.sample_mm) + 3;
+    total += n > static_cast<double>(max_samples) ? max_samples + 1 : static_cast<std::size_t>(n);
+    if (total > max_samples) break;
+  }
+  detail::checkSampleCount(total, max_samples, path, "samples along its paths");
+
+  double t = 0;
+  Geom::Point last_up;
+  bool first = true;
+  for (const PendingStroke& s : strokes) {
+    const Geom::Point start = s.path.initialPoint();
+    if (!first) t += std::max(Geom::distance(last_up, start) * mm / options.speed_mm_s, 0.05);
+    first = false;
+    auto add = [&](const Geom::Point& p, double time, double pressure, bool down) {
+      PenSample ps;
+      ps.t_s = time;
+      ps.x = p.x();
+      ps.y = p.y();
+      ps.pressure = pressure;
+      ps.down = down;
+      ps.line = s.line;
+      rec.samples.push_back(ps);
+    };
+    add(start, t, 0, false);
+    t += options.lead_s;
+    const std::vector<Geom::Point> pts = samplePath(s.path, s.length_units * mm / options.sample_mm);
+    const double duration = s.length_units * mm / options.speed_mm_s;
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const double u = pts.size() > 1 ? static_cast<double>(k) / (pts.size() - 1) : 0;
+      add(pts[k], t + u * duration, profilePressure(s.profile, u), true);
+    }
+    t += duration + options.lead_s;
+    last_up = s.path.finalPoint();
+    add(last_up, t, 0, false);
+  }
+  return rec;
+}
+
+}  // namespace bristle::input

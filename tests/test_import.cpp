@@ -1,0 +1,355 @@
+// The readers and the mapping of bristle import (input/, docs/input.md), in
+// process: formats and their detection, the rules every field follows, the
+// pressure-to-depth curve, tilt to the handle's rotation, SVG geometry against
+// closed forms, and the sample limit. The renders are in test_import_cli.cpp.
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "engine/brush.h"
+#include "engine/error.h"
+#include "engine/first_contact.h"
+#include "engine/text_file.h"
+#include "input/import.h"
+#include "input/pen_axis.h"
+#include "input/pen_mapping.h"
+#include "input/recording.h"
+#include "input/svg_geometry.h"
+
+#include <2geom/pathvector.h>
+#include <2geom/svg-path-parser.h>
+
+using namespace bristle;
+using namespace bristle::input;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string source(const std::string& rel) { return std::string(BRISTLE_SOURCE_DIR) + "/" + rel; }
+
+// The error a call throws: its exit code and message.
+template <class F>
+Error errorOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e;
+  }
+  FAIL("no error thrown");
+  return Error(ExitCode::kOk, "");
+}
+
+// Angles and lengths computed in double precision from closed forms: equal
+// to a few ulps of the operands' scale.
+constexpr double kExact = 1e-9;
+
+Recording readText(const std::string& text, const std::string& name, Format f) {
+  return readRecording(text, name, f);
+}
+
+}  // namespace
+
+TEST_CASE("import: the real recording reads as MyPaint events", "[import]") {
+  const std::string path = source("scenes/recordings/painting30sec-excerpt.dat");
+  const std::string text = readTextFile(path);
+  REQUIRE(detectFormat(text, path) == Format::kMyPaint);
+  const Recording rec = readRecording(text, path, Format::kMyPaint);
+  // 320 lines, each at its own time (the excerpt repeats none).
+  CHECK(rec.samples.size() == 320);
+  CHECK(rec.merged_duplicates == 0);
+  CHECK(rec.samples.front().t_s == 0.0);
+  CHECK(rec.samples.back().t_s == Approx(3.233).margin(kExact));
+  // Two pen-down runs: lines 52-140 (0.512-1.408 s) and 162-320 (1.632-3.233 s).
+  int runs = 0;
+  for (std::size_t k = 0; k < rec.samples.size(); ++k)
+    if (rec.samples[k].down && (k == 0 || !rec.samples[k - 1].down)) ++runs;
+  CHECK(runs == 2);
+  CHECK(rec.samples[50].down == false);
+  CHECK(rec.samples[51].down == true);
+  CHECK(rec.samples[51].line == 52);
+  CHECK(rec.samples[51].pressure == Approx(0.043053).margin(kExact));
+  CHECK(rec.mm_per_unit == Approx(25.4 / 96).epsilon(kExact));
+}
+
+TEST_CASE("import: formats are told apart by content and name", "[import]") {
+  CHECK(detectFormat("# bristle-trajectory/1\nt_s,x_mm\n", "t.csv") == Format::kTrajectory);
+  CHECK(detectFormat("0 1 2 0.5\n", "r.dat") == Format::kMyPaint);
+  CHECK(detectFormat("0 1 2 0.5\n", "-") == Format::kMyPaint);
+  CHECK(detectFormat("timeStamp,x,y,pressure\n1,2,3,0\n", "p.csv") == Format::kPointerCsv);
+  CHECK(detectFormat("<?xml version=\"1.0\"?><svg/>", "a.svg") == Format::kSvg);
+  // An empty file stays the trajectory reader's to report, as before.
+  CHECK(detectFormat("", "t.csv") == Format::kTrajectory);
+
+  SECTION("unknown content names every format expected") {
+    const Error e = errorOf([] { detectFormat("hello world\n", "x.txt"); });
+    CHECK(e.code() == ExitCode::kDataError);
+    CHECK_THAT(e.what(), Contains("x.txt: line 1: not a format bristle reads"));
+    CHECK_THAT(e.what(), Contains("# bristle-trajectory/1"));
+    CHECK_THAT(e.what(), Contains("MyPaint events"));
+    CHECK_THAT(e.what(), Contains("Pointer Events CSV"));
+    CHECK_THAT(e.what(), Contains("SVG"));
+  }
+  SECTION("a name that promises another format is ambiguous") {
+    const Error e = errorOf([] { detectFormat("timeStamp,x,y,pressure\n", "r.dat"); });
+    CHECK(e.code() == ExitCode::kDataError);
+    CHECK_THAT(e.what(), Contains("r.dat: line 1: ambiguous"));
+    CHECK_THAT(e.what(), Contains("promises MyPaint events"));
+    CHECK_THAT(e.what(), Contains("the content is Pointer Events CSV"));
+    const Error svg = errorOf([] { detectFormat("0 1 2 0.5\n", "d.svg"); });
+    CHECK_THAT(svg.what(), Contains("promises an SVG"));
+  }
+}
+
+TEST_CASE("import: bad values name their line and column", "[import]") {
+  auto message = [](const std::string& text, const std::string& name, Format f) {
+    const Error e = errorOf([&] { readText(text, name, f); });
+    CHECK(e.code() == ExitCode::kDataError);
+    return std::string(e.what());
+  };
+  CHECK(message("0 1 2 0.1\n0.1 nan 2 0.2\n", "r.dat", Format::kMyPaint) ==
+        "r.dat: line 2, column 2 (x): 'nan': must be finite");
+  CHECK(message("0 1 2 0.1\n0.1 1 2 1.5\n", "r.dat", Format::kMyPaint) ==
+        "r.dat: line 2, column 4 (pressure): pressure = 1.5: a pressure must be in [0, 1]");
+  CHECK(message("0 1 2 -0.01\n", "r.dat", Format::kMyPaint) ==
+        "r.dat: line 1, column 4 (pressure): pressure = -0.01: a pressure must be in [0, 1]");
+  CHECK(message("0 1 2 0.1 7\n", "r.dat", Format::kMyPaint) ==
+        "r.dat: line 1: has 5 fields; a MyPaint event line is 't x y pressure' (4 numbers)");
+  CHECK(message("0.2 1 2 0.1\n0.1 1 2 0.2\n", "r.dat", Format::kMyPaint) ==
+        "r.dat: line 2, column 1 (t): t = 0.1 is before the previous sample's (line 1): "
+        "times must not decrease (equal times are merged)");
+  const std::string header = "timeStamp,x,y,pressure,tiltX,tiltY\n";
+  CHECK(message(header + "0,1,2,0.5,0,0\n8,1,2,0.5,91,0\n", "p.csv", Format::kPointerCsv) ==
+        "p.csv: line 3, column 5 (tiltX): tiltX = 91: a tilt must be in [-90, 90] degrees");
+  CHECK(message(header + "0,1,2,0.5,0,-90.5\n", "p.csv", Format::kPointerCsv) ==
+        "p.csv: line 2, column 6 (tiltY): tiltY = -90.5: a tilt must be in [-90, 90] degrees");
+  CHECK(message(header + "0,1,NaN,0.5,0,0\n", "p.csv", Format::kPointerCsv) ==
+        "p.csv: line 2, column 3 (y): 'NaN': must be finite");
+  CHECK(message("timeStamp,x,y,presure\n", "p.csv", Format::kPointerCsv)
+            .rfind("p.csv: line 1, column 4 (presure): unknown column 'presure'", 0) == 0);
+  CHECK(message("timeStamp,x,y\n", "p.csv", Format::kPointerCsv)
+            .rfind("p.csv: line 1: header lacks the column 'pressure'", 0) == 0);
+  CHECK(message("timeStamp,x,y,pressure,pointerId\n0,1,2,0.5,1\n8,1,2,0.5,2\n", "p.csv",
+                Format::kPointerCsv) ==
+        "p.csv: line 3, column 5 (pointerId): pointerId = 2 is a second pointer (line 2 has "
+        "1): record one pointer per file");
+  CHECK(message("0 1 2 0\n1 2 3 0\n", "r.dat", Format::kMyPaint) ==
+        "r.dat: line 1: the pen never touches (no sample with pressure > 0, or with buttons "
+        "bit 0 where a buttons column is given): nothing to paint");
+}
+
+TEST_CASE("import: equal time stamps merge into the later sample", "[import]") {
+  const Recording rec = readText(
+      "timeStamp,x,y,pressure,buttons\n0,0,0,0.5,1\n8,1,0,0.5,1\n8,2,0,0.6,1\n16,3,0,0.5,1\n",
+      "p.csv", Format::kPointerCsv);
+  REQUIRE(rec.samples.size() == 3);
+  CHECK(rec.merged_duplicates == 1);
+  CHECK(rec.samples[1].x == 2);  // the later of the two at 8 ms
+  CHECK(rec.samples[1].t_s == Approx(0.008).margin(kExact));
+  CHECK(rec.warnings.size() == 1);
+}
+
+TEST_CASE("import: the sample limit is checked before samples are stored", "[import]") {
+  // A limit of 100 stands in for the real one (kMaxRecordingSamples): the
+  // count comes first, so no recording over it is ever held in memory.
+  std::string text;
+  for (int k = 0; k < 101; ++k) text += std::to_string(k) + " 0 0 0.5\n";
+  const Error e = errorOf([&] { readRecording(text, "big.dat", Format::kMyPaint, {}, 100); });
+  CHECK(e.code() == ExitCode::kDataError);
+  CHECK(std::string(e.what()) ==
+        "big.dat: size: holds 101 event lines, over the limit of 100 samples per recording "
+        "(import a part of it at a time)");
+  CHECK(readRecording(text, "ok.dat", Format::kMyPaint, {}, 101).samples.size() == 101);
+  // An SVG is measured before it is sampled: a path 1 m long at 0.5 mm steps.
+  const std::string svg =
+      "<svg xmlns='http://www.w3.org/2000/svg' width='1000mm' height='10mm' "
+      "viewBox='0 0 1000 10'><path d='M 0 5 H 1000'/></svg>";
+  const Error es = errorOf([&] { readRecording(svg, "big.svg", Format::kSvg, {}, 1000); });
+  CHECK_THAT(es.what(), Contains("big.svg: size: holds 1001 samples along its paths, over the "
+                                 "limit of 1000 samples per recording"));
+}
+
+TEST_CASE("import: pressure becomes depth through the documented curve", "[import]") {
+  MappingOptions o;
+  o.max_depth_mm = 8;
+  o.pressure_gamma = 2;
+  o.hover_mm = 1.5;
+  CHECK(pressureToDepthMm(1, true, o) == Approx(8).margin(kExact));
+  CHECK(pressureToDepthMm(0.5, true, o) == Approx(2).margin(kExact));
+  CHECK(pressureToDepthMm(0, true, o) == Approx(0).margin(kExact));  // touching, no press
+  CHECK(pressureToDepthMm(0.7, false, o) == Approx(-1.5).margin(kExact));  // pen up hovers
+  // The default depth is a fraction of the brush's hair length.
+  const Brush round = loadBrush(source("scenes/brushes/round.json"));
+  ImportOptions io;
+  const std::string rule = resolveMaxDepth(&io, round, "round");
+  CHECK(io.mapping.max_depth_mm ==
+        Approx(kDefaultMaxDepthFrac * firstContactHeightMm(round)).epsilon(kExact));
+  CHECK_THAT(rule, Contains("0.4 x the hair length"));
+  io.max_depth_mm = 3;
+  resolveMaxDepth(&io, round, "round");
+  CHECK(io.mapping.max_depth_mm == 3);
+}
+
+TEST_CASE("import: tilt and twist become the handle's rotation", "[import]") {
+  // Upright, untwisted: the identity (brush upright, width axis along x).
+  CHECK(handleRotation(penAxisFromTilt(0, 0), 0).angularDistance(Eigen::Quaterniond::Identity()) <
+        kExact);
+  // tiltX 30: the top leans towards +x; the brush's +z goes there.
+  const Eigen::Vector3d a = penAxisFromTilt(30, 0);
+  CHECK(a.x() == Approx(std::sin(M_PI / 6)).margin(kExact));
+  CHECK(a.z() == Approx(std::cos(M_PI / 6)).margin(kExact));
+  const Eigen::Quaterniond q = handleRotation(a, 0);
+  CHECK((q * Eigen::Vector3d::UnitZ() - a).norm() < kExact);
+  // altitude/azimuth agree with tiltX/tiltY for a pen leaning along +y.
+  const Eigen::Vector3d b = penAxisFromAltitudeAzimuth(M_PI / 3, M_PI / 2);
+  const Eigen::Vector3d c = penAxisFromTilt(0, 30);
+  CHECK((b - c).norm() < kExact);
+  // Twist 90 clockwise from above turns the width axis from +x to -y.
+  const Eigen::Quaterniond t = handleRotation(Eigen::Vector3d::UnitZ(), 90);
+  CHECK((t * Eigen::Vector3d::UnitX() - Eigen::Vector3d(0, -1, 0)).norm() < kExact);
+  // Flat on the surface at +-90.
+  CHECK((penAxisFromTilt(90, 0) - Eigen::Vector3d::UnitX()).norm() < kExact);
+}
+
+TEST_CASE("import: placement, y flip and the lead-in hover", "[import]") {
+  const Recording rec =
+      readText("0 100 200 0.5\n0.1 196 200 0.5\n0.2 196 104 0\n", "r.dat", Format::kMyPaint);
+  MappingOptions o;
+  o.margin_mm = 5;
+  o.mm_per_unit = 0.5;
+  const Trajectory t = toTrajectory(rec, o);
+  // The first sample is down: a hover sample lead_s before it, at its place.
+  REQUIRE(t.samples.size() == 4);
+  CHECK(t.samples[0].t_s == 0);
+  CHECK(t.samples[0].depth_mm == -o.hover_mm);
+  CHECK(t.samples[1].t_s == Approx(o.lead_s).margin(kExact));
+  // x: (100 - 100) * 0.5 + 5; y flipped: (200 - 200) * 0.5 + 5 is the bottom.
+  CHECK(t.samples[1].pose.position_mm.x() == Approx(5).margin(kExact));
+  CHECK(t.samples[1].pose.position_mm.y() == Approx(5).margin(kExact));
+  CHECK(t.samples[3].pose.position_mm.y() == Approx(53).margin(kExact));  // screen top
+  CHECK(t.samples[3].buttons == 0);
+  CHECK(t.samples[1].buttons == 1);
+  o.flip_y = false;
+  CHECK(toTrajectory(rec, o).samples[3].pose.position_mm.y() == Approx(5).margin(kExact));
+  // The CSV reads back as a trajectory with depth_mm.
+  const Trajectory back = parseTrajectory(trajectoryCsv(t, {"a note"}), "out.csv");
+  CHECK(back.depth_column == 4);
+  CHECK(back.samples.size() == 4);
+  CHECK(back.samples[2].depth_mm == Approx(t.samples[2].depth_mm).margin(1e-6));
+}
+
+TEST_CASE("import: each pen-down run becomes a stroke trajectory", "[import]") {
+  const std::string path = source("scenes/recordings/painting30sec-excerpt.dat");
+  const Recording rec = readRecording(readTextFile(path), path, Format::kMyPaint);
+  const std::vector<Trajectory> strokes = toStrokeTrajectories(rec, MappingOptions{});
+  REQUIRE(strokes.size() == 2);
+  for (const Trajectory& t : strokes) {
+    CHECK(t.samples.front().buttons == 0);  // hovering before
+    CHECK(t.samples.back().buttons == 0);   // and after
+    CHECK(t.samples.front().t_s == 0);
+    for (std::size_t k = 1; k + 1 < t.samples.size(); ++k) CHECK(t.samples[k].buttons == 1);
+  }
+  // The first stroke: lines 52-140 with the pen-up events on either side.
+  CHECK(strokes[0].samples.size() == 89 + 2);
+  CHECK(strokes[0].samples.front().line == 51);
+  CHECK(strokes[0].samples.back().line == 141);
+  // The excerpt ends with the pen down: the hover after is made lead_s on.
+  CHECK(strokes[1].samples.back().line == 320);
+}
+
+TEST_CASE("import: lib2geom's arc length of a circle is 2 pi r", "[import][svg]") {
+  // A circle of radius 25 as two SVG arcs: lib2geom's elliptical arcs,
+  // measured by its curve lengths, against the closed form.
+  const std::string svg =
+      "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 100 100' width='100mm' "
+      "height='100mm'><path d='M 75 50 A 25 25 0 1 1 25 50 A 25 25 0 1 1 75 50'/></svg>";
+  // Length integrated to 1e-9 relative tolerance (pathLength): 1e-6 mm of
+  // 157 mm leaves room for the quadrature's error, and catches any mistake
+  // in the arcs (a wrong flag draws a different arc, mm off).
+  constexpr double kLengthTolMm = 1e-6;
+  const Geom::PathVector pv = Geom::parse_svg_path("M 75 50 A 25 25 0 1 1 25 50 A 25 25 0 1 1 75 50");
+  REQUIRE(pv.size() == 1);
+  CHECK(pathLength(pv[0]) == Approx(2 * M_PI * 25).margin(kLengthTolMm));
+  // Samples at equal arc length lie on the circle, 2 pi r / n apart along it:
+  // each chord is 2 r sin(pi / n). The arc-length parametrisation is fitted to
+  // 1e-6, so chords agree to 1e-4 mm.
+  constexpr double kChordTolMm = 1e-4;
+  const int n = 40;
+  const std::vector<Geom::Point> pts = samplePath(pv[0], n);
+  REQUIRE(pts.size() == n + 1);
+  for (int k = 1; k <= n; ++k) {
+    CHECK(Geom::distance(pts[k], Geom::Point(50, 50)) == Approx(25).margin(kChordTolMm));
+    CHECK(Geom::distance(pts[k - 1], pts[k]) ==
+          Approx(2 * 25 * std::sin(M_PI / n)).margin(kChordTolMm));
+  }
+  // Imported, the circle is drawn at the default 40 mm/s: 157 mm in 3.93 s.
+  const Recording rec = readRecording(svg, "c.svg", Format::kSvg);
+  CHECK(rec.mm_per_unit == Approx(1).epsilon(kExact));
+  double first_down = -1, last_down = -1;
+  for (const PenSample& s : rec.samples)
+    if (s.down) {
+      if (first_down < 0) first_down = s.t_s;
+      last_down = s.t_s;
+    }
+  CHECK(last_down - first_down == Approx(2 * M_PI * 25 / 40).margin(1e-6));
+}
+
+TEST_CASE("import: SVG transforms, units and pressure profiles", "[import][svg]") {
+  // rotate(90) about (10, 10), then translated: (20, 10) -> (10, 20) -> (15, 20).
+  const Geom::Affine m = parseTransform("translate(5 0) rotate(90 10 10)", "t.svg", "here");
+  const Geom::Point p = Geom::Point(20, 10) * m;
+  CHECK(p.x() == Approx(15).margin(kExact));
+  CHECK(p.y() == Approx(20).margin(kExact));
+  CHECK(lengthMm("210mm") == Approx(210).epsilon(kExact));
+  CHECK(lengthMm("2in") == Approx(50.8).epsilon(kExact));
+  CHECK(lengthMm("96") == Approx(25.4).epsilon(kExact));
+  CHECK(lengthMm("50%") == 0);
+  const std::vector<ProfilePoint> prof = parsePressureProfile("0:0.2 0.5:0.8 1:0.2", "s", "w");
+  CHECK(profilePressure(prof, 0.25) == Approx(0.5).margin(kExact));
+  CHECK(profilePressure(parsePressureProfile("0.3", "s", "w"), 0.9) == Approx(0.3));
+  const Error e = errorOf([] { parsePressureProfile("0:0.2 0.5:1.3", "s.svg", "<path> (line 3)"); });
+  CHECK_THAT(e.what(), Contains("s.svg: <path> (line 3): '0.5:1.3': the pressure must be in [0, 1]"));
+}
+
+TEST_CASE("import: the three-stroke SVG", "[import][svg]") {
+  const std::string path = source("scenes/recordings/three-strokes.svg");
+  const Recording rec = readRecording(readTextFile(path), path, Format::kSvg);
+  CHECK(rec.mm_per_unit == Approx(1).epsilon(kExact));
+  // The <rect> is reported, not drawn.
+  REQUIRE(rec.warnings.size() == 1);
+  CHECK_THAT(rec.warnings[0], Contains("skipped 1 <rect>"));
+  int runs = 0;
+  double stem_max_pressure = 0;
+  for (std::size_t k = 0; k < rec.samples.size(); ++k) {
+    const PenSample& s = rec.samples[k];
+    if (s.down && (k == 0 || !rec.samples[k - 1].down)) ++runs;
+    // The stem's transform moved it to x = 80, where its own profile applies.
+    if (s.down && std::fabs(s.x - 80) < 1e-6) stem_max_pressure = std::max(stem_max_pressure, s.pressure);
+  }
+  CHECK(runs == 3);
+  CHECK(stem_max_pressure == Approx(0.8).margin(1e-3));
+}
+
+TEST_CASE("import: SVGs with nothing to draw name the element", "[import][svg]") {
+  auto message = [](const std::string& svg) {
+    const Error e = errorOf([&] { readRecording(svg, "s.svg", Format::kSvg); });
+    CHECK(e.code() == ExitCode::kDataError);
+    return std::string(e.what());
+  };
+  CHECK(message("<svg xmlns='http://www.w3.org/2000/svg'>\n<rect width='5' height='5'/>\n"
+                "<circle r='3'/></svg>") ==
+        "s.svg: <rect> (line 2): no drawable path: bristle imports <path>, <polyline>, "
+        "<polygon> and <line>, and this SVG holds only elements it does not (1 <circle>, 1 "
+        "<rect>)");
+  CHECK(message("<svg xmlns='http://www.w3.org/2000/svg'><title>x</title></svg>") ==
+        "s.svg: <svg> (line 1): no drawable path: no <path>, <polyline>, <polygon> or <line> "
+        "of any length");
+  CHECK_THAT(message("<svg><path id='p' d='M 0 0 L 10'/></svg>"),
+             Contains("s.svg: <path id=\"p\"> (line 1): d: malformed path data"));
+  CHECK_THAT(message("<html><body/></html>"),
+             Contains("s.svg: <html> (line 1): the document element must be <svg>"));
+  CHECK_THAT(message("<svg><path d='M 0 0'"), Contains("s.svg: line 1: malformed XML"));
+  CHECK_THAT(message("<svg><polyline points='0,0 5'/></svg>"),
+             Contains("points: holds an odd count of numbers (3)"));
+}
