@@ -17,7 +17,7 @@
 #include "engine/brush_geometry.h"
 #include "engine/simulation.h"
 #include "engine/spine_solver.h"
-#include "engine/spine_strips.h"
+#include "engine/spine_bundles.h"
 
 namespace {
 

@@ -28,11 +28,11 @@ std::vector<float> pressedFootprint(int n) {
       if (rr >= 1) continue;
       float* p = &t[(static_cast<size_t>(r) * n + c) * 4];
       const double across = 0.5 * (x + 1), along = 0.5 * (y + 1);
-      // Thirds of the window: surface (u an angle), strips (u + 2), spine tubes (u + 4).
+      // Thirds of the window: surface (u an angle), strips, spine tubes.
       const int kind = (c * 3) / n;
-      p[0] = static_cast<float>(kind == 0 ? 0.5 * across
-                                : kind == 1 ? kStripTextureOffsetU + across
-                                            : kSpineTextureOffsetU + across);
+      p[0] = kind == 0   ? static_cast<float>(0.5 * across)
+             : kind == 1 ? encodeTextureU(BrushPart::kStrip, static_cast<float>(across))
+                         : encodeTextureU(BrushPart::kSpine, static_cast<float>(across));
       p[1] = static_cast<float>(0.6 + 0.4 * along);
       p[2] = static_cast<float>(0.8 * (1 - rr));  // mm: deepest in the middle
       p[3] = 1;

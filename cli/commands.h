@@ -51,7 +51,7 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   double px_per_mm = 8;
   double max_step_mm = 0.25;
   double min_rate_hz = 120;
-  double clip_mm = 0.1;
+  double contact_band_mm = 0.1;
   int solver_max_iterations = kDefaultSolverMaxIterations;  // also a scene's
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::vector<double> offset_mm;           // x, y, z added to every handle position
@@ -70,7 +70,7 @@ struct PreviewArgs {
   std::vector<double> offset_mm;
   int width_px = 800, height_px = 600;
   double px_per_mm = 8;
-  double clip_mm = 0.1;
+  double contact_band_mm = 0.1;
   bool quiet = false;
   std::string batch_key;  // --batch-key (hidden): from `bristle batch`
 };

@@ -202,6 +202,72 @@ std::string mmRange(const render::CanvasPlacement& p) {
          number(p.y0_mm) + ".." + number(p.y0_mm + p.height_px / p.px_per_mm) + " mm";
 }
 
+// --align canvas: checks that a and b share a scale and a pixel grid (65
+// otherwise), compares them over their overlap, and records the alignment in
+// the --json object.
+render::AlignedComparison compareOnCanvas(const CompareArgs& args, const render::Image16& a,
+                                          const render::CanvasPlacement& pa,
+                                          const render::Image16& b,
+                                          const render::CanvasPlacement& pb,
+                                          double pixel_threshold, nlohmann::json* j) {
+  const std::string both = args.a + " and " + args.b + ": --align canvas: ";
+  int dx = 0, dy = 0;
+  if (std::fabs(pa.px_per_mm - pb.px_per_mm) > 1e-6 * std::max(pa.px_per_mm, pb.px_per_mm))
+    throw Error(ExitCode::kDataError,
+                both + "the scales differ (" + number(pa.px_per_mm, 6) + " and " +
+                    number(pb.px_per_mm, 6) +
+                    " px/mm); render both at one --px-per-mm (no resampling is done)");
+  if (!render::canvasOffsetPx(pa, pb, &dx, &dy))
+    throw Error(ExitCode::kDataError,
+                both + "the canvases' pixel grids do not coincide (b's corner is not a whole "
+                       "number of pixels from a's)");
+  render::AlignedComparison aligned = render::compareAligned(a, pa, b, pb, pixel_threshold);
+  (*j)["align"] = {{"mode", "canvas"},
+                   {"a_canvas_mm", mmRange(pa)},
+                   {"b_canvas_mm", mmRange(pb)},
+                   {"px_per_mm", pa.px_per_mm},
+                   {"b_offset_px", {dx, dy}},
+                   {"overlap_x0_mm", aligned.overlap_x0_mm},
+                   {"overlap_y0_mm", aligned.overlap_y0_mm},
+                   {"overlap_width_px", aligned.overlap_width_px},
+                   {"overlap_height_px", aligned.overlap_height_px},
+                   {"ink_outside_a", aligned.ink_outside_a},
+                   {"ink_outside_b", aligned.ink_outside_b}};
+  return aligned;
+}
+
+// The measures, the checks and the verdict, for --json. `pixels` is the
+// image's count, or aligned, the overlap's plus the ink outside it
+// (percent_over's whole).
+void addResultJson(const ImageComparison& c, std::int64_t pixels,
+                   const std::vector<ToleranceCheck>& checks, bool pass, const std::string& diff,
+                   nlohmann::json* out) {
+  nlohmann::json& j = *out;
+  j["hash_a"] = hex64(c.hash_a);
+  j["hash_b"] = hex64(c.hash_b);
+  j["identical"] = c.identical;
+  j["max_abs"] = {{"r", c.max_abs[0]}, {"g", c.max_abs[1]}, {"b", c.max_abs[2]},
+                  {"a", c.max_abs[3]}};
+  j["pixel_threshold"] = c.pixel_threshold;
+  j["pixels"] = pixels;
+  j["pixels_differing"] = c.pixels_differing;
+  j["pixels_over"] = c.pixels_over;
+  j["percent_over"] = c.percent_over;
+  j["rmse"] = c.rmse;
+  // JSON has no infinity: identical images have no PSNR (null).
+  j["psnr_db"] = std::isinf(c.psnr_db) ? nlohmann::json() : nlohmann::json(c.psnr_db);
+  j["ssim"] = c.ssim;
+  j["ssim_window"] = c.ssim_window;
+  nlohmann::json list = nlohmann::json::array();
+  for (const ToleranceCheck& k : checks) {
+    list.push_back({{"metric", k.metric}, {"value", k.value}, {"limit", k.limit},
+                    {"must_be", k.at_most ? "<=" : ">="}, {"pass", k.pass}});
+  }
+  j["checks"] = list;
+  j["diff"] = diff.empty() ? nlohmann::json() : nlohmann::json(diff);
+  j["verdict"] = pass ? "pass" : "fail";
+}
+
 }  // namespace
 
 int runCompare(const CompareArgs& args) {
@@ -232,29 +298,7 @@ int runCompare(const CompareArgs& args) {
   if (args.align == "canvas") {
     pa = placementOf(args.a, ta, a);
     pb = placementOf(args.b, tb, b);
-    const std::string both = args.a + " and " + args.b + ": --align canvas: ";
-    int dx = 0, dy = 0;
-    if (std::fabs(pa.px_per_mm - pb.px_per_mm) > 1e-6 * std::max(pa.px_per_mm, pb.px_per_mm))
-      throw Error(ExitCode::kDataError,
-                  both + "the scales differ (" + number(pa.px_per_mm, 6) + " and " +
-                      number(pb.px_per_mm, 6) +
-                      " px/mm); render both at one --px-per-mm (no resampling is done)");
-    if (!render::canvasOffsetPx(pa, pb, &dx, &dy))
-      throw Error(ExitCode::kDataError,
-                  both + "the canvases' pixel grids do not coincide (b's corner is not a whole "
-                         "number of pixels from a's)");
-    aligned = render::compareAligned(a, pa, b, pb, tolerance.pixel_threshold);
-    j["align"] = {{"mode", "canvas"},
-                  {"a_canvas_mm", mmRange(pa)},
-                  {"b_canvas_mm", mmRange(pb)},
-                  {"px_per_mm", pa.px_per_mm},
-                  {"b_offset_px", {dx, dy}},
-                  {"overlap_x0_mm", aligned.overlap_x0_mm},
-                  {"overlap_y0_mm", aligned.overlap_y0_mm},
-                  {"overlap_width_px", aligned.overlap_width_px},
-                  {"overlap_height_px", aligned.overlap_height_px},
-                  {"ink_outside_a", aligned.ink_outside_a},
-                  {"ink_outside_b", aligned.ink_outside_b}};
+    aligned = compareOnCanvas(args, a, pa, b, pb, tolerance.pixel_threshold, &j);
     if (aligned.overlap_width_px == 0) {
       return incomparable("canvases do not overlap: " + args.a + " covers " + mmRange(pa) +
                           ", " + args.b + " covers " + mmRange(pb));
@@ -279,30 +323,8 @@ int runCompare(const CompareArgs& args) {
   }
 
   if (args.json) {
-    j["hash_a"] = hex64(c.hash_a);
-    j["hash_b"] = hex64(c.hash_b);
-    j["identical"] = c.identical;
-    j["max_abs"] = {{"r", c.max_abs[0]}, {"g", c.max_abs[1]}, {"b", c.max_abs[2]},
-                    {"a", c.max_abs[3]}};
-    j["pixel_threshold"] = c.pixel_threshold;
-    // Aligned: the overlap's pixels plus the ink outside it (percent_over's whole).
-    j["pixels"] = align ? aligned.pixels : std::int64_t(c.width) * c.height;
-    j["pixels_differing"] = c.pixels_differing;
-    j["pixels_over"] = c.pixels_over;
-    j["percent_over"] = c.percent_over;
-    j["rmse"] = c.rmse;
-    // JSON has no infinity: identical images have no PSNR (null).
-    j["psnr_db"] = std::isinf(c.psnr_db) ? nlohmann::json() : nlohmann::json(c.psnr_db);
-    j["ssim"] = c.ssim;
-    j["ssim_window"] = c.ssim_window;
-    nlohmann::json list = nlohmann::json::array();
-    for (const ToleranceCheck& k : checks) {
-      list.push_back({{"metric", k.metric}, {"value", k.value}, {"limit", k.limit},
-                      {"must_be", k.at_most ? "<=" : ">="}, {"pass", k.pass}});
-    }
-    j["checks"] = list;
-    j["diff"] = args.diff.empty() ? nlohmann::json() : nlohmann::json(args.diff);
-    j["verdict"] = pass ? "pass" : "fail";
+    addResultJson(c, align ? aligned.pixels : std::int64_t(c.width) * c.height, checks, pass,
+                  args.diff, &j);
     std::cout << j.dump(2) << "\n";
   } else {
     printHuman(args, c, tolerance, checks, pass, fa, fb, align ? &aligned : nullptr);

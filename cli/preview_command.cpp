@@ -19,10 +19,10 @@
 #include "engine/error.h"
 #include "engine/first_contact.h"
 #include "engine/simulation.h"
-#include "engine/solver_pair.h"
 #include "engine/trajectory.h"
 #include "render/png_io.h"
 #include "render/preview_renderer.h"
+#include "render/stroke_pipeline.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::cli {
@@ -37,15 +37,10 @@ int runPreview(const PreviewArgs& args) {
   // the same --px-per-mm, stepped as that render steps.
   render::StrokeOptions options;
   options.px_per_mm = args.px_per_mm;
-  options.clip_mm = args.clip_mm;
-  SolverPair solvers = makeSolverPair();
-  Simulation sim(brush, options.sim, std::move(solvers.primary), std::move(solvers.fallback));
-  double t_s = 0;
+  options.contact_band_mm = args.contact_band_mm;
+  BrushState st;
   if (args.trajectory.empty()) {
-    // At rest, held vertically with the tips 2 mm above the paper.
-    Pose rest;
-    rest.position_mm = Eigen::Vector3d(0, 0, brush.reachMm() + 2);
-    sim.reset(rest, 0);
+    st = render::strokeStateAt(brush, nullptr, options, 0);
   } else {
     Trajectory traj = resolveDepths(loadTrajectoryArg(args.trajectory, brush), brush);
     if (args.offset_mm.size() == 3 &&
@@ -64,10 +59,9 @@ int runPreview(const PreviewArgs& args) {
                                         std::to_string(traj.startTime()) + ", " +
                                         std::to_string(traj.endTime()) + "] s");
     // The render's last step at or before --at: a state the render painted.
-    render::stepAlongTrajectory(sim, traj, options, options.px_per_mm, {}, args.at_s);
-    t_s = sim.state().t_s;
+    st = render::strokeStateAt(brush, &traj, options, args.at_s);
   }
-  const BrushState& st = sim.state();
+  const double t_s = st.t_s;
 
   render::PreviewScene scene;
   geometry.buildSurface(st, &scene.surface);
@@ -84,7 +78,7 @@ int runPreview(const PreviewArgs& args) {
   grid.width_px = grid.height_px = static_cast<int>(std::ceil(2 * half_mm * grid.px_per_mm));
   render::StrokeRenderer footprints;
   render::FootprintImage fp;
-  if (footprints.footprint(geometry, st, grid, args.clip_mm, &fp)) scene.footprint = &fp;
+  if (footprints.footprint(geometry, st, grid, args.contact_band_mm, &fp)) scene.footprint = &fp;
 
   char title[256];
   std::snprintf(title, sizeof title, "%s: %zu spines%s%s, %s", brush.name.c_str(),

@@ -75,7 +75,7 @@ int runRender(const RenderArgs& args) {
   png.solver_max_iterations = args.solver_max_iterations;
   png.ipopt_options = args.ipopt_options;
   png.px_per_mm = args.px_per_mm;
-  png.clip_mm = args.clip_mm;
+  png.contact_band_mm = args.contact_band_mm;
   png.max_step_mm = args.max_step_mm;
   png.min_rate_hz = args.min_rate_hz;
   static_cast<PaintOptions&>(png) = args;
@@ -204,7 +204,7 @@ Subcommand registerRender(CLI::App& app) {
   render->add_option("--min-rate-hz", r->min_rate_hz, "Fewest simulation steps per second")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 10000.0));
-  render->add_option("--contact-band-mm", r->clip_mm,
+  render->add_option("--contact-band-mm", r->contact_band_mm,
                      "Brush geometry below this height touches the paper (mm)")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 2.0));

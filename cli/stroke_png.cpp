@@ -90,7 +90,7 @@ void checkStrokePngOptions(const StrokePngOptions& o) {
 render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
   render::StrokeOptions options;
   options.px_per_mm = o.px_per_mm;
-  options.clip_mm = o.clip_mm;
+  options.contact_band_mm = o.contact_band_mm;
   options.sim.max_step_mm = o.max_step_mm;
   options.sim.min_rate_hz = o.min_rate_hz;
   return options;

@@ -23,7 +23,7 @@ struct StrokePngOptions : PaintOptions {  // paint and paper, as `bristle render
   int solver_max_iterations = kDefaultSolverMaxIterations;
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   double px_per_mm = 8;
-  double clip_mm = 0.1;
+  double contact_band_mm = 0.1;
   double max_step_mm = 0.25;
   double min_rate_hz = 120;
   std::vector<std::string> inputs;  // files named in the PNG's provenance text

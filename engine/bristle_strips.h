@@ -25,8 +25,8 @@
 #include <vector>
 
 #include "engine/brush.h"
+#include "engine/brush_vertex.h"
 #include "engine/simulation.h"
-#include "engine/spine_strips.h"  // BrushVertex
 
 namespace bristle {
 

@@ -195,6 +195,62 @@ void parseStrips(const JsonObject& o, StripSpec* out) {
   o.rejectUnknownKeys();
 }
 
+void parseFriction(const JsonObject& f, FrictionSpec* out) {
+  FrictionSpec& fr = *out;
+  fr.mu_static = f.number("mu_static");
+  f.require(fr.mu_static >= 0 && fr.mu_static <= kMaxFriction, "mu_static", "must be in [0, 2]");
+  fr.mu_kinetic = f.number("mu_kinetic", fr.mu_static);
+  f.require(fr.mu_kinetic >= 0 && fr.mu_kinetic <= kMaxFriction, "mu_kinetic",
+            "must be in [0, 2]");
+  f.require(fr.mu_kinetic <= fr.mu_static, "mu_kinetic", "must not exceed mu_static");
+  if (f.has("anisotropy")) {
+    const JsonObject a = f.object("anisotropy");
+    fr.anisotropy_strength = a.number("strength");
+    a.require(fr.anisotropy_strength >= 0 && fr.anisotropy_strength <= 1, "strength",
+              "must be in [0, 1] (C_eta, paper eq. 14)");
+    fr.anisotropy_exponent = a.number("exponent", 2.0);
+    a.require(fr.anisotropy_exponent >= 1, "exponent", "must be >= 1 (k, paper eq. 14)");
+    a.rejectUnknownKeys();
+  }
+  f.rejectUnknownKeys();
+}
+
+// Strips are interpolated between spine roots (§4.2.2): the roots must span
+// at least a line.
+void requireRootSpread(const JsonObject& top, const std::vector<SpineSpec>& spines) {
+  double spread = 0;
+  for (const SpineSpec& sp : spines)
+    spread = std::max(spread, (sp.root_mm - spines[0].root_mm).head<2>().norm());
+  top.require(spread > kMinRootSpreadMm, "strips",
+              "need spine roots spread over at least 0.01 mm in x-y to place strips between "
+              "(all roots are in one point)");
+}
+
+void parseVolume(const JsonObject& v, VolumeSpec* out) {
+  VolumeSpec& vol = *out;
+  vol.min_separation = v.number("min_separation");
+  v.require(vol.min_separation > 0 && vol.min_separation < 1, "min_separation",
+            "must be in (0, 1): a fraction of the spines' spacing at rest (at 1 or more "
+            "the hairs would push each other apart at rest)");
+  vol.stiffness_n_per_mm = v.number("stiffness_n_per_mm", vol.stiffness_n_per_mm);
+  v.require(vol.stiffness_n_per_mm > 0 && vol.stiffness_n_per_mm <= 1000,
+            "stiffness_n_per_mm", "must be in (0, 1000] N/mm");
+  if (v.has("max_separation")) {
+    vol.max_separation = v.number("max_separation");
+    v.require(vol.max_separation > 1 && vol.max_separation <= 100, "max_separation",
+              "must be in (1, 100]: a multiple of the spines' spacing at rest (at 1 or less "
+              "the hairs would pull each other together at rest)");
+  }
+  vol.cohesion_n_per_mm = v.number("cohesion_n_per_mm", vol.cohesion_n_per_mm);
+  v.require(vol.cohesion_n_per_mm > 0 && vol.cohesion_n_per_mm <= 1000, "cohesion_n_per_mm",
+            "must be in (0, 1000] N/mm");
+  vol.tip_spread = v.number("tip_spread", vol.tip_spread);
+  v.require(vol.tip_spread >= 0 && vol.tip_spread <= 1, "tip_spread",
+            "must be in [0, 1]: 0 holds each joint to its own spacing at rest, 1 to the "
+            "widest");
+  v.rejectUnknownKeys();
+}
+
 }  // namespace
 
 double SpineSpec::lengthMm() const {
@@ -254,66 +310,15 @@ Brush parseBrush(const std::string& text, const std::string& path,
     if (problems && problems->size() != before) spines_ok = false;
   }
 
-  if (top.has("friction")) part([&] {
-    const JsonObject f = top.object("friction");
-    FrictionSpec& fr = b.friction;
-    fr.mu_static = f.number("mu_static");
-    f.require(fr.mu_static >= 0 && fr.mu_static <= kMaxFriction, "mu_static", "must be in [0, 2]");
-    fr.mu_kinetic = f.number("mu_kinetic", fr.mu_static);
-    f.require(fr.mu_kinetic >= 0 && fr.mu_kinetic <= kMaxFriction, "mu_kinetic",
-              "must be in [0, 2]");
-    f.require(fr.mu_kinetic <= fr.mu_static, "mu_kinetic", "must not exceed mu_static");
-    if (f.has("anisotropy")) {
-      const JsonObject a = f.object("anisotropy");
-      fr.anisotropy_strength = a.number("strength");
-      a.require(fr.anisotropy_strength >= 0 && fr.anisotropy_strength <= 1, "strength",
-                "must be in [0, 1] (C_eta, paper eq. 14)");
-      fr.anisotropy_exponent = a.number("exponent", 2.0);
-      a.require(fr.anisotropy_exponent >= 1, "exponent", "must be >= 1 (k, paper eq. 14)");
-      a.rejectUnknownKeys();
-    }
-    f.rejectUnknownKeys();
-  });
+  if (top.has("friction")) part([&] { parseFriction(top.object("friction"), &b.friction); });
   // The geometry refers to the spines: it is only checked against sound ones.
   if (top.has("surface") && spines_ok)
     part([&] { parseSurface(top.object("surface"), b.spines, &b.surface); });
   if (top.has("strips")) part([&] {
     parseStrips(top.object("strips"), &b.strips);
-    if (!spines_ok) return;
-    // Strips are interpolated between spine roots (§4.2.2): the roots must span
-    // at least a line.
-    double spread = 0;
-    for (const SpineSpec& sp : b.spines)
-      spread = std::max(spread, (sp.root_mm - b.spines[0].root_mm).head<2>().norm());
-    top.require(spread > kMinRootSpreadMm, "strips",
-                "need spine roots spread over at least 0.01 mm in x-y to place strips between "
-                "(all roots are in one point)");
+    if (spines_ok) requireRootSpread(top, b.spines);
   });
-  if (top.has("volume")) part([&] {
-    const JsonObject v = top.object("volume");
-    VolumeSpec& vol = b.volume;
-    vol.min_separation = v.number("min_separation");
-    v.require(vol.min_separation > 0 && vol.min_separation < 1, "min_separation",
-              "must be in (0, 1): a fraction of the spines' spacing at rest (at 1 or more "
-              "the hairs would push each other apart at rest)");
-    vol.stiffness_n_per_mm = v.number("stiffness_n_per_mm", vol.stiffness_n_per_mm);
-    v.require(vol.stiffness_n_per_mm > 0 && vol.stiffness_n_per_mm <= 1000,
-              "stiffness_n_per_mm", "must be in (0, 1000] N/mm");
-    if (v.has("max_separation")) {
-      vol.max_separation = v.number("max_separation");
-      v.require(vol.max_separation > 1 && vol.max_separation <= 100, "max_separation",
-                "must be in (1, 100]: a multiple of the spines' spacing at rest (at 1 or less "
-                "the hairs would pull each other together at rest)");
-    }
-    vol.cohesion_n_per_mm = v.number("cohesion_n_per_mm", vol.cohesion_n_per_mm);
-    v.require(vol.cohesion_n_per_mm > 0 && vol.cohesion_n_per_mm <= 1000, "cohesion_n_per_mm",
-              "must be in (0, 1000] N/mm");
-    vol.tip_spread = v.number("tip_spread", vol.tip_spread);
-    v.require(vol.tip_spread >= 0 && vol.tip_spread <= 1, "tip_spread",
-              "must be in [0, 1]: 0 holds each joint to its own spacing at rest, 1 to the "
-              "widest");
-    v.rejectUnknownKeys();
-  });
+  if (top.has("volume")) part([&] { parseVolume(top.object("volume"), &b.volume); });
   if (top.has("paint")) part([&] {
     const JsonObject p = top.object("paint");
     b.paint_capacity = p.number("capacity", 1.0);
@@ -325,7 +330,6 @@ Brush parseBrush(const std::string& text, const std::string& path,
   part([&] { top.rejectUnknownKeys(); });
   return b;
 }
-
 Brush loadBrush(const std::string& path) { return parseBrush(readTextFile(path), path); }
 
 std::vector<std::string> checkBrush(const std::string& path) {

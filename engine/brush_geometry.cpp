@@ -30,14 +30,18 @@ void BrushGeometry::buildSpineTubes(const BrushState& state,
   // approximating surface (§4.1) rounds off inside them, at a splayed tip.
   const size_t first = triangles->size();
   buildSpineGeometry(*brush_, state, triangles);
-  for (size_t i = first; i < triangles->size(); ++i) (*triangles)[i].u += kSpineTextureOffsetU;
+  for (size_t i = first; i < triangles->size(); ++i) {
+    (*triangles)[i].u = encodeTextureU(BrushPart::kSpine, (*triangles)[i].u);
+  }
 }
 
 void BrushGeometry::buildStrips(const BrushState& state, std::vector<BrushVertex>* triangles) {
   if (!strips_) return;
   const size_t first = triangles->size();
   bristle::buildStrips(*brush_, *strips_, state, triangles);
-  for (size_t i = first; i < triangles->size(); ++i) (*triangles)[i].u += kStripTextureOffsetU;
+  for (size_t i = first; i < triangles->size(); ++i) {
+    (*triangles)[i].u = encodeTextureU(BrushPart::kStrip, (*triangles)[i].u);
+  }
 }
 
 void BrushGeometry::build(const BrushState& state, std::vector<BrushVertex>* triangles) {

@@ -2,29 +2,25 @@
 // The brush head's geometry for one step (paper §4): the skinned Catmull-Clark
 // surface (§4.1) and/or the interpolated bristle strips (§4.2), plus the
 // simulated spines themselves, each dressed in a half tube of its width
-// (engine/spine_strips.h).
+// (engine/spine_bundles.h).
 // Built once per brush; build() per step appends triangles in world mm.
 //
-// Texture coordinates tell the two apart for paint transfer: the surface's
-// (u, v) lie in [0, 1] x [0, 1] (u may run a little past 1 across its seam);
-// strips use u + 2, so u >= 2 means "strip texture, row u - 2" (§4.2.1: one
-// texture row per strip); the spines' own half tubes use u + 4 (u >= 4: spine
-// (u - 4) * spines), so the paint model (engine/paint.h) can tell all three apart.
+// Each part's vertices carry its BrushPart in their texture coordinate u
+// (engine/brush_vertex.h), so the paint model (engine/paint.h) can tell the
+// surface, the strips (§4.2.1: one texture row per strip) and the spines' own
+// half tubes apart.
 
 #include <memory>
 #include <vector>
 
 #include "engine/brush.h"
 #include "engine/simulation.h"
-#include "engine/spine_strips.h"
+#include "engine/brush_vertex.h"
 
 namespace bristle {
 
 class BrushSurface;
 struct StripLayout;
-
-inline constexpr float kStripTextureOffsetU = 2.0f;
-inline constexpr float kSpineTextureOffsetU = 4.0f;
 
 class BrushGeometry {
  public:

@@ -6,8 +6,8 @@
 
 #include "engine/brush_surface.h"
 #include "engine/error.h"
+#include "engine/spine_bundles.h"
 #include "engine/spine_kinematics.h"
-#include "engine/spine_strips.h"
 
 namespace bristle {
 

@@ -440,51 +440,67 @@ double compoundFraction(double fraction, double exposure) {
   return -std::expm1(exposure * std::log1p(-f));  // 1 - (1 - f)^exposure, exact near 0
 }
 
-TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& canvas,
-                       const TransferParams& params) {
-  struct Touch {
-    std::uint32_t pixel;
-    std::uint16_t texel;
-    float contact, deposit;
-  };
-  // Per-step scratch, reused (the engine runs on one thread per canvas).
-  thread_local std::vector<Touch> tl_touches;
-  thread_local std::vector<double> tl_demand, tl_out_sum, tl_in_sum;
-  thread_local std::vector<std::array<float, 6>> tl_in_optics;
-  // Plain references: no thread-local lookup inside the pixel loops.
-  std::vector<Touch>& touches = tl_touches;
-  std::vector<double>&demand = tl_demand, &out_sum = tl_out_sum, &in_sum = tl_in_sum;
-  std::vector<std::array<float, 6>>& in_optics = tl_in_optics;
-  constexpr int T = BrushTexelMap::kTexels;
-  touches.clear();
-  demand.assign(T, 0.0);
-  out_sum.assign(T, 0.0);
-  in_sum.assign(T, 0.0);
-  in_optics.assign(T, {0, 0, 0, 0, 0, 0});
-  touches.reserve(static_cast<size_t>(fp.width) * fp.height);
+namespace {
 
+constexpr int kTexels = BrushTexelMap::kTexels;
+
+// A pixel a texel of the brush touches in one step, and how hard: contact
+// sets the pickup, deposit (contact gated by dryness, scaled by the hair's
+// noise) the paint laid down.
+struct Touch {
+  std::uint32_t pixel;
+  std::uint16_t texel;
+  float contact, deposit;
+};
+
+// Per-step working arrays, reused from step to step (the engine runs on one
+// thread per canvas), so a step allocates nothing once warm.
+struct TransferScratch {
+  std::vector<Touch> touches;
+  std::vector<double> demand;    // per texel: the sum of its touches' deposit weights
+  std::vector<double> out_sum;   // per texel: paint given to the canvas (mm^3)
+  std::vector<double> in_sum;    // per texel: paint picked up (mm^3)
+  std::vector<std::array<float, 6>> in_optics;  // per texel: volume-weighted K and S picked up
+
+  void reset(size_t pixels) {
+    touches.clear();
+    demand.assign(kTexels, 0.0);
+    out_sum.assign(kTexels, 0.0);
+    in_sum.assign(kTexels, 0.0);
+    in_optics.assign(kTexels, {0, 0, 0, 0, 0, 0});
+    touches.reserve(pixels);
+  }
+};
+
+// Per texel: how far it has run dry (0 at dry_load or more, 1 empty).
+std::array<float, kTexels> texelDryness(const BrushPaint& brush, const TransferParams& params) {
+  std::array<float, kTexels> dryness;
+  const double texel_area = brush.map().texelAreaMm2();
+  const double full_film = std::max(brush.fullFilmMm(), 1e-12);
+  for (int t = 0; t < kTexels; ++t) {
+    const double load = brush.cell(t).volume_mm3 / texel_area / full_film;
+    dryness[t] = static_cast<float>(std::clamp(1 - load / params.dry_load, 0.0, 1.0));
+  }
+  return dryness;
+}
+
+// Stage 1 of transfer: who touches what, and how hard. Fills scratch.touches
+// and scratch.demand; returns the number of touching pixels.
+int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintCanvas& canvas,
+                  const TransferParams& params, const std::array<float, kTexels>& dryness,
+                  TransferScratch& scratch) {
+  std::vector<Touch>& touches = scratch.touches;
+  std::vector<double>& demand = scratch.demand;
   const CanvasGrid& g = canvas.grid();
   const BrushTexelMap& map = brush.map();
-  const double area_px = canvas.pixelAreaMm2();
-  const double texel_area = map.texelAreaMm2();
   const float tooth_depth = static_cast<float>(canvas.paper().tooth_depth_mm);
   const float bridging = static_cast<float>(std::max(params.hair_bridging, 1.0));
   const float valley_reach = tooth_depth * bridging;
   const float inv_scale = static_cast<float>(1.0 / canvas.paper().tooth_scale_mm);
-  const float inv_clip = static_cast<float>(1.0 / params.clip_mm);
+  const float inv_band = static_cast<float>(1.0 / fp.contact_band_mm);
   const float streaks = static_cast<float>(std::clamp(params.hair_streaks, 0.0, 2.0));
   const float dry_threshold = static_cast<float>(params.dry_threshold);
-
-  // Per texel: how far it has run dry (0 at dry_load or more, 1 empty).
-  std::array<float, T> dryness;
-  const double full_film = std::max(brush.fullFilmMm(), 1e-12);
-  for (int t = 0; t < T; ++t) {
-    const double load = brush.cell(t).volume_mm3 / texel_area / full_film;
-    dryness[t] = static_cast<float>(std::clamp(1 - load / params.dry_load, 0.0, 1.0));
-  }
-
-  // 1. Who touches what, and how hard.
-  TransferStats stats;
+  int contact_px = 0;
   for (int r = 0; r < fp.height; ++r) {
     const int row = fp.row0 + r;
     if (row < 0 || row >= g.height_px) continue;
@@ -507,7 +523,7 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
           strip_w > 0 ? tooth_depth * (1 + (bridging - 1) * std::min(1.0f, strip_w * inv_scale))
                       : valley_reach;
       const float x =
-          std::clamp((px[2] - reach * (1 - canvas.tooth(i))) * inv_clip, 0.0f, 1.0f);
+          std::clamp((px[2] - reach * (1 - canvas.tooth(i))) * inv_band, 0.0f, 1.0f);
       // A hair finer than the pixel touches only its share of it (px[3] < 1).
       const float contact = x * (2 - x) * std::min(px[3], 1.0f);
       if (contact <= 0) continue;
@@ -527,110 +543,134 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
       touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), contact,
                          dep});
       demand[t] += dep;
-      ++stats.contact_px;
+      ++contact_px;
     }
   }
+  return contact_px;
+}
 
-  // 2. Deposit and pickup per pixel, from the texels' paint at the start of the step.
-  // Rates are per reference step of contact (TransferParams::exposure): an
-  // amount per step scales with the exposure, a fraction taken per step
-  // compounds as 1 - (1 - f)^exposure.
-  const double exposure = std::max(params.exposure, 0.0);
+// Stage 2: deposit and pickup per pixel, from the texels' paint at the start
+// of the step. Rates are per reference step of contact
+// (TransferParams::exposure): an amount per step scales with the exposure, a
+// fraction taken per step compounds as 1 - (1 - f)^exposure. Sums what each
+// texel gave and took up in scratch.out_sum, in_sum and in_optics.
+void depositAndPickUp(const BrushPaint& brush, PaintCanvas& canvas, const TransferParams& params,
+                      double exposure, TransferScratch& scratch) {
+  const double area_px = canvas.pixelAreaMm2();
+  const double full_film = std::max(brush.fullFilmMm(), 1e-12);
   const double rate = params.deposit_rate * exposure * brush.flow();
   const double max_out = compoundFraction(params.max_out_fraction, exposure);
-  std::array<float, T> per_pixel;  // deposit per unit of `deposit` contact (mm^3)
-  for (int t = 0; t < T; ++t) {
+  std::array<float, kTexels> per_pixel;  // deposit per unit of `deposit` contact (mm^3)
+  for (int t = 0; t < kTexels; ++t) {
     const double v = brush.cell(t).volume_mm3;
     // The paper takes paint at a rate set by the paint, not by how much the hairs
     // hold: a fixed share of a full load's film per step, as long as the texel
     // has it. So a lightly loaded brush runs out sooner, not thinner.
     const double want = rate * full_film * area_px;
-    const double total = want * demand[t];
+    const double total = want * scratch.demand[t];
     const double cap = max_out * v;
     per_pixel[t] = static_cast<float>(total > cap && total > 0 ? want * cap / total : want);
   }
   const float pickup = static_cast<float>(compoundFraction(params.pickup_rate, exposure));
-  for (const Touch& h : touches) {
+  for (const Touch& h : scratch.touches) {
     PaintCell& px = canvas.wet(h.pixel);
     const PaintCell& tex = brush.cell(h.texel);
     const float out = per_pixel[h.texel] * h.deposit;
     const float in = pickup * h.contact * px.volume_mm3;
     if (in > 0) {
-      in_sum[h.texel] += in;
+      scratch.in_sum[h.texel] += in;
       // Optics sums in float: they set a colour, not a volume (1e-7 is invisible).
-      std::array<float, 6>& acc = in_optics[h.texel];
+      std::array<float, 6>& acc = scratch.in_optics[h.texel];
       for (int k = 0; k < 3; ++k) {
         acc[k] += in * px.optics.k[k];
         acc[3 + k] += in * px.optics.s[k];
       }
     }
-    out_sum[h.texel] += out;
+    scratch.out_sum[h.texel] += out;
     mixInto(px, px.volume_mm3 - in, tex.optics, out);
   }
+}
 
-  // 3. The brush texture: what it gave away and what it picked up.
-  for (int t = 0; t < T; ++t) {
-    if (out_sum[t] == 0 && in_sum[t] == 0) continue;
+// Stage 3: the brush texture loses what it gave and mixes in what it picked up.
+void settleTexels(BrushPaint& brush, const TransferScratch& scratch, TransferStats* stats) {
+  for (int t = 0; t < kTexels; ++t) {
+    if (scratch.out_sum[t] == 0 && scratch.in_sum[t] == 0) continue;
     PaintCell& cell = brush.cell(t);
     Optics picked;
-    if (in_sum[t] > 0)
+    if (scratch.in_sum[t] > 0)
       for (int k = 0; k < 3; ++k) {
-        picked.k[k] = static_cast<float>(in_optics[t][k] / in_sum[t]);
-        picked.s[k] = static_cast<float>(in_optics[t][3 + k] / in_sum[t]);
+        picked.k[k] = static_cast<float>(scratch.in_optics[t][k] / scratch.in_sum[t]);
+        picked.s[k] = static_cast<float>(scratch.in_optics[t][3 + k] / scratch.in_sum[t]);
       }
-    mixInto(cell, static_cast<float>(cell.volume_mm3 - out_sum[t]), picked,
-            static_cast<float>(in_sum[t]));
-    stats.deposited_mm3 += out_sum[t];
-    stats.picked_up_mm3 += in_sum[t];
+    mixInto(cell, static_cast<float>(cell.volume_mm3 - scratch.out_sum[t]), picked,
+            static_cast<float>(scratch.in_sum[t]));
+    stats->deposited_mm3 += scratch.out_sum[t];
+    stats->picked_up_mm3 += scratch.in_sum[t];
   }
+}
 
-  // 4. Reservoir: within each column (one lateral position of the hair bundle)
-  // paint flows from texels holding more than the column's mean towards those
-  // holding less, a fraction reservoir_flow of the difference per step. The
-  // givers' paint is pooled, so the receivers get the givers' mixture.
-  const double flow = compoundFraction(params.reservoir_flow, exposure);
-  if (flow > 0) {
-    constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
-    const float phi = static_cast<float>(flow);
-    for (int col = 0; col < C; ++col) {
-      double mean = 0;
-      for (int row = 0; row < R; ++row) mean += brush.cell(row * C + col).volume_mm3;
-      mean /= R;
-      double pool = 0, pool_k[3] = {0, 0, 0}, pool_s[3] = {0, 0, 0}, want = 0;
-      for (int row = 0; row < R; ++row) {
-        PaintCell& cell = brush.cell(row * C + col);
-        const double excess = cell.volume_mm3 - mean;
-        if (excess > 0) {
-          const float give = static_cast<float>(phi * excess);
-          cell.volume_mm3 -= give;
-          pool += give;
-          for (int k = 0; k < 3; ++k) {
-            pool_k[k] += double(give) * cell.optics.k[k];
-            pool_s[k] += double(give) * cell.optics.s[k];
-          }
-        } else {
-          want += phi * -excess;
+// Stage 4, the reservoir: within each column (one lateral position of the
+// hair bundle) paint flows from texels holding more than the column's mean
+// towards those holding less, a fraction `flow` of the difference. The givers'
+// paint is pooled, so the receivers get the givers' mixture.
+void flowWithinColumns(BrushPaint& brush, double flow) {
+  constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
+  const float phi = static_cast<float>(flow);
+  for (int col = 0; col < C; ++col) {
+    double mean = 0;
+    for (int row = 0; row < R; ++row) mean += brush.cell(row * C + col).volume_mm3;
+    mean /= R;
+    double pool = 0, pool_k[3] = {0, 0, 0}, pool_s[3] = {0, 0, 0}, want = 0;
+    for (int row = 0; row < R; ++row) {
+      PaintCell& cell = brush.cell(row * C + col);
+      const double excess = cell.volume_mm3 - mean;
+      if (excess > 0) {
+        const float give = static_cast<float>(phi * excess);
+        cell.volume_mm3 -= give;
+        pool += give;
+        for (int k = 0; k < 3; ++k) {
+          pool_k[k] += double(give) * cell.optics.k[k];
+          pool_s[k] += double(give) * cell.optics.s[k];
         }
-      }
-      if (pool <= 0 || want <= 0) continue;
-      Optics pooled;
-      for (int k = 0; k < 3; ++k) {
-        pooled.k[k] = static_cast<float>(pool_k[k] / pool);
-        pooled.s[k] = static_cast<float>(pool_s[k] / pool);
-      }
-      // Receivers share the pool in proportion to their shortfall (pool == want up to
-      // rounding; scaling by pool / want keeps the sum exact).
-      const double scale = pool / want;
-      for (int row = 0; row < R; ++row) {
-        PaintCell& cell = brush.cell(row * C + col);
-        // Only texels that were below the mean before the givers gave (a giver
-        // ends at or above the mean, so "below the mean" still picks them).
-        if (cell.volume_mm3 >= mean) continue;
-        const float take = static_cast<float>(phi * (mean - cell.volume_mm3) * scale);
-        mixInto(cell, cell.volume_mm3, pooled, take);
+      } else {
+        want += phi * -excess;
       }
     }
+    if (pool <= 0 || want <= 0) continue;
+    Optics pooled;
+    for (int k = 0; k < 3; ++k) {
+      pooled.k[k] = static_cast<float>(pool_k[k] / pool);
+      pooled.s[k] = static_cast<float>(pool_s[k] / pool);
+    }
+    // Receivers share the pool in proportion to their shortfall (pool == want up to
+    // rounding; scaling by pool / want keeps the sum exact).
+    const double scale = pool / want;
+    for (int row = 0; row < R; ++row) {
+      PaintCell& cell = brush.cell(row * C + col);
+      // Only texels that were below the mean before the givers gave (a giver
+      // ends at or above the mean, so "below the mean" still picks them).
+      if (cell.volume_mm3 >= mean) continue;
+      const float take = static_cast<float>(phi * (mean - cell.volume_mm3) * scale);
+      mixInto(cell, cell.volume_mm3, pooled, take);
+    }
   }
+}
+
+}  // namespace
+
+TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& canvas,
+                       const TransferParams& params) {
+  thread_local TransferScratch tl_scratch;
+  TransferScratch& scratch = tl_scratch;  // no thread-local lookup inside the loops
+  scratch.reset(static_cast<size_t>(fp.width) * fp.height);
+  const std::array<float, kTexels> dryness = texelDryness(brush, params);
+  TransferStats stats;
+  stats.contact_px = gatherTouches(fp, brush, canvas, params, dryness, scratch);
+  const double exposure = std::max(params.exposure, 0.0);
+  depositAndPickUp(brush, canvas, params, exposure, scratch);
+  settleTexels(brush, scratch, &stats);
+  const double flow = compoundFraction(params.reservoir_flow, exposure);
+  if (flow > 0) flowWithinColumns(brush, flow);
   return stats;
 }
 

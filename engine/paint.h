@@ -21,9 +21,9 @@
 #include <vector>
 
 #include "engine/brush.h"
+#include "engine/brush_vertex.h"  // BrushPart in the texture coordinate u
 #include "engine/canvas.h"
 #include "engine/paint_spec.h"
-#include "engine/brush_geometry.h"  // texture offsets of the geometry parts
 #include "engine/pigments.h"
 
 namespace bristle {
@@ -41,7 +41,7 @@ struct PaintCell {
 // (a loaded 12 x 16 mm flat then holds ~0.07 ml, a painter's "full load").
 inline constexpr double kFullLoadFilmMm = 0.3;
 
-// Where brush geometry texture coordinates (engine/brush_geometry.h) land on
+// Where brush geometry texture coordinates (engine/brush_vertex.h) land on
 // the brush's paint texture. The texture is kColumns x kRows texels over
 // (w, v) in [0, 1]^2: w across the brush's width axis (the brush frame's x,
 // 0 at its -x edge, 1 at its +x edge), v along the hairs (0 at the ferrule,
@@ -66,7 +66,7 @@ class BrushTexelMap {
   // over-states how far along it a point is: the width given is at most the
   // true one's taper ahead, i.e. never narrower than the strip.
   float stripWidthMm(float u, float v) const {
-    if (u < kStripTextureOffsetU || u >= kSpineTextureOffsetU || strips_ == 0) return 0;
+    if (partOfTextureU(u) != BrushPart::kStrip || strips_ == 0) return 0;
     return strip_root_width_mm_ +
            (strip_tip_width_mm_ - strip_root_width_mm_) * std::clamp(v, 0.0f, 1.0f);
   }
@@ -111,17 +111,17 @@ class BrushTexelMap {
 
 // Inline: called once per touching pixel per step.
 inline float BrushTexelMap::across(float u, float v) const {
-  if (u >= kSpineTextureOffsetU) {
+  const BrushPart part = partOfTextureU(u);
+  if (part == BrushPart::kSpine) {
     if (spines_ == 0) return 0.5f;
-    const float su = (u - kSpineTextureOffsetU) * spines_;
+    const float su = ownTextureU(part, u) * spines_;
     const int s = std::clamp(static_cast<int>(su), 0, spines_ - 1);
-    // Across the tube, from its -x side to its +x side (engine/spine_strips.h).
+    // Across the tube, from its -x side to its +x side (engine/spine_bundles.h).
     return std::clamp(spine_w_[s] + (su - s - 0.5f) * spine_dw_[s], 0.0f, 1.0f);
   }
-  if (u >= kStripTextureOffsetU) {
+  if (part == BrushPart::kStrip) {
     if (strips_ == 0) return 0.5f;
-    const int k = std::clamp(static_cast<int>((u - kStripTextureOffsetU) * strips_), 0,
-                             strips_ - 1);
+    const int k = std::clamp(static_cast<int>(ownTextureU(part, u) * strips_), 0, strips_ - 1);
     return strip_w_[k];
   }
   const float uw = u - std::floor(u);
@@ -131,16 +131,16 @@ inline float BrushTexelMap::across(float u, float v) const {
 }
 
 inline float BrushTexelMap::hairNoise(float u, float v) const {
-  if (u >= kSpineTextureOffsetU) {
+  const BrushPart part = partOfTextureU(u);
+  if (part == BrushPart::kSpine) {
     if (hair_across_.empty()) return 0.5f;
     const float w = across(u, v);
     const size_t n = hair_across_.size() - 1;
     return hair_across_[std::min(n, static_cast<size_t>(w * n + 0.5f))];
   }
-  if (u >= kStripTextureOffsetU) {
+  if (part == BrushPart::kStrip) {
     if (strip_hair_.empty()) return 0.5f;
-    const int k = std::clamp(static_cast<int>((u - kStripTextureOffsetU) * strips_), 0,
-                             strips_ - 1);
+    const int k = std::clamp(static_cast<int>(ownTextureU(part, u) * strips_), 0, strips_ - 1);
     return strip_hair_[k];
   }
   if (hair_around_.empty()) return 0.5f;
@@ -254,11 +254,13 @@ struct FootprintView {
   int col0 = 0, row0 = 0;
   int width = 0, height = 0;
   const float* texels = nullptr;
+  // The contact band (mm) the footprint was rendered with: depth_mm runs from
+  // 0 at the band's top to contact_band_mm at the canvas, and brush geometry
+  // that reaches the canvas presses fully.
+  double contact_band_mm = 0.1;
 };
 
 struct TransferParams {
-  // The contact band (mm): brush geometry this far into the band presses fully.
-  double clip_mm = 0.1;
   // Pressing (footprint depth, mm) it takes for hairs to reach the floor of the
   // paper's grain, in units of the grain's depth. A hair spans several grain
   // features (tooth_scale ~ 0.4 mm against hairs ~0.1 mm thick and far longer)

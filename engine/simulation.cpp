@@ -321,16 +321,40 @@ const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int 
 const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   const int ns = static_cast<int>(brush_.spines.size());
   std::vector<SpineSolution> trial(ns);
-  std::vector<int> which;
   std::vector<std::vector<bool>> sliding(ns);
 
   for (int s = 0; s < ns; ++s) buildProblem(s, handle);
+  const std::vector<int> which = startSpines(handle, &trial, &sliding);
+  if (!which.empty()) {
+    ++stats_.solved_steps;
+    const std::vector<SpineSolution> start = trial;
+    solveSpines(which, &trial);
+    correctContactSet(handle, which, start, &trial, &sliding);
+  }
+
+  const bool step_failed = commitSpines(which, &trial, sliding);
+  if (step_failed) ++stats_.failed_steps;
+  failed_run_ = step_failed ? failed_run_ + 1 : 0;
+  stats_.longest_failed_run = std::max(stats_.longest_failed_run, failed_run_);
+
+  state_.handle = handle;
+  state_.t_s = t_s;
+  ++state_.step;
+  ++stats_.steps;
+  sumCanvasForce();
+  return state_;
+}
+
+std::vector<int> Simulation::startSpines(const Pose& handle, std::vector<SpineSolution>* trial,
+                                         std::vector<std::vector<bool>>* sliding) {
+  const int ns = static_cast<int>(brush_.spines.size());
+  std::vector<int> which;
   for (int s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush_.spines[s];
     const SpineState& prev = state_.spines[s];
-    sliding[s] = prev.sliding;
-    trial[s] = prev.solution;
-    std::fill(trial[s].q.begin(), trial[s].q.end(), 0.0);  // the re-based start
+    (*sliding)[s] = prev.sliding;
+    (*trial)[s] = prev.solution;
+    std::fill((*trial)[s].q.begin(), (*trial)[s].q.end(), 0.0);  // the re-based start
     // Step 2 of §3.1: the spine moves rigidly with the handle. If it then touches
     // nothing, and the canvas did not hold it in the previous step either (no
     // joint on the canvas, not even grazing it below the contact threshold),
@@ -341,7 +365,8 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
     for (int j = 1; j <= spec.jointCount() && clear; ++j)
       clear = prev.joints_mm[j].z() > kTouchMm;
     if (clear) {
-      spineForwardKinematics(spec, handle, problems_[s].baseData(), trial[s].q.data(), 0, &fk_);
+      spineForwardKinematics(spec, handle, problems_[s].baseData(), (*trial)[s].q.data(), 0,
+                             &fk_);
       for (int j = 1; j <= spec.jointCount() && clear; ++j) clear = fk_.x[j].z() > 0;
     }
     if (clear && relaxInAir(s, handle)) continue;
@@ -349,55 +374,61 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
     bool straight = true;
     for (const Eigen::Matrix3d& b : problems_[s].base)
       straight = straight && (b.col(2) - Eigen::Vector3d::UnitZ()).norm() < 1e-9;
-    if (straight) trial[s].q[0] = kBucklingNudgeRad;
+    if (straight) (*trial)[s].q[0] = kBucklingNudgeRad;
   }
+  return which;
+}
 
-  if (!which.empty()) {
-    ++stats_.solved_steps;
-    const std::vector<SpineSolution> start = trial;
-    solveSpines(which, &trial);
-    // The contact set of eq. 3 comes from the previous step. Correct it:
-    // §3.4.1: a sticking joint whose solution slipped switches to sliding, and
-    // the step is solved again with mu_kinetic for it; and a joint the solution
-    // lifts off the canvas has no friction to hold it (else a brush lifting off
-    // would stay pinned by the last contact's friction).
-    std::vector<std::vector<bool>> lifted(ns);
-    for (int s : which) lifted[s].assign(sliding[s].size(), false);
-    for (int pass = 0; pass < kMaxStictionPasses; ++pass) {
-      std::vector<int> again;
-      for (int s : which) {
-        if (!state_.spines[s].summary.usable()) continue;
-        spineForwardKinematics(brush_.spines[s], handle, problems_[s].baseData(),
-                               trial[s].q.data(), 0, &fk_);
-        bool changed = false;
-        for (size_t j = 0; j < sliding[s].size(); ++j) {
-          if (!state_.spines[s].contact[j] || lifted[s][j]) continue;
-          if (fk_.x[j + 1].z() > kLiftedMm) {
-            lifted[s][j] = true;
-            changed = true;
-            continue;
-          }
-          if (sliding[s][j]) continue;
-          const double moved = (fk_.x[j + 1].head<2>() - problems_[s].anchor_xy_mm[j]).norm();
-          if (moved > options_.slip_mm) {
-            sliding[s][j] = true;
-            changed = true;
-          }
+void Simulation::correctContactSet(const Pose& handle, const std::vector<int>& which,
+                                   const std::vector<SpineSolution>& start,
+                                   std::vector<SpineSolution>* trial,
+                                   std::vector<std::vector<bool>>* sliding) {
+  // The contact set of eq. 3 comes from the previous step. Correct it:
+  // §3.4.1: a sticking joint whose solution slipped switches to sliding, and
+  // the step is solved again with mu_kinetic for it; and a joint the solution
+  // lifts off the canvas has no friction to hold it (else a brush lifting off
+  // would stay pinned by the last contact's friction).
+  const int ns = static_cast<int>(brush_.spines.size());
+  std::vector<std::vector<bool>> lifted(ns);
+  for (int s : which) lifted[s].assign((*sliding)[s].size(), false);
+  for (int pass = 0; pass < kMaxStictionPasses; ++pass) {
+    std::vector<int> again;
+    for (int s : which) {
+      if (!state_.spines[s].summary.usable()) continue;
+      spineForwardKinematics(brush_.spines[s], handle, problems_[s].baseData(),
+                             (*trial)[s].q.data(), 0, &fk_);
+      std::vector<bool>& slides = (*sliding)[s];
+      bool changed = false;
+      for (size_t j = 0; j < slides.size(); ++j) {
+        if (!state_.spines[s].contact[j] || lifted[s][j]) continue;
+        if (fk_.x[j + 1].z() > kLiftedMm) {
+          lifted[s][j] = true;
+          changed = true;
+          continue;
         }
-        if (changed) {
-          setFriction(s, sliding[s], lifted[s]);
-          trial[s] = start[s];
-          again.push_back(s);
+        if (slides[j]) continue;
+        const double moved = (fk_.x[j + 1].head<2>() - problems_[s].anchor_xy_mm[j]).norm();
+        if (moved > options_.slip_mm) {
+          slides[j] = true;
+          changed = true;
         }
       }
-      if (again.empty()) break;
-      ++stats_.resolves;
-      solveSpines(again, &trial);
+      if (changed) {
+        setFriction(s, slides, lifted[s]);
+        (*trial)[s] = start[s];
+        again.push_back(s);
+      }
     }
+    if (again.empty()) break;
+    ++stats_.resolves;
+    solveSpines(again, trial);
   }
+}
 
+bool Simulation::commitSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial,
+                              const std::vector<std::vector<bool>>& sliding) {
   bool step_failed = false;
-  for (int s = 0; s < ns; ++s) {
+  for (int s = 0; s < static_cast<int>(brush_.spines.size()); ++s) {
     SpineState& st = state_.spines[s];
     const bool solved = std::find(which.begin(), which.end(), s) != which.end();
     if (!solved) st.summary = SolveSummary{SolveStatus::kFree, 0, ""};
@@ -407,23 +438,18 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
       step_failed = true;
       std::fill(st.solution.q.begin(), st.solution.q.end(), 0.0);
     } else if (solved) {
-      st.solution = std::move(trial[s]);
+      st.solution = std::move((*trial)[s]);
     }
     finishSpine(s, solved, sliding[s]);
   }
-  if (step_failed) ++stats_.failed_steps;
-  failed_run_ = step_failed ? failed_run_ + 1 : 0;
-  stats_.longest_failed_run = std::max(stats_.longest_failed_run, failed_run_);
+  return step_failed;
+}
 
-  state_.handle = handle;
-  state_.t_s = t_s;
-  ++state_.step;
-  ++stats_.steps;
-
+void Simulation::sumCanvasForce() {
   // Force of the canvas on the brush (and so, through it, on the handle):
   // normal forces plus the friction forces -dE_f/dx on contact joints.
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
-  for (int s = 0; s < ns; ++s) {
+  for (size_t s = 0; s < brush_.spines.size(); ++s) {
     SpineState& st = state_.spines[s];
     const SpineProblem& p = problems_[s];
     const Eigen::Vector3d f_before = f;
@@ -441,7 +467,6 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
     st.force_n = f - f_before;
   }
   state_.force_n = f;
-  return state_;
 }
 
 void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& sliding_before) {

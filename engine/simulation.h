@@ -115,7 +115,20 @@ class Simulation {
                   const std::vector<VolumeLink>& links);
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
   bool relaxInAir(int s, const Pose& handle);
+  // One step without splitting (§3.1), in stages: start each spine (carried
+  // rigidly, relaxed in air when clear: returns those left to solve), solve,
+  // correct the contact set and re-solve, commit, sum the canvas force.
   const BrushState& stepOnce(const Pose& handle, double t_s);
+  std::vector<int> startSpines(const Pose& handle, std::vector<SpineSolution>* trial,
+                               std::vector<std::vector<bool>>* sliding);
+  void correctContactSet(const Pose& handle, const std::vector<int>& which,
+                         const std::vector<SpineSolution>& start,
+                         std::vector<SpineSolution>* trial,
+                         std::vector<std::vector<bool>>* sliding);
+  // Returns whether a solved spine failed (it keeps its last good pose).
+  bool commitSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial,
+                    const std::vector<std::vector<bool>>& sliding);
+  void sumCanvasForce();
   const BrushState& stepSplitting(const Pose& handle, double t_s, int depth);
 
   const Brush& brush_;

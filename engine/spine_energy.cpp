@@ -100,18 +100,27 @@ double volumeLinkEnergy(const VolumeLink& l, const SpineFk& fa, const SpineFk& f
   return pe.f;
 }
 
-double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
-                   double* grad, double* hess) {
+namespace {
+
+// Where spineEnergy's terms add their value, gradient and Hessian (column
+// major, nv x nv); grad and hess may be null.
+struct EnergySums {
+  EnergyTerms e;
+  double* grad = nullptr;
+  double* hess = nullptr;
+  int nv = 0;
+  double& H(int i, int j) { return hess[j * nv + i]; }
+};
+
+// eq. 2, the springs, and eq. 4, the joints' damping: each depends on one
+// joint's two angles only, so both sit on the Hessian's 2 x 2 diagonal blocks.
+void addJointTerms(const SpineProblem& p, const double* q, EnergySums& sum) {
   const SpineSpec& s = *p.spine;
   const int n = s.jointCount();
-  const int nv = 2 * n;
-  const int order = hess ? 2 : (grad ? 1 : 0);
-  spineForwardKinematics(s, p.handle, p.baseData(), q, order, fk);
-  if (grad) std::fill(grad, grad + nv, 0.0);
-  if (hess) std::fill(hess, hess + nv * nv, 0.0);
-  auto H = [&](int i, int j) -> double& { return hess[j * nv + i]; };
-  EnergyTerms e;
-
+  EnergyTerms& e = sum.e;
+  double* grad = sum.grad;
+  double* hess = sum.hess;
+  auto H = [&](int i, int j) -> double& { return sum.H(i, j); };
   for (int k = 0; k < n; ++k) {
     const BendW bw = bendW(s, p.baseData(), k, q);
     const BendSquared h = bendSquared(bw.w);
@@ -140,8 +149,17 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
     }
   }
 
-  // eqs. 3, 13-14: (1 - eta) mu |F_n| |dx_c| for joints that touched the canvas
-  // at the previous step.
+}
+
+// eqs. 3, 13-14, friction on the joints that touched the canvas at the
+// previous step.
+void addFrictionTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
+  const int n = p.spine->jointCount();
+  EnergyTerms& e = sum.e;
+  double* grad = sum.grad;
+  double* hess = sum.hess;
+  auto H = [&](int i, int j) -> double& { return sum.H(i, j); };
+  // (1 - eta) mu |F_n| |dx_c|.
   Anisotropy aniso;
   aniso.strength = p.anisotropy_strength;
   aniso.exponent = p.anisotropy_exponent;
@@ -168,6 +186,14 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
         }
       }
   }
+}
+
+// The hair volume's pair terms with the neighbouring spines' joints.
+void addVolumeTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
+  EnergyTerms& e = sum.e;
+  double* grad = sum.grad;
+  double* hess = sum.hess;
+  auto H = [&](int i, int j) -> double& { return sum.H(i, j); };
   // Hair volume (docs/dynamics.md): f(r) = k psi(min - r) + k_t psi(r - max) of
   // the distance r to a neighbour's joint, psi(v) = v^3 / (6w) for 0 <= v <= w,
   // then continued as a parabola with psi'' = 1: a C2 barrier whose push grows
@@ -200,8 +226,27 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
       }
     }
   }
-  if (terms) *terms = e;
-  return e.total();
+}
+
+}  // namespace
+
+double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
+                   double* grad, double* hess) {
+  const SpineSpec& s = *p.spine;
+  const int nv = 2 * s.jointCount();
+  const int order = hess ? 2 : (grad ? 1 : 0);
+  spineForwardKinematics(s, p.handle, p.baseData(), q, order, fk);
+  if (grad) std::fill(grad, grad + nv, 0.0);
+  if (hess) std::fill(hess, hess + nv * nv, 0.0);
+  EnergySums sum;
+  sum.grad = grad;
+  sum.hess = hess;
+  sum.nv = nv;
+  addJointTerms(p, q, sum);
+  addFrictionTerms(p, fk, sum);
+  addVolumeTerms(p, fk, sum);
+  if (terms) *terms = sum.e;
+  return sum.e.total();
 }
 
 }  // namespace bristle

@@ -47,6 +47,14 @@ std::vector<Eigen::Matrix3d> restRotations(const SpineSpec& spine) {
   return r;
 }
 
+std::vector<Eigen::Vector3d> restPoints(const SpineSpec& spine) {
+  std::vector<double> q;
+  for (const Eigen::Vector2d& a : spine.rest_angles_rad) q.insert(q.end(), {a[0], a[1]});
+  SpineFk fk;
+  spineForwardKinematics(spine, Pose{}, q.data(), 0, &fk);
+  return fk.x;
+}
+
 Eigen::Vector2d eulerAnglesOfAxis(const Eigen::Matrix3d& r) {
   // Third column of eq. 10: (sin phi cos theta, -sin theta, cos phi cos theta).
   const Eigen::Vector3d a = r.col(2);

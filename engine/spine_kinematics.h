@@ -68,6 +68,9 @@ inline void spineForwardKinematics(const SpineSpec& spine, const Pose& handle, c
 
 // The rotation of each joint at rest, R(rest theta, rest phi) of eq. 10.
 std::vector<Eigen::Matrix3d> restRotations(const SpineSpec& spine);
+// The spine's n + 1 points at its rest angles under the identity handle, in
+// the brush frame (mm), root first.
+std::vector<Eigen::Vector3d> restPoints(const SpineSpec& spine);
 
 // The eq. 10 angles (theta, phi) whose rotation has the same axis as r: for
 // reports (the trace) only; undefined in phi at theta = +-90 degrees.

@@ -168,37 +168,20 @@ void addStrokes(const pugi::xml_node& n, const std::string& name, const Geom::Af
   }
 }
 
-}  // namespace
-
-Recording readSvg(const std::string& text, const std::string& path, const SvgOptions& options,
-                  std::size_t max_samples) {
-  const LineIndex lines(text);
-  pugi::xml_document doc;
-  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
-  if (!parsed)
-    throw dataError(path, "line " + std::to_string(lines.lineOf(parsed.offset)),
-                    std::string("malformed XML (") + parsed.description() + ")");
-  const pugi::xml_node root = doc.document_element();
-  const int root_line = lines.lineOf(root.offset_debug());
-  if (localName(root) != "svg")
-    throw dataError(path, describe(root, root_line),
-                    "the document element must be <svg> (an SVG file)");
-
-  Recording rec;
-  rec.path = path;
-  rec.format = Format::kSvg;
-  const double doc_scale = documentMmPerUnit(root, path, root_line, &rec.units_note);
-  rec.mm_per_unit = options.mm_per_unit > 0 ? options.mm_per_unit : doc_scale;
-  if (options.mm_per_unit > 0)
-    rec.units_note = "SVG user units at " + formatNumber(1 / options.mm_per_unit) +
-                     " per mm (given on the command line)";
-
-  // Walk the tree in document order with an explicit stack (no recursion, so
-  // no depth of nesting can overflow the stack), gathering the strokes.
+// What the walk over the document gathers: the strokes, and what it skipped.
+struct SvgWalk {
   std::vector<PendingStroke> strokes;
   std::map<std::string, int> unsupported;  // element name -> count
-  std::string first_unsupported;
+  std::string first_unsupported;           // where the first of them is
   int empty_subpaths = 0;
+};
+
+// Walks the tree in document order with an explicit stack (no recursion, so
+// no depth of nesting can overflow the stack), gathering the strokes in root
+// user units.
+SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex& lines,
+                      const std::string& path, const SvgOptions& options) {
+  SvgWalk walk;
   std::vector<Frame> stack;
   for (pugi::xml_node c = root.last_child(); c; c = c.previous_sibling())
     stack.push_back({c, Geom::identity(), ""});
@@ -227,7 +210,8 @@ Recording readSvg(const std::string& text, const std::string& path, const SvgOpt
       continue;
     }
     if (!kStrokes.count(name)) {
-      if (unsupported[name]++ == 0 && first_unsupported.empty()) first_unsupported = where;
+      if (walk.unsupported[name]++ == 0 && walk.first_unsupported.empty())
+        walk.first_unsupported = where;
       continue;
     }
     const std::string profile_text = pressure.empty() ? options.pressure_profile : pressure;
@@ -245,35 +229,45 @@ Recording readSvg(const std::string& text, const std::string& path, const SvgOpt
       if (!std::isfinite(s.length_units))
         throw dataError(path, where, "has a coordinate that is not finite");
       if (s.length_units <= 0) {
-        ++empty_subpaths;
+        ++walk.empty_subpaths;
         continue;
       }
-      strokes.push_back(std::move(s));
+      walk.strokes.push_back(std::move(s));
     }
   }
+  return walk;
+}
 
+// A document with nothing to draw is an error; what was skipped is a warning.
+void reportSkipped(const SvgWalk& walk, const std::string& root_where, const std::string& path,
+                   Recording* rec) {
   std::string skipped;
-  for (const auto& [name, count] : unsupported)
+  for (const auto& [name, count] : walk.unsupported)
     skipped += (skipped.empty() ? "" : ", ") + std::to_string(count) + " <" + name + ">";
-  if (strokes.empty()) {
-    if (!first_unsupported.empty())
-      throw dataError(path, first_unsupported,
+  if (walk.strokes.empty()) {
+    if (!walk.first_unsupported.empty())
+      throw dataError(path, walk.first_unsupported,
                       "no drawable path: bristle imports <path>, <polyline>, <polygon> and "
                       "<line>, and this SVG holds only elements it does not (" + skipped + ")");
-    throw dataError(path, describe(root, root_line),
+    throw dataError(path, root_where,
                     "no drawable path: no <path>, <polyline>, <polygon> or <line> of any "
                     "length");
   }
   if (!skipped.empty())
-    rec.warnings.push_back(path + ": skipped " + skipped +
-                           " (bristle imports <path>, <polyline>, <polygon> and <line>; "
-                           "convert shapes and text to paths)");
-  if (empty_subpaths > 0)
-    rec.warnings.push_back(path + ": skipped " + std::to_string(empty_subpaths) +
-                           " subpath(s) of zero length");
+    rec->warnings.push_back(path + ": skipped " + skipped +
+                            " (bristle imports <path>, <polyline>, <polygon> and <line>; "
+                            "convert shapes and text to paths)");
+  if (walk.empty_subpaths > 0)
+    rec->warnings.push_back(path + ": skipped " + std::to_string(walk.empty_subpaths) +
+                            " subpath(s) of zero length");
+}
 
+// Samples the strokes one after another at options.speed_mm_s, the pen lifted
+// between them: a hover sample before and after each, options.lead_s away.
+void sampleStrokes(const std::vector<PendingStroke>& strokes, const SvgOptions& options,
+                   std::size_t max_samples, const std::string& path, Recording* rec) {
   // Sample counts first: a huge path is refused before anything is stored.
-  const double mm = rec.mm_per_unit;
+  const double mm = rec->mm_per_unit;
   std::size_t total = 0;
   for (const PendingStroke& s : strokes) {
     const double n = std::ceil(s.length_units * mm / options.sample_mm) + 3;
@@ -297,7 +291,7 @@ Recording readSvg(const std::string& text, const std::string& path, const SvgOpt
       ps.pressure = pressure;
       ps.down = down;
       ps.line = s.line;
-      rec.samples.push_back(ps);
+      rec->samples.push_back(ps);
     };
     add(start, t, 0, false);
     t += options.lead_s;
@@ -311,6 +305,35 @@ Recording readSvg(const std::string& text, const std::string& path, const SvgOpt
     last_up = s.path.finalPoint();
     add(last_up, t, 0, false);
   }
+}
+
+}  // namespace
+
+Recording readSvg(const std::string& text, const std::string& path, const SvgOptions& options,
+                  std::size_t max_samples) {
+  const LineIndex lines(text);
+  pugi::xml_document doc;
+  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
+  if (!parsed)
+    throw dataError(path, "line " + std::to_string(lines.lineOf(parsed.offset)),
+                    std::string("malformed XML (") + parsed.description() + ")");
+  const pugi::xml_node root = doc.document_element();
+  const int root_line = lines.lineOf(root.offset_debug());
+  if (localName(root) != "svg")
+    throw dataError(path, describe(root, root_line),
+                    "the document element must be <svg> (an SVG file)");
+
+  Recording rec;
+  rec.path = path;
+  rec.format = Format::kSvg;
+  const double doc_scale = documentMmPerUnit(root, path, root_line, &rec.units_note);
+  rec.mm_per_unit = options.mm_per_unit > 0 ? options.mm_per_unit : doc_scale;
+  if (options.mm_per_unit > 0)
+    rec.units_note = "SVG user units at " + formatNumber(1 / options.mm_per_unit) +
+                     " per mm (given on the command line)";
+  const SvgWalk walk = gatherStrokes(root, root_line, lines, path, options);
+  reportSkipped(walk, describe(root, root_line), path, &rec);
+  sampleStrokes(walk.strokes, options, max_samples, path, &rec);
   return rec;
 }
 

@@ -31,11 +31,11 @@ static_assert(std::is_standard_layout_v<FootprintVertex> &&
                   sizeof(FootprintVertex) == 5 * sizeof(float),
               "FootprintVertex is uploaded to GL as 5 packed floats");
 
-// Depth buffer range: z in [floor, clip_mm] maps linearly to depth [0, 1]. The
+// Depth buffer range: z in [floor, contact_band_mm] maps linearly to depth [0, 1]. The
 // brush never goes below the canvas (z = 0), so 2 mm below it is ample room for
 // solver slack; anything lower is clamped (GL_DEPTH_CLAMP), not clipped away.
 constexpr double kDepthFloorMm = -2.0;
-// Keeps the depth range non-degenerate when clip_mm is at or below the floor.
+// Keeps the depth range non-degenerate when contact_band_mm is at or below the floor.
 constexpr double kMinDepthRangeMm = 1.0;
 // Triangles thinner than this (pixels) also leave a band this wide (kGeometryShader).
 // One pixel: a band that wide covers a pixel centre in every column (or row)
@@ -47,7 +47,7 @@ layout(location = 0) in vec3 position_mm;
 layout(location = 1) in vec2 uv_in;
 uniform vec2 origin_mm;      // window bottom-left corner
 uniform vec2 ndc_per_mm;     // 2 * px_per_mm / window size in pixels
-uniform float clip_mm;       // keep z <= clip_mm
+uniform float contact_band_mm;       // keep z <= contact_band_mm
 uniform float depth_floor_mm;
 out gl_PerVertex {
   vec4 gl_Position;
@@ -60,11 +60,11 @@ void main() {
   vec2 ndc = (position_mm.xy - origin_mm) * ndc_per_mm - 1.0;
   // Smallest z (nearest the canvas) gets the smallest depth and wins GL_LESS.
   float z_ndc = 2.0 * (position_mm.z - depth_floor_mm) /
-                (clip_mm - depth_floor_mm) - 1.0;
+                (contact_band_mm - depth_floor_mm) - 1.0;
   gl_Position = vec4(ndc, z_ndc, 1.0);
-  gl_ClipDistance[0] = clip_mm - position_mm.z;
+  gl_ClipDistance[0] = contact_band_mm - position_mm.z;
   uv_v = uv_in;
-  depth_v = clip_mm - position_mm.z;
+  depth_v = contact_band_mm - position_mm.z;
 }
 )";
 
@@ -161,7 +161,7 @@ struct FootprintRenderer::Impl {
   GlContext context;  // first member: created first, destroyed last
   int max_size_px = 0;
   GLuint program = 0, vao = 0, vbo = 0, fbo = 0, color_texture = 0, depth_buffer = 0;
-  GLint origin_loc = -1, ndc_per_mm_loc = -1, clip_loc = -1, floor_loc = -1;
+  GLint origin_loc = -1, ndc_per_mm_loc = -1, band_loc = -1, floor_loc = -1;
   GLint px_per_ndc_loc = -1, min_cover_loc = -1, hair_u_loc = -1;
   float hair_u_begin = std::numeric_limits<float>::lowest();
   float hair_u_end = std::numeric_limits<float>::max();
@@ -208,7 +208,7 @@ FootprintRenderer::FootprintRenderer(int max_size_px) : impl_(std::make_unique<I
   s.program = linkProgram();
   s.origin_loc = glGetUniformLocation(s.program, "origin_mm");
   s.ndc_per_mm_loc = glGetUniformLocation(s.program, "ndc_per_mm");
-  s.clip_loc = glGetUniformLocation(s.program, "clip_mm");
+  s.band_loc = glGetUniformLocation(s.program, "contact_band_mm");
   s.floor_loc = glGetUniformLocation(s.program, "depth_floor_mm");
   s.px_per_ndc_loc = glGetUniformLocation(s.program, "px_per_ndc");
   s.min_cover_loc = glGetUniformLocation(s.program, "min_cover_px");
@@ -272,7 +272,7 @@ void FootprintRenderer::setHairTextureRange(float u_begin, float u_end) {
 }
 
 void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
-                               const FootprintWindow& window, double clip_mm,
+                               const FootprintWindow& window, double contact_band_mm,
                                FootprintImage* out) {
   Impl& s = *impl_;
   const int width = window.width_px, height = window.height_px;
@@ -283,9 +283,9 @@ void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
   }
   if (!(window.px_per_mm > 0) || !std::isfinite(window.px_per_mm) ||
       !std::isfinite(window.x0_mm) || !std::isfinite(window.y0_mm) ||
-      !std::isfinite(clip_mm)) {
+      !std::isfinite(contact_band_mm)) {
     throw std::invalid_argument("footprint window: px_per_mm must be > 0 and the "
-                                "origin and clip_mm finite");
+                                "origin and contact_band_mm finite");
   }
   if (triangles.size() % 3 != 0 || triangles.size() > static_cast<std::size_t>(INT_MAX)) {
     throw std::invalid_argument("footprint triangles: vertex count " +
@@ -305,12 +305,12 @@ void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
   if (!triangles.empty()) {
-    const double depth_floor_mm = std::min(kDepthFloorMm, clip_mm - kMinDepthRangeMm);
+    const double depth_floor_mm = std::min(kDepthFloorMm, contact_band_mm - kMinDepthRangeMm);
     glUniform2f(s.origin_loc, static_cast<float>(window.x0_mm),
                 static_cast<float>(window.y0_mm));
     glUniform2f(s.ndc_per_mm_loc, static_cast<float>(2.0 * window.px_per_mm / width),
                 static_cast<float>(2.0 * window.px_per_mm / height));
-    glUniform1f(s.clip_loc, static_cast<float>(clip_mm));
+    glUniform1f(s.band_loc, static_cast<float>(contact_band_mm));
     glUniform1f(s.floor_loc, static_cast<float>(depth_floor_mm));
     glUniform2f(s.px_per_ndc_loc, 0.5f * static_cast<float>(width),
                 0.5f * static_cast<float>(height));

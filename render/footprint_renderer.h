@@ -30,7 +30,7 @@ struct FootprintWindow {
 };
 
 // Per pixel, 4 floats: u, v (texture coordinate of the touching brush point
-// nearest the canvas), depth_mm = clip_mm - z of that point (> 0 where touched),
+// nearest the canvas), depth_mm = contact_band_mm - z of that point (> 0 where touched),
 // coverage: the share of the pixel the touching geometry covers, in (0, 1]: 1
 // where geometry below the clip plane covers the pixel's centre, less where
 // only a hair triangle thinner than a pixel passes by it (setHairTextureRange;
@@ -60,10 +60,10 @@ class FootprintRenderer {
   // above). By default every triangle counts as hair.
   void setHairTextureRange(float u_begin, float u_end);
 
-  // Renders the triangles (3 consecutive vertices each) clipped to z <= clip_mm.
+  // Renders the triangles (3 consecutive vertices each) clipped to z <= contact_band_mm.
   // Deterministic: one fixed readback path (float colour attachment of an FBO).
   void render(std::span<const FootprintVertex> triangles,
-              const FootprintWindow& window, double clip_mm, FootprintImage* out);
+              const FootprintWindow& window, double contact_band_mm, FootprintImage* out);
 
  private:
   struct Impl;

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/brush_vertex.h"
 #include "engine/pose.h"
-#include "engine/spine_strips.h"  // BrushVertex
 #include "render/footprint_renderer.h"
 #include "render/png_io.h"
 

@@ -19,7 +19,7 @@ SceneResult renderScene(const Scene& scene, const SceneRenderOptions& options,
   SceneResult result;
   StrokeOptions stroke_options;
   stroke_options.px_per_mm = scene.canvas.px_per_mm;
-  stroke_options.clip_mm = options.clip_mm;
+  stroke_options.contact_band_mm = options.contact_band_mm;
   stroke_options.sim = scene.sim;
 
   // The planned steps of every stroke, for progress over the whole scene.

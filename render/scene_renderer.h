@@ -13,8 +13,8 @@ namespace bristle::render {
 
 struct SceneRenderOptions {
   // The contact band: brush geometry below this height touches the paper
-  // (as StrokeOptions::clip_mm).
-  double clip_mm = 0.1;
+  // (as StrokeOptions::contact_band_mm).
+  double contact_band_mm = 0.1;
   // Per solve, for both solvers (SolverSettings::max_iterations).
   int solver_max_iterations = kDefaultSolverMaxIterations;
 };

@@ -117,7 +117,7 @@ std::vector<Image8> paintCells(const Sheet& sheet, const SheetRenderOptions& opt
                                SheetImage* out) {
   StrokeOptions stroke_options;
   stroke_options.px_per_mm = sheet.px_per_mm;
-  stroke_options.clip_mm = options.clip_mm;
+  stroke_options.contact_band_mm = options.contact_band_mm;
   stroke_options.sim = sheet.sim;
   const Rgb8 paper = sheetPaperColour(sheet, options.compose);
   StrokeSetup setup;

@@ -59,7 +59,7 @@ struct SheetImage {
 
 struct SheetRenderOptions {
   ComposeOptions compose;  // impasto or not
-  double clip_mm = 0.1;    // the contact band (StrokeOptions::clip_mm)
+  double contact_band_mm = 0.1;    // the contact band (StrokeOptions::contact_band_mm)
   // Per solve, for both solvers (SolverSettings::max_iterations).
   int solver_max_iterations = kDefaultSolverMaxIterations;
 };

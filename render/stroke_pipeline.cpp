@@ -1,6 +1,9 @@
 #include "render/stroke_pipeline.h"
 
+#include <Eigen/Core>
 #include <utility>
+
+#include "engine/simulation.h"
 
 namespace bristle::render {
 
@@ -18,6 +21,21 @@ PaintedStroke paintStroke(StrokeRenderer& renderer, const Brush& brush,
                                &out.canvas, &paint, on_step, std::move(solvers.fallback));
   out.left_on_brush_mm3 = paint.totalVolumeMm3();
   return out;
+}
+
+BrushState strokeStateAt(const Brush& brush, const Trajectory* trajectory,
+                         const StrokeOptions& options, double at_s,
+                         const SolverSettings& settings) {
+  SolverPair solvers = makeSolverPair(settings);
+  Simulation sim(brush, options.sim, std::move(solvers.primary), std::move(solvers.fallback));
+  if (!trajectory) {
+    Pose rest;
+    rest.position_mm = Eigen::Vector3d(0, 0, brush.reachMm() + 2);
+    sim.reset(rest, 0);
+    return sim.state();
+  }
+  stepAlongTrajectory(sim, *trajectory, options, options.px_per_mm, {}, at_s);
+  return sim.state();
 }
 
 }  // namespace bristle::render

@@ -50,18 +50,18 @@ CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
 StrokeRenderer::StrokeRenderer() : renderer_(2048) {
   // The strips are single hairs (paper §4.2); the surface and the spines'
   // bundles stand for many hairs side by side and are sampled as they are.
-  renderer_.setHairTextureRange(kStripTextureOffsetU, kSpineTextureOffsetU);
+  renderer_.setHairTextureRange(textureUBegin(BrushPart::kStrip), textureUEnd(BrushPart::kStrip));
 }
 StrokeRenderer::~StrokeRenderer() = default;
 
 bool StrokeRenderer::footprint(BrushGeometry& geometry, const BrushState& state,
-                               const CanvasGrid& grid, double clip_mm, FootprintImage* out) {
+                               const CanvasGrid& grid, double contact_band_mm, FootprintImage* out) {
   triangles_.clear();
   geometry.build(state, &triangles_);
-  return renderTriangles(grid, clip_mm, out);
+  return renderTriangles(grid, contact_band_mm, out);
 }
 
-bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double clip_mm,
+bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double contact_band_mm,
                                      FootprintImage* out) {
   const std::vector<BrushVertex>& tris = triangles_;
   // The window is the bounding box of the triangles that dip below the clip plane.
@@ -69,7 +69,7 @@ bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double clip_mm,
   vertices_.clear();
   for (size_t t = 0; t + 2 < tris.size(); t += 3) {
     const float zmin = std::min({tris[t].z_mm, tris[t + 1].z_mm, tris[t + 2].z_mm});
-    if (zmin > clip_mm) continue;
+    if (zmin > contact_band_mm) continue;
     for (int k = 0; k < 3; ++k) {
       const BrushVertex& v = tris[t + k];
       x0 = std::min(x0, double(v.x_mm));
@@ -93,7 +93,7 @@ bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double clip_mm,
   win.x0_mm = grid.x0_mm + c0 / grid.px_per_mm;
   win.y0_mm = grid.y0_mm + (grid.height_px - r1) / grid.px_per_mm;
   if (win.width_px > 2048 || win.height_px > 2048) return false;
-  renderer_.render(vertices_, win, clip_mm, out);
+  renderer_.render(vertices_, win, contact_band_mm, out);
   return true;
 }
 
@@ -124,7 +124,7 @@ void blendStates(const BrushState& a, const BrushState& b, double t, BrushState*
     o.contact = sb.contact;
     o.sliding = sb.sliding;
     // The canvas loads too: they set how far each bundle is pressed into the
-    // paper (engine/spine_strips.h, kBundleFlatLoadN).
+    // paper (engine/spine_bundles.h, kBundleFlatLoadN).
     const std::vector<double>& fa = sa.solution.normal_force_n;
     const std::vector<double>& fb = sb.solution.normal_force_n;
     o.solution.normal_force_n.resize(fb.size());
@@ -137,14 +137,14 @@ void blendStates(const BrushState& a, const BrushState& b, double t, BrushState*
 // paints one stamp; where the touching part of the brush jumps further than a
 // stamp covers (a pressed brush springing back at lift-off), the step is split.
 double contactJumpMm(const Brush& brush, const BrushState& a, const BrushState& b,
-                     double clip_mm) {
+                     double contact_band_mm) {
   double jump = 0;
   for (size_t s = 0; s < brush.spines.size(); ++s) {
     const SpineSpec& spec = brush.spines[s];
     for (size_t j = 1; j < a.spines[s].joints_mm.size(); ++j) {
       const Eigen::Vector3d& pa = a.spines[s].joints_mm[j];
       const Eigen::Vector3d& pb = b.spines[s].joints_mm[j];
-      const double reach = clip_mm + spec.bundleReachMm(j);  // geometry around the joint
+      const double reach = contact_band_mm + spec.bundleReachMm(j);  // geometry around the joint
       if (std::min(pa.z(), pb.z()) > reach) continue;
       jump = std::max(jump, (pa.head<2>() - pb.head<2>()).norm());
     }
@@ -165,8 +165,8 @@ constexpr int kMaxSweepStamps = 16;
 
 bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& from,
                                     const BrushState& to, const CanvasGrid& grid,
-                                    double clip_mm, double spacing_mm, FootprintImage* out) {
-  const double jump = contactJumpMm(geometry.brush(), from, to, clip_mm);
+                                    double contact_band_mm, double spacing_mm, FootprintImage* out) {
+  const double jump = contactJumpMm(geometry.brush(), from, to, contact_band_mm);
   const int stamps =
       std::clamp(static_cast<int>(std::ceil(jump / spacing_mm)), 1, kMaxSweepStamps);
   triangles_.clear();
@@ -178,7 +178,7 @@ bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& f
     geometry.buildHair(blended_, &triangles_);
   }
   geometry.build(to, &triangles_);
-  return renderTriangles(grid, clip_mm, out);
+  return renderTriangles(grid, contact_band_mm, out);
 }
 
 void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
@@ -194,8 +194,8 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
   // 2 px a step, otherwise leaves a dotted line where a real one draws a line.
   const double spacing_mm = 1.0 / grid.px_per_mm;
   const bool touched =
-      from ? sweptFootprint(geometry, *from, state, grid, options.clip_mm, spacing_mm, &image_)
-           : footprint(geometry, state, grid, options.clip_mm, &image_);
+      from ? sweptFootprint(geometry, *from, state, grid, options.contact_band_mm, spacing_mm, &image_)
+           : footprint(geometry, state, grid, options.contact_band_mm, &image_);
   if (!touched) return;
   FootprintView view;
   // Pixel offset of the window in the canvas.
@@ -205,8 +205,8 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
   view.width = image_.window.width_px;
   view.height = image_.window.height_px;
   view.texels = image_.texels.data();
+  view.contact_band_mm = options.contact_band_mm;
   TransferParams params = options.transfer;
-  params.clip_mm = options.clip_mm;
   // The step's contact time: the first stamp (no step before it) has none.
   params.exposure = from ? std::max(state.t_s - from->t_s, 0.0) / kTransferReferenceStepS : 0.0;
   const TransferStats st = transfer(view, *paint, *canvas, params);
@@ -230,7 +230,7 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
     const Simulation::Snapshot before = sim.snapshot();
     sim.step(trajectory.poseAt(t1), t1);
     if (depth < kMaxSplitDepth &&
-        contactJumpMm(sim.brush(), before.state, sim.state(), options.clip_mm) > max_jump_mm) {
+        contactJumpMm(sim.brush(), before.state, sim.state(), options.contact_band_mm) > max_jump_mm) {
       sim.restore(before);
       const double tm = 0.5 * (t0 + t1);
       self(self, t0, tm, depth + 1);

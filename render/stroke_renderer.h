@@ -19,9 +19,9 @@ struct StrokeOptions {
   double margin_mm = 5;  // canvas border around everything the brush can reach
   // The contact band: brush geometry below this height touches the paper.
   // About a hair's radius: spine joints resting on the canvas sit at z = 0.
-  double clip_mm = 0.1;
+  double contact_band_mm = 0.1;
   SimOptions sim;
-  // Paint transfer per step (engine/paint.h); its clip_mm is replaced by the one above.
+  // Paint transfer per step (engine/paint.h).
   TransferParams transfer;
 };
 
@@ -45,7 +45,7 @@ CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
 // The stepping of a render, without the paint: resets `sim` at the first
 // planned step time (planStepTimes with options.sim, which `sim` must have been
 // made with), then steps it through the planned steps, halving a step (down to
-// 1/32) while the part of the brush within options.clip_mm of the paper jumps
+// 1/32) while the part of the brush within options.contact_band_mm of the paper jumps
 // further than one stamp covers, max(options.sim.max_step_mm, 2 px at
 // px_per_mm, the canvas's resolution). on_step sees the state after the reset
 // and after every step kept. Stops at the last step that ends at or before
@@ -75,7 +75,7 @@ class StrokeRenderer {
   // Footprint of one brush state on the canvas grid (for tests and previews).
   // Returns false when nothing touches the canvas.
   bool footprint(BrushGeometry& geometry, const BrushState& state, const CanvasGrid& grid,
-                 double clip_mm, FootprintImage* out);
+                 double contact_band_mm, FootprintImage* out);
 
   // Footprint swept by the brush from `from` to `to`: the union of stamps of
   // states blended between the two (handle and joints moved along, relative
@@ -84,11 +84,11 @@ class StrokeRenderer {
   // stamped (the previous step painted it). Where two stamps overlap the
   // deeper wins, as for the geometry of one stamp.
   bool sweptFootprint(BrushGeometry& geometry, const BrushState& from, const BrushState& to,
-                      const CanvasGrid& grid, double clip_mm, double spacing_mm,
+                      const CanvasGrid& grid, double contact_band_mm, double spacing_mm,
                       FootprintImage* out);
 
  private:
-  bool renderTriangles(const CanvasGrid& grid, double clip_mm, FootprintImage* out);
+  bool renderTriangles(const CanvasGrid& grid, double contact_band_mm, FootprintImage* out);
   void paintStep(BrushGeometry& geometry, const BrushState* from, const BrushState& state,
                  const StrokeOptions& options, PaintCanvas* canvas, BrushPaint* paint,
                  StrokeResult* result);

@@ -13,7 +13,7 @@
 #include "bristle/version.h"
 #include "cli_runner.h"
 #include "engine/fnv1a64.h"
-#include "engine/spine_strips.h"
+#include "engine/spine_bundles.h"
 #include "engine/brush.h"
 #include "engine/trajectory.h"
 #include "render/png_io.h"
@@ -102,7 +102,7 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
   double last_t = -1;
   Touchable touchable;
   std::vector<Eigen::Vector2d> contacts;
-  const double clip_mm = 0.1;
+  const double contact_band_mm = 0.1;
   while (std::getline(lines, line)) {
     const nlohmann::json j = nlohmann::json::parse(line);
     REQUIRE(j.at("step").get<int>() == count);
@@ -138,7 +138,7 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
           const double rad = 0.5 * ((1 - u) * w[k] + u * w[k + 1]);
           // Pressed onto the paper a bundle spreads across the hair, by at most
           // bundleSpread(rad, z) (its reach to the canvas is z or more).
-          if (z - rad <= clip_mm) touchable.add(x, y, rad * bundleSpread(rad, z));
+          if (z - rad <= contact_band_mm) touchable.add(x, y, rad * bundleSpread(rad, z));
         }
         if (sp["contact"][k].get<bool>())
           contacts.emplace_back(sp["joints_mm"][k + 1][0].get<double>(),

@@ -1,7 +1,7 @@
 // A round lifted while it is still moving tapers to a point, as a real round
 // does (issue 17, "Marks", item 5): the hairs' load fades as the handle rises,
 // and a bundle that only just touches leaves a thin line (kBundleFlatLoadN,
-// engine/spine_strips.h), not a blunt tail ending in a blob. Rendered end to
+// engine/spine_bundles.h), not a blunt tail ending in a blob. Rendered end to
 // end by the bristle executable and measured on the PNG
 // (tests/support/mark_measure.h).
 

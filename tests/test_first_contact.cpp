@@ -96,7 +96,7 @@ TEST_CASE("a slab's first contact follows its width or thickness, as it tilts",
   // section at the tip reaches sqrt(b^2 sin^2 + a b cos^2) below the tip
   // tilted about x (the thickness turns down), sqrt(a^2 sin^2 + a b cos^2)
   // tilted about y (the width turns down). Upright, sqrt(a b) (the half
-  // solid's depth along the hair, spine_strips.cpp, BundleSection).
+  // solid's depth along the hair, spine_bundles.cpp, BundleSection).
   const double length = 10, a = 2, b = 0.5;
   const Brush slab = brushOf(oneSpine({5, 5}, 2 * a, 2 * b));
   CHECK(firstContactHeightMm(slab) == Approx(length + std::sqrt(a * b)).margin(kExactMm));

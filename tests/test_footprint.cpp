@@ -1,5 +1,5 @@
 // Footprint renderer (paper §4.2.1): pixel-exact orthographic mapping, the clip
-// plane at clip_mm, nearest-to-canvas wins, attribute interpolation, determinism.
+// plane at contact_band_mm, nearest-to-canvas wins, attribute interpolation, determinism.
 
 #include <catch2/catch.hpp>
 
@@ -114,11 +114,11 @@ TEST_CASE("footprint: a flat quad covers exactly the pixels whose centres it con
   // 0.25 mm pixels; window x in [10, 20], y in [20, 27.5]. The quad sits in the
   // upper left, its edges 0.1-0.3 px away from any pixel centre.
   const FootprintWindow window = makeWindow(10, 20, 40, 30, 4);
-  const double clip_mm = 0.5;
+  const double contact_band_mm = 0.5;
   std::vector<FootprintVertex> tris;
   addQuad(&tris, flatQuad(10.6, 24.35, 14.1, 27.2, 0.0, 0.3, 0.7));
   FootprintImage image;
-  sharedRenderer().render(tris, window, clip_mm, &image);
+  sharedRenderer().render(tris, window, contact_band_mm, &image);
   REQUIRE(image.texels.size() == 40u * 30u * 4u);
 
   int covered = 0, first_col = -1, first_row = -1, last_col = -1, last_row = -1;
@@ -135,7 +135,7 @@ TEST_CASE("footprint: a flat quad covers exactly the pixels whose centres it con
       REQUIRE(t[3] == 1.0f);
       REQUIRE(t[0] == Approx(0.3f).margin(kInterpolationTol));
       REQUIRE(t[1] == Approx(0.7f).margin(kInterpolationTol));
-      REQUIRE(t[2] == Approx(clip_mm - 0.0).margin(kInterpolationTol));
+      REQUIRE(t[2] == Approx(contact_band_mm - 0.0).margin(kInterpolationTol));
       if (covered++ == 0) first_col = col, first_row = row;
       last_col = col, last_row = row;
     }
@@ -151,11 +151,11 @@ TEST_CASE("footprint: a flat quad covers exactly the pixels whose centres it con
 
 TEST_CASE("footprint: geometry above the clip plane leaves no trace", "[footprint]") {
   const FootprintWindow window = makeWindow(0, 0, 32, 16, 4);
-  const double clip_mm = 0.5;
+  const double contact_band_mm = 0.5;
   std::vector<FootprintVertex> tris;
-  addQuad(&tris, flatQuad(1.1, 0.6, 7.1, 3.6, clip_mm + 0.1, 0.5, 0.5));
+  addQuad(&tris, flatQuad(1.1, 0.6, 7.1, 3.6, contact_band_mm + 0.1, 0.5, 0.5));
   FootprintImage image;
-  sharedRenderer().render(tris, window, clip_mm, &image);
+  sharedRenderer().render(tris, window, contact_band_mm, &image);
   for (float value : image.texels) REQUIRE(value == 0.0f);
 }
 
@@ -163,13 +163,13 @@ TEST_CASE("footprint: a quad tilted through the clip plane keeps its lower half"
           "[footprint]") {
   // z rises from 0 at x = 1.1 to 2 * clip at x = 7.1, so z <= clip for x <= 4.1.
   const FootprintWindow window = makeWindow(0, 0, 32, 16, 4);
-  const double clip_mm = 0.5, xa = 1.1, xb = 7.1;
+  const double contact_band_mm = 0.5, xa = 1.1, xb = 7.1;
   std::vector<FootprintVertex> tris;
-  addQuad(&tris, {xa, 0.6, xb, 3.6, 0.0, 2 * clip_mm, 0.2, 0.8, 0.1, 0.9});
+  addQuad(&tris, {xa, 0.6, xb, 3.6, 0.0, 2 * contact_band_mm, 0.2, 0.8, 0.1, 0.9});
   FootprintImage image;
-  sharedRenderer().render(tris, window, clip_mm, &image);
+  sharedRenderer().render(tris, window, contact_band_mm, &image);
 
-  const double dz_dx_per_mm = 2 * clip_mm / (xb - xa);
+  const double dz_dx_per_mm = 2 * contact_band_mm / (xb - xa);
   int covered = 0;
   for (int row = 0; row < window.height_px; ++row) {
     for (int col = 0; col < window.width_px; ++col) {
@@ -183,7 +183,7 @@ TEST_CASE("footprint: a quad tilted through the clip plane keeps its lower half"
       ++covered;
       REQUIRE(t[3] == 1.0f);
       const double z = dz_dx_per_mm * (x - xa);
-      REQUIRE(t[2] == Approx(clip_mm - z).margin(kInterpolationTol));
+      REQUIRE(t[2] == Approx(contact_band_mm - z).margin(kInterpolationTol));
       REQUIRE(t[2] > 0.0f);
     }
   }
@@ -192,7 +192,7 @@ TEST_CASE("footprint: a quad tilted through the clip plane keeps its lower half"
 
 TEST_CASE("footprint: where quads overlap, the one nearer the canvas wins", "[footprint]") {
   const FootprintWindow window = makeWindow(0, 0, 32, 16, 4);
-  const double clip_mm = 0.5;
+  const double contact_band_mm = 0.5;
   const QuadSpec low = flatQuad(1.1, 0.6, 5.1, 3.6, 0.1, 0.25, 0.25);
   const QuadSpec high = flatQuad(3.1, 0.6, 7.1, 3.6, 0.3, 0.75, 0.5);
   std::vector<FootprintVertex> low_first, high_first;
@@ -202,8 +202,8 @@ TEST_CASE("footprint: where quads overlap, the one nearer the canvas wins", "[fo
   addQuad(&high_first, low);
 
   FootprintImage a, b;
-  sharedRenderer().render(low_first, window, clip_mm, &a);
-  sharedRenderer().render(high_first, window, clip_mm, &b);
+  sharedRenderer().render(low_first, window, contact_band_mm, &a);
+  sharedRenderer().render(high_first, window, contact_band_mm, &b);
   // The depth test, not the draw order, decides.
   REQUIRE(hashTexels(a) == hashTexels(b));
 
@@ -215,11 +215,11 @@ TEST_CASE("footprint: where quads overlap, the one nearer the canvas wins", "[fo
     if (x > 1.1 && x < 5.1) {
       REQUIRE(t[0] == Approx(0.25f).margin(kInterpolationTol));
       REQUIRE(t[1] == Approx(0.25f).margin(kInterpolationTol));
-      REQUIRE(t[2] == Approx(clip_mm - 0.1).margin(kInterpolationTol));
+      REQUIRE(t[2] == Approx(contact_band_mm - 0.1).margin(kInterpolationTol));
     } else if (x > 5.1 && x < 7.1) {
       REQUIRE(t[0] == Approx(0.75f).margin(kInterpolationTol));
       REQUIRE(t[1] == Approx(0.5f).margin(kInterpolationTol));
-      REQUIRE(t[2] == Approx(clip_mm - 0.3).margin(kInterpolationTol));
+      REQUIRE(t[2] == Approx(contact_band_mm - 0.3).margin(kInterpolationTol));
     } else {
       REQUIRE(allZero(t));
     }
@@ -254,12 +254,12 @@ TEST_CASE("footprint: u and v interpolate linearly across a quad", "[footprint]"
 TEST_CASE("footprint: the same geometry renders to the same bytes", "[footprint]") {
   const FootprintWindow window = makeWindow(3, 5, 64, 48, 8);
   const std::vector<FootprintVertex> tris = triangleSoup(window, 200);
-  const double clip_mm = 0.4;
+  const double contact_band_mm = 0.4;
   FootprintImage first, second, fresh;
-  sharedRenderer().render(tris, window, clip_mm, &first);
-  sharedRenderer().render(tris, window, clip_mm, &second);
+  sharedRenderer().render(tris, window, contact_band_mm, &first);
+  sharedRenderer().render(tris, window, contact_band_mm, &second);
   FootprintRenderer other;
-  other.render(tris, window, clip_mm, &fresh);
+  other.render(tris, window, contact_band_mm, &fresh);
 
   int covered = 0;
   for (int row = 0; row < window.height_px; ++row) {
@@ -277,12 +277,12 @@ TEST_CASE("footprint: a hair finer than a pixel covers its share where it misses
   // of pixel centres (y = 5 px): sampling centres alone, it left no footprint
   // at all (a fan dragged along its own row of hairs did exactly this).
   const FootprintWindow window = makeWindow(0, 0, 40, 10, 4);  // 0.25 mm pixels
-  const double clip_mm = 0.5, width_px = 0.3, y_mid = 5.0 / 4;
+  const double contact_band_mm = 0.5, width_px = 0.3, y_mid = 5.0 / 4;
   const double half_mm = 0.5 * width_px / window.px_per_mm;
   std::vector<FootprintVertex> tris;
   addQuad(&tris, flatQuad(1.0, y_mid - half_mm, 9.0, y_mid + half_mm, 0.1, 0.25, 0.5));
   FootprintImage image;
-  sharedRenderer().render(tris, window, clip_mm, &image);
+  sharedRenderer().render(tris, window, contact_band_mm, &image);
 
   double claimed = 0;  // covered area, in pixels
   for (int row = 0; row < window.height_px; ++row)
@@ -299,7 +299,7 @@ TEST_CASE("footprint: a hair finer than a pixel covers its share where it misses
       CHECK(t[3] <= 1.0f);
       // The hair's own texture coordinate and depth, not a neighbour's.
       CHECK(t[0] == Approx(0.25f).margin(kInterpolationTol));
-      CHECK(t[2] == Approx(clip_mm - 0.1).margin(kInterpolationTol));
+      CHECK(t[2] == Approx(contact_band_mm - 0.1).margin(kInterpolationTol));
       claimed += t[3];
     }
   // Every column the hair crosses is touched: a continuous line, not dots.
@@ -341,12 +341,12 @@ TEST_CASE("footprint: a hair finer than a pixel never lowers the coverage of rea
   // A wide quad under the pixel centres and a hair nearer the canvas that
   // covers no centre: the pixels keep the quad's full coverage and texel.
   const FootprintWindow window = makeWindow(0, 0, 20, 10, 4);
-  const double clip_mm = 0.5;
+  const double contact_band_mm = 0.5;
   std::vector<FootprintVertex> tris;
   addQuad(&tris, flatQuad(0.0, 0.0, 5.0, 2.5, 0.3, 0.75, 0.75));
   addQuad(&tris, flatQuad(0.5, 1.25 - 0.02, 4.5, 1.25 + 0.02, 0.0, 0.25, 0.25));
   FootprintImage image;
-  sharedRenderer().render(tris, window, clip_mm, &image);
+  sharedRenderer().render(tris, window, contact_band_mm, &image);
   for (int row = 0; row < window.height_px; ++row)
     for (int col = 0; col < window.width_px; ++col) {
       INFO("col " << col << " row " << row);
@@ -360,12 +360,12 @@ TEST_CASE("footprint: a smaller window after a bigger one", "[footprint]") {
   const FootprintWindow big = makeWindow(3, 5, 64, 48, 8);
   const FootprintWindow small = makeWindow(3, 5, 24, 16, 8);  // bottom-left of big
   const std::vector<FootprintVertex> tris = triangleSoup(big, 200);
-  const double clip_mm = 0.4;
+  const double contact_band_mm = 0.4;
   FootprintRenderer renderer;
   FootprintImage big_image, small_image, reference;
-  renderer.render(tris, big, clip_mm, &big_image);
-  renderer.render(tris, small, clip_mm, &small_image);
-  FootprintRenderer().render(tris, small, clip_mm, &reference);
+  renderer.render(tris, big, contact_band_mm, &big_image);
+  renderer.render(tris, small, contact_band_mm, &small_image);
+  FootprintRenderer().render(tris, small, contact_band_mm, &reference);
 
   REQUIRE(small_image.texels.size() == 24u * 16u * 4u);
   CHECK(small_image.window.width_px == 24);

@@ -55,7 +55,7 @@ struct Footprint {
     for (int r = 0; r < h; ++r)
       for (int c = 0; c < w; ++c) {
         float* t = &texels[(r * w + c) * 4];
-        t[0] = kSpineTextureOffsetU + (c + 0.5f) / w;  // spine tube coordinate across
+        t[0] = encodeTextureU(BrushPart::kSpine, (c + 0.5f) / w);  // spine tube coordinate across
         t[1] = v;
         t[2] = depth_mm;
         t[3] = 1;
@@ -199,8 +199,8 @@ TEST_CASE("BrushPaint: loading solid, across the width, at the tip, and bad load
     CHECK(mid.optics.k[0] > red.k[0] + 0.2f * (blue.k[0] - red.k[0]));
     CHECK(mid.optics.k[0] < blue.k[0] - 0.2f * (blue.k[0] - red.k[0]));
     // The spines map to the columns of their roots: spine 0 at the -x edge.
-    CHECK(paint.map().across(kSpineTextureOffsetU + 0.1f, 0.5f) < 0.25f);
-    CHECK(paint.map().across(kSpineTextureOffsetU + 0.9f, 0.5f) > 0.75f);
+    CHECK(paint.map().across(encodeTextureU(BrushPart::kSpine, 0.1f), 0.5f) < 0.25f);
+    CHECK(paint.map().across(encodeTextureU(BrushPart::kSpine, 0.9f), 0.5f) > 0.75f);
   }
   SECTION("tip: the last tip_length of the hairs carries the second paint") {
     PaintLoad l;
@@ -404,7 +404,7 @@ TEST_CASE("Transfer: a single hair follows the grain that a bundle bridges",
     Footprint fp(48, 48, kV, kDepth);
     if (strip)
       for (size_t t = 0; t < fp.texels.size(); t += 4)
-        fp.texels[t] += kStripTextureOffsetU - kSpineTextureOffsetU;
+        fp.texels[t] = encodeTextureU(BrushPart::kStrip, ownTextureU(BrushPart::kSpine, fp.texels[t]));
     transfer(fp.at(8, 8), paint, canvas, params);
     const double reach = strip ? strip_reach : bundle_reach;
     long actual = 0;

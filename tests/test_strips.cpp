@@ -10,7 +10,7 @@
 #include <random>
 
 #include "engine/bristle_strips.h"
-#include "engine/spine_strips.h"
+#include "engine/spine_bundles.h"
 #include "engine/spine_solver.h"
 #include "engine/trajectory.h"
 #include "test_helpers.h"
@@ -432,7 +432,7 @@ TEST_CASE("the fan's hairs reach the paper wherever their spine tips do", "[stri
       loadTrajectory(std::string(BRISTLE_SOURCE_DIR) + "/scenes/trajectories/straight-pull.csv");
   // The golden suite's light touch for the fan (golden/cases.json): +1.3 mm.
   for (TrajectorySample& s : pull.samples) s.pose.position_mm.z() += 1.3;
-  // The footprint's contact band (render/stroke_renderer.h StrokeOptions::clip_mm).
+  // The footprint's contact band (render/stroke_renderer.h StrokeOptions::contact_band_mm).
   constexpr double kBandMm = 0.1;
   const StripLayout layout = layoutStrips(fan);
   const int per_strip = 3 * 2 * (layout.samples() - 1);
@@ -473,7 +473,7 @@ TEST_CASE("the fan's hairs reach the paper wherever their spine tips do", "[stri
   CHECK(double(touching) / eligible >= 0.95);
 }
 
-// ---- The spines' own bundles flatten and spread on the paper (engine/spine_strips.h) ----
+// ---- The spines' own bundles flatten and spread on the paper (engine/spine_bundles.h) ----
 
 TEST_CASE("a bundle pressed onto the paper keeps its area and spreads sideways", "[strips]") {
   const double r = 1.3;

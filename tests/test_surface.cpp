@@ -9,9 +9,10 @@
 
 #include "engine/brush_surface.h"
 #include "engine/error.h"
+#include "engine/spine_bundles.h"
 #include "engine/spine_kinematics.h"
-#include "engine/spine_strips.h"
 #include "test_helpers.h"
+#include "tests/support/tube_cage.h"
 
 using namespace bristle;
 using namespace bristle::testing;

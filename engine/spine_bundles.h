@@ -1,10 +1,10 @@
 #pragma once
-// The simulated spines' own geometry, drawn with the surface (§4.1) and the
-// strips (§4.2): each spine is dressed in the lower half of a tube whose
+// The hair bundles around the simulated spines, drawn with the surface (§4.1)
+// and the strips (§4.2): each spine is dressed in the lower half of a tube whose
 // section is the hair bundle around that spine at each joint -- a circle of
 // the brush file's width_mm, or for a flat's slab (thickness_mm) a rounded
-// rectangle -- the canvas-facing side of that bundle. The footprint is whatever lies
-// below the clip plane (§4.2.1). Where the bundle would reach below the canvas
+// rectangle -- the canvas-facing side of that bundle. The footprint is whatever
+// lies within the contact band above the canvas (§4.2.1). Where the bundle would reach below the canvas
 // it flattens and spreads instead (bundleSpread), so a spine pressed flatter
 // leaves a wider mark -- as far as the spine's load presses it
 // (kBundleFlatLoadN): a bundle that barely touches rests on the paper.
@@ -12,18 +12,10 @@
 #include <vector>
 
 #include "engine/brush.h"
+#include "engine/brush_vertex.h"
 #include "engine/simulation.h"
 
 namespace bristle {
-
-// A vertex of brush geometry in world mm with its brush texture coordinate:
-// u runs across the brush (spine s covers [s, s + 1] / spines, side to side,
-// from the side towards the brush frame's -x to the side towards its +x),
-// v along it (0 at the root, 1 at the tip).
-struct BrushVertex {
-  float x_mm, y_mm, z_mm;
-  float u, v;
-};
 
 // Facets around the half tube: 8 keeps the polygon within 2% of the circle's
 // radius (1 - cos(pi / 16)), below a pixel at 8 px/mm for hairs under 6 mm.
