@@ -101,30 +101,44 @@ std::vector<PenSample> smoothed(const std::vector<PenSample>& in, double smooth_
   if (!(smooth_ms > 0) || in.size() < 3) return in;
   const double half = smooth_ms / 2000;
   std::vector<PenSample> out = in;
+  // Prefix sums over each run, so that a window of any width costs the same
+  // (a 10 s window over samples microseconds apart would otherwise cost n^2).
+  // Positions are summed relative to the run's first sample, which keeps the
+  // sums' rounding at the size of a stroke, not of the tablet's coordinates.
+  struct Sums {
+    double x = 0, y = 0, p = 0, tc = 0, ts = 0;
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  };
+  std::vector<Sums> prefix;
   std::size_t run_start = 0;
   while (run_start < in.size()) {
     std::size_t run_end = run_start;  // one past the run's last sample
     while (run_end < in.size() && in[run_end].down == in[run_start].down) ++run_end;
+    const double x0 = in[run_start].x, y0 = in[run_start].y;
+    prefix.assign(run_end - run_start + 1, Sums{});
+    for (std::size_t k = run_start; k < run_end; ++k) {
+      const Sums& a = prefix[k - run_start];
+      Sums& b = prefix[k - run_start + 1];
+      b.x = a.x + (in[k].x - x0);
+      b.y = a.y + (in[k].y - y0);
+      b.p = a.p + in[k].pressure;
+      b.axis = a.axis + in[k].axis;
+      b.tc = a.tc + std::cos(in[k].twist_deg * kRad);
+      b.ts = a.ts + std::sin(in[k].twist_deg * kRad);
+    }
     std::size_t lo = run_start, hi = run_start;  // window [lo, hi)
     for (std::size_t i = run_start; i < run_end; ++i) {
       while (in[lo].t_s < in[i].t_s - half) ++lo;
       while (hi < run_end && in[hi].t_s <= in[i].t_s + half) ++hi;
-      double x = 0, y = 0, p = 0, tc = 0, ts = 0;
-      Eigen::Vector3d axis = Eigen::Vector3d::Zero();
-      for (std::size_t k = lo; k < hi; ++k) {
-        x += in[k].x;
-        y += in[k].y;
-        p += in[k].pressure;
-        axis += in[k].axis;
-        tc += std::cos(in[k].twist_deg * kRad);
-        ts += std::sin(in[k].twist_deg * kRad);
-      }
+      const Sums& a = prefix[lo - run_start];
+      const Sums& b = prefix[hi - run_start];
       const double n = static_cast<double>(hi - lo);
-      out[i].x = x / n;
-      out[i].y = y / n;
-      out[i].pressure = std::clamp(p / n, 0.0, 1.0);
+      out[i].x = x0 + (b.x - a.x) / n;
+      out[i].y = y0 + (b.y - a.y) / n;
+      out[i].pressure = std::clamp((b.p - a.p) / n, 0.0, 1.0);
+      const Eigen::Vector3d axis = b.axis - a.axis;
       if (axis.norm() > 1e-9) out[i].axis = axis.normalized();
-      double twist = std::atan2(ts, tc) / kRad;
+      const double twist = std::atan2(b.ts - a.ts, b.tc - a.tc) / kRad;
       out[i].twist_deg = twist < 0 ? twist + 360 : twist;
     }
     run_start = run_end;

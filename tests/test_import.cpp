@@ -353,3 +353,70 @@ TEST_CASE("import: SVGs with nothing to draw name the element", "[import][svg]")
   CHECK_THAT(message("<svg><polyline points='0,0 5'/></svg>"),
              Contains("points: holds an odd count of numbers (3)"));
 }
+
+// ---- Smoothing (docs/input.md, "Time"): a centred moving average per pen run ----
+
+namespace {
+
+std::vector<PenSample> jitteredLine(int n, double dt_s, bool down) {
+  std::vector<PenSample> v(n);
+  for (int i = 0; i < n; ++i) {
+    v[i].t_s = i * dt_s;
+    v[i].x = 100 + i;                   // a straight line along x ...
+    v[i].y = 50 + (i % 2 ? 0.5 : -0.5);  // ... jittered by +-0.5 units across it
+    v[i].pressure = down ? 0.5 : 0;
+    v[i].down = down;
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("import: smoothing averages the jitter within a pen run, never across it",
+          "[import][smooth]") {
+  // 100 Hz samples; a 25 ms window (+-12.5 ms) holds a sample and its two
+  // neighbours, 10 ms away, and not the next ones, 20 ms away.
+  std::vector<PenSample> pen = jitteredLine(20, 0.01, true);
+  const std::vector<PenSample> up = jitteredLine(5, 0.01, false);
+  for (PenSample s : up) {  // a lift after the stroke, 10 ms on
+    s.t_s += 0.2;
+    pen.push_back(s);
+  }
+  const std::vector<PenSample> out = smoothed(pen, 25);
+  REQUIRE(out.size() == pen.size());
+  // Exact in closed form: three neighbours of a +-0.5 alternation average to
+  // +-0.5 / 3, and a straight line stays where it is. 1e-9: the sums' rounding.
+  constexpr double kExact = 1e-9;
+  for (int i = 1; i < 19; ++i) {
+    CHECK(std::fabs(out[i].y - 50) == Approx(0.5 / 3).margin(kExact));
+    CHECK(out[i].x == Approx(pen[i].x).margin(kExact));
+  }
+  // The last pen-down sample averages only with its down neighbour: the
+  // lift's pressure 0 does not leak into it, nor its pressure into the lift.
+  CHECK(out[19].pressure == Approx(0.5).margin(kExact));
+  CHECK(out[20].pressure == 0);
+  CHECK(out[20].down == false);
+  // No window, no change.
+  const std::vector<PenSample> same = smoothed(pen, 0);
+  for (std::size_t i = 0; i < pen.size(); ++i) CHECK(same[i].y == pen[i].y);
+}
+
+TEST_CASE("import: smoothing a dense recording over the widest window is linear, not n^2",
+          "[import][smooth]") {
+  // 200,000 samples 1 us apart and the CLI's widest window (10 s): every
+  // window holds every sample. Summed window by window that is 4e10 additions
+  // (minutes, the ctest TIMEOUT); with prefix sums it is a pass over the data.
+  // No time is asserted: a quadratic version fails by running into the test's
+  // timeout, and the answer is checked: each sample becomes the mean of all.
+  const int n = 200000;
+  const std::vector<PenSample> pen = jitteredLine(n, 1e-6, true);
+  const std::vector<PenSample> out = smoothed(pen, 10000);
+  REQUIRE(out.size() == pen.size());
+  const double mean_x = 100 + (n - 1) / 2.0;
+  // Relative 1e-9 of the coordinates (1e5 units): the prefix sums' rounding
+  // over 2e5 terms of up to 2e5 units each.
+  constexpr double kSums = 1e-9 * 2e5;
+  CHECK(out.front().x == Approx(mean_x).margin(kSums));
+  CHECK(out[n / 2].x == Approx(mean_x).margin(kSums));
+  CHECK(out.back().y == Approx(50).margin(kSums));
+}
