@@ -3,13 +3,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
+#include "batch/job_cost.h"
 #include "batch/job_key.h"
 #include "engine/atomic_output.h"
 #include "engine/error.h"
@@ -178,6 +181,19 @@ void BatchRun::render(const std::vector<Pending>& queued, const BatchProgress& p
   if (ec) throw Error(ExitCode::kCantCreate, private_dir_ + ": cannot create: " + ec.message());
 
   std::vector<Pending> queue = queued;
+  // With several workers, the longest jobs start first, so that none of them
+  // is left to run alone at the end (batch/job_cost.h). One worker keeps the
+  // manifest's order, and its log with it.
+  if (options_.workers > 1 && options_.longest_first) {
+    std::vector<std::pair<double, size_t>> order;
+    for (size_t i = 0; i < queue.size(); ++i)
+      order.emplace_back(-estimateJobCost(*queue[i].job), i);
+    std::stable_sort(order.begin(), order.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Pending> sorted;
+    for (const auto& [cost, i] : order) sorted.push_back(std::move(queue[i]));
+    queue = std::move(sorted);
+  }
   std::vector<ChildCommand> commands;
   for (Pending& p : queue) {
     const std::string tag = (fs::path(private_dir_) / std::to_string(p.job->index)).string();

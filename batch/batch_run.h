@@ -47,6 +47,9 @@ struct BatchRunOptions {
   int workers = 1;
   bool overwrite = false;  // render even what is up to date
   bool dry_run = false;    // decide, render nothing
+  // With several workers, start the longest jobs first (batch/job_cost.h);
+  // else, and always with one worker, in the manifest's order.
+  bool longest_first = true;
 };
 
 // Told of each job as it ends: its outcome and its log record (one JSON object).

@@ -4,7 +4,8 @@
 // is the wall time of the whole batch process, as a user waits for it; the
 // counter jobs_per_min is what a farm plans with. Arguments: workers, solver
 // (0 = the manifest's default, Ipopt; 1 = SLSQP through the manifest's
-// defaults). Figures in docs/PERFORMANCE.md ("Batch throughput").
+// defaults), and whether the jobs start in the manifest's order (--in-order)
+// rather than longest first. Figures in docs/PERFORMANCE.md ("Batch throughput").
 
 #include <benchmark/benchmark.h>
 #include <sys/wait.h>
@@ -48,17 +49,18 @@ std::string manifest(bool slsqp) {
 void BM_BatchStandardSet(benchmark::State& state) {
   const int workers = static_cast<int>(state.range(0));
   const bool slsqp = state.range(1) == 1;
+  const bool in_order = state.range(2) == 1;  // the manifest's order, not longest first
   const std::string m = manifest(slsqp);
   const fs::path out = fs::temp_directory_path() / ("bristle-bench-batch-" + std::to_string(::getpid()));
   state.SetLabel(std::string(slsqp ? "slsqp" : "ipopt") + ", " + std::to_string(workers) +
-                 " worker(s)");
+                 " worker(s)" + (in_order ? ", in order" : ""));
   int jobs = 0;
   double total_s = 0;
   for (auto _ : state) {
     fs::remove_all(out);
     const std::string cmd = std::string("env -u GALLIUM_DRIVER '") + BRISTLE_BIN + "' batch '" + m +
                             "' --out '" + out.string() + "' --jobs " + std::to_string(workers) +
-                            " --overwrite --quiet --json > '" + out.string() + ".jsonl'";
+                            " --overwrite --quiet --json" + (in_order ? " --in-order" : "") + " > '" + out.string() + ".jsonl'";
     const auto t0 = Clock::now();
     const int status = std::system(cmd.c_str());
     const double s = seconds(t0, Clock::now());
@@ -86,7 +88,14 @@ void BM_BatchStandardSet(benchmark::State& state) {
 
 // One iteration each: a run is minutes long and its spread is the machine's.
 BENCHMARK(BM_BatchStandardSet)
-    ->ArgsProduct({{1, 2}, {0, 1}})
+    // {workers, SLSQP, in order}: one worker; two, longest first; two in the
+    // manifest's order (what batch did before it ordered by cost).
+    ->Args({1, 1, 0})
+    ->Args({2, 1, 0})
+    ->Args({2, 1, 1})
+    ->Args({1, 0, 0})
+    ->Args({2, 0, 0})
+    ->Args({2, 0, 1})
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kSecond);

@@ -128,7 +128,8 @@ int runBatch(const BatchArgs& args) {
     }
 
     const auto t0 = Clock::now();
-    BatchRun run(manifest, {args.out_dir, args.jobs, args.overwrite, args.dry_run},
+    BatchRun run(manifest,
+                 {args.out_dir, args.jobs, args.overwrite, args.dry_run, !args.in_order},
                  args.dry_run ? nullptr : &log, selfExecutable());
     Progress progress(!args.quiet && !args.json, static_cast<int>(mine.size()));
     const BatchSummary summary = summarizeBatch(run.run(
@@ -197,6 +198,9 @@ Subcommand registerBatch(CLI::App& app) {
   batch->add_flag("--fail-on-warning", ba->fail_on_warning,
                   "Exit 1 when a job has warnings (and none failed): a brush that never touched "
                   "the paper, no visible paint, failed solves");
+  batch->add_flag("--in-order", ba->in_order,
+                  "Start the jobs in the manifest's order (by default, with --jobs above 1, "
+                  "the longest start first so that none runs alone at the end)");
   batch->add_flag("-q,--quiet", ba->quiet, "No progress, no summary");
   return {batch, [ba] { return runBatch(*ba); }};
 }

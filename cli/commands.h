@@ -122,6 +122,7 @@ struct BatchArgs {
   int shard_count = 0;  // with JOB_COMPLETION_INDEX (Kubernetes)
   bool overwrite = false, json = false, dry_run = false, quiet = false;
   bool fail_on_warning = false;  // exit 1 when a job has warnings and none failed
+  bool in_order = false;         // start jobs in the manifest's order, not longest first
 };
 int runBatch(const BatchArgs& args);
 

@@ -11,12 +11,18 @@
 #include <set>
 #include <tuple>
 
+#include "batch/job_cost.h"
 #include "batch/job_key.h"
 #include "batch/manifest.h"
 #include "batch/shard.h"
 #include "engine/atomic_output.h"
+#include "engine/brush.h"
 #include "engine/error.h"
+#include "engine/first_contact.h"
 #include "engine/fnv1a64.h"
+#include "engine/scene.h"
+#include "engine/simulation.h"
+#include "engine/trajectory.h"
 #include "render/png_io.h"
 #include "engine/sheet.h"
 #include "test_helpers.h"
@@ -437,4 +443,52 @@ TEST_CASE("batch outputs are moved beneath --out, never through a symbolic link"
   CHECK(moved.code == 73);
   CHECK_THAT(moved.message, Contains("is a symbolic link; a batch writes only beneath --out"));
   CHECK(fs::is_empty(s.path() / "elsewhere"));
+}
+
+TEST_CASE("batch job costs: planned spine-steps, a scene the sum of its strokes", "[batch]") {
+  // What the pool orders by when it has several workers (batch/job_cost.h).
+  auto inSource = [](const std::string& rel) {
+    return std::string(BRISTLE_SOURCE_DIR) + "/" + rel;
+  };
+  auto stroke = [&](const std::string& brush, const std::string& trajectory) {
+    BatchJob j;
+    j.kind = BatchJobKind::kStroke;
+    j.brush = inSource("scenes/brushes/" + brush + ".json");
+    j.trajectory = inSource("scenes/trajectories/depth/" + trajectory + ".csv");
+    return j;
+  };
+  const Brush round = loadBrush(inSource("scenes/brushes/round.json"));
+  const Trajectory pull = resolveDepths(
+      loadTrajectory(inSource("scenes/trajectories/depth/straight-pull.csv")), round);
+  // Exactly the render's plan times the spines: the figure is not a guess.
+  CHECK(estimateJobCost(stroke("round", "straight-pull")) ==
+        static_cast<double>(planStepTimes(pull, round, SimOptions{}).size() * round.spines.size()));
+  // The S-curve is the standard set's long stroke; more spines cost more.
+  CHECK(estimateJobCost(stroke("round", "s-curve")) >
+        estimateJobCost(stroke("round", "straight-pull")));
+  CHECK(estimateJobCost(stroke("badger", "straight-pull")) >
+        estimateJobCost(stroke("round", "straight-pull")));
+
+  BatchJob scene;
+  scene.kind = BatchJobKind::kScene;
+  scene.input = inSource("scenes/paintings/petals.json");
+  const Scene petals = loadScene(scene.input);
+  double sum = 0;
+  for (const SceneStroke& s : petals.strokes) {
+    const Brush& b = petals.brushes[s.brush];
+    sum += static_cast<double>(
+        planStepTimes(resolveDepths(s.trajectory, b), b, SimOptions{}).size() * b.spines.size());
+  }
+  REQUIRE(petals.strokes.size() > 1);
+  CHECK(estimateJobCost(scene) == sum);
+
+  // What cannot be read here, and sheets, start first; a preview is one state.
+  CHECK(estimateJobCost(stroke("no-such-brush", "straight-pull")) == kUnknownJobCost);
+  BatchJob sheet;
+  sheet.kind = BatchJobKind::kSheet;
+  sheet.input = inSource("scenes/sheets/library.json");
+  CHECK(estimateJobCost(sheet) == kUnknownJobCost);
+  BatchJob preview;
+  preview.kind = BatchJobKind::kPreview;
+  CHECK(estimateJobCost(preview) == 1);
 }
