@@ -1,10 +1,16 @@
 #include "input/svg_geometry.h"
 
+#include <2geom/bezier-curve.h>
+#include <2geom/elliptical-arc.h>
 #include <2geom/sbasis-geometric.h>
+#include <2geom/transforms.h>
+#include <gsl/gsl_errno.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 
 #include "engine/error.h"
 
@@ -185,28 +191,97 @@ double profilePressure(const std::vector<ProfilePoint>& profile, double u) {
   return profile.back().p;
 }
 
+namespace {
+
+// lib2geom integrates arc lengths with GSL, whose default error handler
+// aborts the process when an integral misses its tolerance. A reader must
+// refuse, not abort: GSL's handler is switched off once (bristle uses GSL
+// nowhere else), and a failed measure shows as a length that is not finite.
+void quietGsl() {
+  static std::once_flag once;
+  std::call_once(once, [] { gsl_set_error_handler_off(); });
+}
+
+bool withinLimits(const Geom::Point& p) {
+  return std::isfinite(p[Geom::X]) && std::isfinite(p[Geom::Y]) &&
+         std::fabs(p[Geom::X]) <= kMaxSvgUnits && std::fabs(p[Geom::Y]) <= kMaxSvgUnits;
+}
+
+// The map that takes the path's bounding box into the unit box: translated
+// to its corner, scaled by its larger side. Identity for a path of no extent.
+struct UnitBox {
+  Geom::Affine to_unit = Geom::identity();
+  double extent = 1;
+};
+UnitBox unitBox(const Geom::Path& path) {
+  UnitBox u;
+  const Geom::OptRect b = path.boundsFast();
+  if (!b) return u;
+  const double extent = std::max(b->width(), b->height());
+  if (!(extent > 0)) return u;
+  u.extent = extent;
+  u.to_unit = Geom::Translate(-b->min()) * Geom::Scale(1 / extent);
+  return u;
+}
+
+}  // namespace
+
+// Curve lengths' tolerance in the unit box: 1e-9 of the path's extent. (A
+// circle still measures 1.4e-7 short, from lib2geom's polynomial form of an
+// elliptical arc, not from the integral.)
+constexpr double kLengthTolUnit = 1e-9;
+// The arc-length parametrisation's tolerance in the unit box: 1e-8 of the
+// path's extent keeps samples within 1e-6 of a 100-unit circle's radius (the
+// test "import: lib2geom's arc length of a circle is 2 pi r").
+constexpr double kSampleTolUnit = 1e-8;
+
+bool pathWithinLimits(const Geom::Path& path) {
+  if (!withinLimits(path.initialPoint())) return false;
+  for (const Geom::Curve& c : path) {
+    if (const auto* bezier = dynamic_cast<const Geom::BezierCurve*>(&c)) {
+      for (const Geom::Point& p : bezier->controlPoints())
+        if (!withinLimits(p)) return false;
+    } else if (const auto* arc = dynamic_cast<const Geom::EllipticalArc*>(&c)) {
+      if (!withinLimits(arc->rays()) || !withinLimits(arc->center()) ||
+          !withinLimits(arc->finalPoint()))
+        return false;
+    } else if (!withinLimits(c.finalPoint())) {
+      return false;
+    }
+  }
+  return true;
+}
+
 double pathLength(const Geom::Path& path) {
+  quietGsl();
+  const UnitBox box = unitBox(path);
+  const Geom::Path unit = path * box.to_unit;
   double length = 0;
-  for (const Geom::Curve& c : path) length += c.length(1e-9);
-  return length;
+  for (const Geom::Curve& c : unit) length += c.length(kLengthTolUnit);
+  return length * box.extent;
 }
 
 std::vector<Geom::Point> samplePath(const Geom::Path& path, double segments) {
+  quietGsl();
   const std::size_t n =
       std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(std::max(segments, 1.0))) + 1);
+  const UnitBox box = unitBox(path);
+  const Geom::Affine from_unit = box.to_unit.inverse();
   // Degenerate pieces (zero-length segments) have no direction to follow:
   // the arc-length parametrisation is made without them.
-  Geom::Path solid(path.initialPoint());
-  for (const Geom::Curve& c : path)
-    if (c.length(1e-9) > 0) solid.append(c);
+  const Geom::Path unit = path * box.to_unit;
+  Geom::Path solid(unit.initialPoint());
+  for (const Geom::Curve& c : unit)
+    if (c.length(kLengthTolUnit) > 0) solid.append(c);
   const Geom::Piecewise<Geom::D2<Geom::SBasis>> by_length =
-      Geom::arc_length_parametrization(solid.toPwSb(), 3, 1e-6);
+      Geom::arc_length_parametrization(solid.toPwSb(), 3, kSampleTolUnit);
   const double total = by_length.domain().max();
   std::vector<Geom::Point> out;
   out.reserve(n);
   out.push_back(path.initialPoint());
   for (std::size_t k = 1; k + 1 < n; ++k)
-    out.push_back(by_length(total * static_cast<double>(k) / static_cast<double>(n - 1)));
+    out.push_back(by_length(total * static_cast<double>(k) / static_cast<double>(n - 1)) *
+                  from_unit);
   out.push_back(path.finalPoint());
   return out;
 }

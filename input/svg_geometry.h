@@ -42,11 +42,24 @@ std::vector<ProfilePoint> parsePressureProfile(const std::string& text, const st
 // Linear between the points, the end points' pressures held beyond them.
 double profilePressure(const std::vector<ProfilePoint>& profile, double u);
 
+// The largest coordinate or arc radius an SVG path may have, in root user
+// units: the recordings' limit on positions (docs/input.md, "Rules and
+// limits"). lib2geom's measures work to absolute tolerances, and beyond this
+// they recurse without end or fail inside GSL.
+inline constexpr double kMaxSvgUnits = 1e9;
+
+// Whether every point, control point and arc radius of the path is finite and
+// within +-kMaxSvgUnits.
+bool pathWithinLimits(const Geom::Path& path);
+
 // Arc length of a path in its own units (lib2geom's, each curve's length to
-// 1e-9 relative tolerance).
+// 1e-9 of the path's extent: the path is measured scaled into a unit box, so
+// that the tolerance is relative; a circle comes out 1.4e-7 short). Not
+// finite when lib2geom cannot measure it.
 double pathLength(const Geom::Path& path);
 // Points along the path at equal arc-length steps, the ends included:
-// max(2, ceil(segments) + 1) of them (lib2geom's arc-length parametrisation).
+// max(2, ceil(segments) + 1) of them (lib2geom's arc-length parametrisation,
+// in the same unit box).
 std::vector<Geom::Point> samplePath(const Geom::Path& path, double segments);
 
 }  // namespace bristle::input

@@ -220,6 +220,10 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
     Geom::PathVector pv;
     addStrokes(n, name, ctm, where, path, &pv);
     for (const Geom::Path& p : pv) {
+      if (!pathWithinLimits(p))
+        throw dataError(path, where,
+                        "a point, control point or arc radius lies beyond +-1e9 user units (the "
+                        "limit on positions) or is not finite");
       PendingStroke s;
       s.path = p;
       s.where = where;
@@ -227,7 +231,7 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
       s.profile = profile;
       s.length_units = pathLength(p);
       if (!std::isfinite(s.length_units))
-        throw dataError(path, where, "has a coordinate that is not finite");
+        throw dataError(path, where, "its length cannot be measured (lib2geom's integral fails)");
       if (s.length_units <= 0) {
         ++walk.empty_subpaths;
         continue;

@@ -264,13 +264,14 @@ TEST_CASE("import: lib2geom's arc length of a circle is 2 pi r", "[import][svg]"
   const std::string svg =
       "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 100 100' width='100mm' "
       "height='100mm'><path d='M 75 50 A 25 25 0 1 1 25 50 A 25 25 0 1 1 75 50'/></svg>";
-  // Length integrated to 1e-9 relative tolerance (pathLength): 1e-6 mm of
-  // 157 mm leaves room for the quadrature's error, and catches any mistake
-  // in the arcs (a wrong flag draws a different arc, mm off).
-  constexpr double kLengthTolMm = 1e-6;
+  // lib2geom measures the circle 1.4e-7 short (157.0796110 against
+  // 157.0796327: its polynomial (SBasis) form of an elliptical arc, whatever
+  // the integral's tolerance). 1e-6 relative leaves room for that, and
+  // catches any mistake in the arcs (a wrong flag draws a different arc, mm off).
+  constexpr double kLengthRel = 1e-6;
   const Geom::PathVector pv = Geom::parse_svg_path("M 75 50 A 25 25 0 1 1 25 50 A 25 25 0 1 1 75 50");
   REQUIRE(pv.size() == 1);
-  CHECK(pathLength(pv[0]) == Approx(2 * M_PI * 25).margin(kLengthTolMm));
+  CHECK(pathLength(pv[0]) == Approx(2 * M_PI * 25).epsilon(kLengthRel));
   // Samples at equal arc length lie on the circle, 2 pi r / n apart along it:
   // each chord is 2 r sin(pi / n). The arc-length parametrisation is fitted to
   // 1e-6, so chords agree to 1e-4 mm.
@@ -293,6 +294,44 @@ TEST_CASE("import: lib2geom's arc length of a circle is 2 pi r", "[import][svg]"
       last_down = s.t_s;
     }
   CHECK(last_down - first_down == Approx(2 * M_PI * 25 / 40).margin(1e-6));
+}
+
+TEST_CASE("import: a circle of any size measures 2 pi r; beyond the limits, a refusal",
+          "[import][svg][errors]") {
+  // lib2geom integrates to absolute tolerances: measured as they are, a
+  // circle of radius 3e6 user units made it recurse until the stack ran out,
+  // and an arc of radius 1e300 aborted inside GSL. Paths are measured in a
+  // unit box (pathLength), so the tolerance is relative at every size.
+  for (const double r : {1e-3, 25.0, 3e6, 4e8}) {
+    INFO("radius " << r);
+    const std::string rs = formatNumber(r), d = formatNumber(2 * r);
+    const Geom::PathVector pv = Geom::parse_svg_path(
+        ("M " + d + " " + rs + " A " + rs + " " + rs + " 0 1 1 0 " + rs + " A " + rs + " " + rs +
+         " 0 1 1 " + d + " " + rs)
+            .c_str());
+    REQUIRE(pv.size() == 1);
+    REQUIRE(pathWithinLimits(pv[0]));
+    // As the radius-25 circle above: 1.4e-7 short at every size.
+    CHECK(pathLength(pv[0]) == Approx(2 * M_PI * r).epsilon(1e-6));
+    const std::vector<Geom::Point> pts = samplePath(pv[0], 8);
+    REQUIRE(pts.size() == 9u);
+    for (const Geom::Point& p : pts)  // on the circle, to the parametrisation's 1e-6 of 2r
+      CHECK(Geom::distance(p, Geom::Point(r, r)) == Approx(r).margin(4e-6 * r));
+  }
+  // Past +-1e9 user units (the limit on positions) or not finite: refused
+  // with the element and the rule, exit 65, never a crash.
+  for (const char* d : {"M0 0 A1e300 1e300 0 0 1 1 0", "M0 0 C2e9 0 0 0 1 0", "M0 0 L1e10 0"}) {
+    INFO(d);
+    const std::string svg = std::string("<svg xmlns='http://www.w3.org/2000/svg'><path d='") + d +
+                            "'/></svg>";
+    try {
+      readRecording(svg, "big.svg", Format::kSvg);
+      FAIL("accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::kDataError);
+      CHECK_THAT(e.what(), Contains("<path>") && Contains("beyond +-1e9 user units"));
+    }
+  }
 }
 
 TEST_CASE("import: SVG transforms, units and pressure profiles", "[import][svg]") {
