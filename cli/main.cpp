@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
       registerPreview(app), registerRecord(app),   registerReplay(app),  registerSheet(app),
       registerBatch(app),   registerCompare(app),  registerImport(app)};
   const Subcommand help = registerHelp(app, commands);
+  requireFiniteNumbers(app);
   if (const std::optional<int> code = parse(app, argc, argv)) return *code;
 
   // SIGINT and SIGTERM remove the temporary files of unfinished outputs, then

@@ -1,6 +1,9 @@
 #include "cli/options.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace bristle::cli {
@@ -93,5 +96,22 @@ class HelpFormatter : public CLI::Formatter {
 }  // namespace
 
 void useHelpFormatter(CLI::App& app) { app.formatter(std::make_shared<HelpFormatter>()); }
+
+void requireFiniteNumbers(CLI::App& app) {
+  // No description: the help stays as it is.
+  const CLI::Validator finite(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end != text.c_str() && *end == '\0' && !std::isfinite(v))
+          return "'" + text + "' is not a finite number";
+        return "";  // a finite number, or not a number at all (CLI11 says so)
+      },
+      "");
+  for (CLI::Option* opt : app.get_options())
+    if (opt->get_type_name().rfind("FLOAT", 0) == 0) opt->check(finite);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    requireFiniteNumbers(*sub);
+}
 
 }  // namespace bristle::cli

@@ -46,4 +46,9 @@ void addBatchKey(CLI::App* app, std::string& key);
 // program before its subcommands are added: they take their parent's.
 void useHelpFormatter(CLI::App& app);
 
+// Every floating-point option of `app` and its subcommands refuses a value
+// that is not a finite number ("nan", "inf"): CLI11's ranges let NaN through,
+// since every comparison with it is false. Call once all options exist.
+void requireFiniteNumbers(CLI::App& app);
+
 }  // namespace bristle::cli

@@ -20,8 +20,18 @@ std::string resolveMaxDepth(ImportOptions* options, const Brush& brush,
          " mm of " + brush_name;
 }
 
-Recording readInput(const std::string& text, const std::string& path,
+namespace {
+
+// A UTF-8 byte-order mark, which spreadsheet programs write at the head of a
+// CSV ("CSV UTF-8"): not part of the data.
+bool hasUtf8Bom(const std::string& text) { return text.rfind("\xEF\xBB\xBF", 0) == 0; }
+
+}  // namespace
+
+Recording readInput(const std::string& raw, const std::string& path,
                     const ImportOptions& options) {
+  const std::string stripped = hasUtf8Bom(raw) ? raw.substr(3) : std::string();
+  const std::string& text = hasUtf8Bom(raw) ? stripped : raw;
   const Format format = options.from ? *options.from : detectFormat(text, path);
   if (format == Format::kTrajectory)
     throw dataError(path, "line 1",
@@ -31,9 +41,11 @@ Recording readInput(const std::string& text, const std::string& path,
   return readRecording(text, path, format, svg);
 }
 
-Trajectory loadTrajectoryOrRecording(const std::string& text, const std::string& path,
+Trajectory loadTrajectoryOrRecording(const std::string& raw, const std::string& path,
                                      const Brush& brush, const std::string& brush_name,
                                      std::vector<std::string>* warnings) {
+  const std::string stripped = hasUtf8Bom(raw) ? raw.substr(3) : std::string();
+  const std::string& text = hasUtf8Bom(raw) ? stripped : raw;
   const Format format = detectFormat(text, path);
   if (format == Format::kTrajectory) return parseTrajectory(text, path);
   ImportOptions options;

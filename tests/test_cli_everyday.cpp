@@ -352,3 +352,39 @@ TEST_CASE("brushes: each brush's hair length and first contact held upright", "[
   CHECK_THAT(r.out, Contains("round        20.0 mm long, touches at 20.4 mm upright"));
   CHECK_THAT(r.out, Contains("bright       11.0 mm long, touches at 12.0 mm upright"));
 }
+
+TEST_CASE("a number option given nan or inf is a usage error naming it", "[cli][errors]") {
+  // CLI11's ranges compare, and every comparison with NaN is false: before
+  // requireFiniteNumbers (cli/options.h), --sample-mm nan asked for 2^63
+  // samples, --lead-s nan wrote a trajectory of NaN times, and --px-per-mm nan
+  // a canvas of -2^31 px.
+  auto quoted = [](const std::string& path) { return std::string(1, '\'').append(path).append("'"); };
+  const std::string svg = quoted(sourcePath("scenes/recordings/three-strokes.svg"));
+  const std::string pull = quoted(sourcePath("scenes/trajectories/straight-pull.csv"));
+  TempDir dir;
+  const struct {
+    std::string args, option;
+  } cases[] = {
+      {"import " + svg + " --brush round -o '" + dir.file("a.csv") + "' --sample-mm nan",
+       "--sample-mm"},
+      {"import " + svg + " --brush round -o '" + dir.file("b.csv") + "' --lead-s NaN",
+       "--lead-s"},
+      {"import " + svg + " --brush round -o '" + dir.file("c.csv") + "' --smooth-ms -nan",
+       "--smooth-ms"},
+      {"render --brush round --trajectory " + pull + " -o '" + dir.file("d.png") +
+           "' --px-per-mm nan",
+       "--px-per-mm"},
+      {"render --brush round --trajectory " + pull + " -o '" + dir.file("e.png") +
+           "' --offset-mm 0 inf 0",
+       "--offset-mm"},
+      {"preview round -o '" + dir.file("f.png") + "' --px-per-mm -NaN", "--px-per-mm"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.args);
+    const RunResult r = runBristle(c.args);
+    CHECK(r.code == 64);
+    CHECK_THAT(r.err, Contains(c.option) && Contains("is not a finite number"));
+  }
+  CHECK_FALSE(std::filesystem::exists(dir.file("b.csv")));
+  CHECK_FALSE(std::filesystem::exists(dir.file("d.png")));
+}

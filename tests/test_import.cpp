@@ -459,3 +459,23 @@ TEST_CASE("import: smoothing a dense recording over the widest window is linear,
   CHECK(out[n / 2].x == Approx(mean_x).margin(kSums));
   CHECK(out.back().y == Approx(50).margin(kSums));
 }
+
+TEST_CASE("import: a UTF-8 byte-order mark at the head of a file is not data", "[import]") {
+  // Spreadsheets save "CSV UTF-8" with a BOM; it used to make the header's
+  // first column unknown (or the file "not a format bristle reads").
+  const std::string csv =
+      "timeStamp,clientX,clientY,pressure,buttons\n0,10,10,0,0\n10,11,10,0.5,1\n"
+      "20,12,10,0.5,1\n30,13,10,0,0\n";
+  const std::string dat = "0 10 10 0\n0.01 11 10 0.5\n0.02 12 10 0.5\n0.03 13 10 0\n";
+  for (const std::string& text : {csv, dat}) {
+    const Recording plain = readInput(text, "r", ImportOptions{});
+    const Recording marked = readInput("\xEF\xBB\xBF" + text, "r", ImportOptions{});
+    CHECK(marked.format == plain.format);
+    REQUIRE(marked.samples.size() == plain.samples.size());
+    for (std::size_t i = 0; i < plain.samples.size(); ++i) {
+      CHECK(marked.samples[i].t_s == plain.samples[i].t_s);
+      CHECK(marked.samples[i].x == plain.samples[i].x);
+      CHECK(marked.samples[i].pressure == plain.samples[i].pressure);
+    }
+  }
+}
