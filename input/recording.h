@@ -36,6 +36,10 @@ const char* formatName(Format format);
 // is refused with exit 65: the 10^7 samples of a day-long log never take the
 // ~6 GB they would (a million take 658 MiB to import, docs/input.md).
 inline constexpr std::size_t kMaxRecordingSamples = 1'000'000;
+// The most tags ('<') an SVG may hold: pugixml reads the whole document into
+// memory, and a drawable element takes at least a few samples, so an SVG
+// near the sample limit has far fewer.
+inline constexpr std::size_t kMaxSvgTags = 1'000'000;
 
 // One pen event. Positions are in the source's units (screen or SVG user
 // units) and its axes (y down for all three formats).

@@ -175,6 +175,9 @@ std::vector<ProfilePoint> parsePressureProfile(const std::string& text, const st
     if (p.p < 0 || p.p > 1)
       throw dataError(path, where, "'" + item + "': the pressure must be in [0, 1]" + rule);
     out.push_back(p);
+    if (out.size() > kMaxProfilePoints)
+      throw dataError(path, where,
+                      "has more than " + std::to_string(kMaxProfilePoints) + " points" + rule);
   }
   if (out.empty()) throw dataError(path, where, "is empty" + rule);
   return out;
@@ -182,13 +185,13 @@ std::vector<ProfilePoint> parsePressureProfile(const std::string& text, const st
 
 double profilePressure(const std::vector<ProfilePoint>& profile, double u) {
   if (u <= profile.front().u) return profile.front().p;
-  for (std::size_t k = 1; k < profile.size(); ++k)
-    if (u <= profile[k].u) {
-      const ProfilePoint& a = profile[k - 1];
-      const ProfilePoint& b = profile[k];
-      return a.p + (b.p - a.p) * (u - a.u) / (b.u - a.u);
-    }
-  return profile.back().p;
+  // The first point at or beyond u (u increases strictly along the profile).
+  const auto it = std::lower_bound(profile.begin(), profile.end(), u,
+                                   [](const ProfilePoint& p, double x) { return p.u < x; });
+  if (it == profile.end()) return profile.back().p;
+  const ProfilePoint& a = *(it - 1);
+  const ProfilePoint& b = *it;
+  return a.p + (b.p - a.p) * (u - a.u) / (b.u - a.u);
 }
 
 namespace {

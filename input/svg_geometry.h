@@ -36,7 +36,9 @@ struct ProfilePoint {
   double u = 0, p = 0;
 };
 // "u:p u:p ..." (u in [0, 1] increasing, p in [0, 1]) or a single pressure
-// "p" (held the whole stroke). Throws naming `where` and the broken rule.
+// "p" (held the whole stroke), at most kMaxProfilePoints points. Throws
+// naming `where` and the broken rule.
+inline constexpr std::size_t kMaxProfilePoints = 1000;
 std::vector<ProfilePoint> parsePressureProfile(const std::string& text, const std::string& path,
                                                const std::string& where);
 // Linear between the points, the end points' pressures held beyond them.

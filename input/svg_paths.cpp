@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <pugixml.hpp>
 #include <set>
 #include <string>
@@ -76,15 +77,16 @@ const std::set<std::string> kStrokes = {"path", "polyline", "polygon", "line"};
 
 struct Frame {
   pugi::xml_node node;
-  Geom::Affine ctm;      // user units of this node's children to the root's
-  std::string pressure;  // data-bristle-pressure in force ("" : the default)
+  Geom::Affine ctm;  // user units of this node's children to the root's
+  // data-bristle-pressure in force: the attribute's text, which lives as long
+  // as the document ("" : the default). A pointer, so that a long profile on
+  // the root is neither copied into every frame nor parsed for every element.
+  const char* pressure = "";
 };
 
 struct PendingStroke {
   Geom::Path path;  // in root user units
-  std::string where;  // "<path id="a"> (line 5)"
-  std::string profile_text;
-  std::vector<ProfilePoint> profile;
+  std::shared_ptr<const std::vector<ProfilePoint>> profile;  // shared by an element's subpaths
   int line = 0;
   double length_units = 0;
 };
@@ -176,17 +178,28 @@ struct SvgWalk {
   int empty_subpaths = 0;
 };
 
+// Samples a stroke of this length (user units) takes: along it at
+// options.sample_mm, plus its ends and the hovers around it (sampleStrokes).
+double strokeSamples(double length_units, double mm_per_unit, const SvgOptions& options) {
+  return std::ceil(length_units * mm_per_unit / options.sample_mm) + 3;
+}
+
 // Walks the tree in document order with an explicit stack (no recursion, so
 // no depth of nesting can overflow the stack), gathering the strokes in root
-// user units.
+// user units. The samples they will take are counted as they are gathered,
+// so a document of millions of tiny paths is refused before it is all held.
 SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex& lines,
-                      const std::string& path, const SvgOptions& options) {
+                      const std::string& path, const SvgOptions& options, double mm_per_unit,
+                      std::size_t max_samples) {
   SvgWalk walk;
+  double samples = 0;
   std::vector<Frame> stack;
   for (pugi::xml_node c = root.last_child(); c; c = c.previous_sibling())
     stack.push_back({c, Geom::identity(), ""});
-  const std::string root_profile = root.attribute("data-bristle-pressure").value();
+  const char* root_profile = root.attribute("data-bristle-pressure").value();
   for (Frame& f : stack) f.pressure = root_profile;
+  // Each profile text parsed once (keyed by the attribute's text).
+  std::map<const char*, std::shared_ptr<const std::vector<ProfilePoint>>> profiles;
   const Geom::Affine root_ctm = parseTransform(root.attribute("transform").value(), path,
                                                describe(root, root_line) + ": transform");
   for (Frame& f : stack) f.ctm = root_ctm;
@@ -203,7 +216,7 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
     const Geom::Affine ctm =
         parseTransform(n.attribute("transform").value(), path, where + ": transform") * f.ctm;
     const pugi::xml_attribute own = n.attribute("data-bristle-pressure");
-    const std::string pressure = own ? std::string(own.value()) : f.pressure;
+    const char* pressure = own ? own.value() : f.pressure;
     if (kGroups.count(name) && name != "svg") {
       for (pugi::xml_node c = n.last_child(); c; c = c.previous_sibling())
         stack.push_back({c, ctm, pressure});
@@ -214,9 +227,11 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
         walk.first_unsupported = where;
       continue;
     }
-    const std::string profile_text = pressure.empty() ? options.pressure_profile : pressure;
-    const std::vector<ProfilePoint> profile =
-        parsePressureProfile(profile_text, path, where + ": data-bristle-pressure");
+    std::shared_ptr<const std::vector<ProfilePoint>>& profile = profiles[pressure];
+    if (!profile)
+      profile = std::make_shared<const std::vector<ProfilePoint>>(parsePressureProfile(
+          *pressure == '\0' ? options.pressure_profile : std::string(pressure), path,
+          where + ": data-bristle-pressure"));
     Geom::PathVector pv;
     addStrokes(n, name, ctm, where, path, &pv);
     for (const Geom::Path& p : pv) {
@@ -226,7 +241,6 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
                         "limit on positions) or is not finite");
       PendingStroke s;
       s.path = p;
-      s.where = where;
       s.line = line;
       s.profile = profile;
       s.length_units = pathLength(p);
@@ -236,6 +250,9 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
         ++walk.empty_subpaths;
         continue;
       }
+      samples += strokeSamples(s.length_units, mm_per_unit, options);
+      if (samples > static_cast<double>(max_samples))
+        detail::checkSampleCount(max_samples + 1, max_samples, path, "samples along its paths");
       walk.strokes.push_back(std::move(s));
     }
   }
@@ -274,7 +291,7 @@ void sampleStrokes(const std::vector<PendingStroke>& strokes, const SvgOptions& 
   const double mm = rec->mm_per_unit;
   std::size_t total = 0;
   for (const PendingStroke& s : strokes) {
-    const double n = std::ceil(s.length_units * mm / options.sample_mm) + 3;
+    const double n = strokeSamples(s.length_units, mm, options);
     total += n > static_cast<double>(max_samples) ? max_samples + 1 : static_cast<std::size_t>(n);
     if (total > max_samples) break;
   }
@@ -303,7 +320,7 @@ void sampleStrokes(const std::vector<PendingStroke>& strokes, const SvgOptions& 
     const double duration = s.length_units * mm / options.speed_mm_s;
     for (std::size_t k = 0; k < pts.size(); ++k) {
       const double u = pts.size() > 1 ? static_cast<double>(k) / (pts.size() - 1) : 0;
-      add(pts[k], t + u * duration, profilePressure(s.profile, u), true);
+      add(pts[k], t + u * duration, profilePressure(*s.profile, u), true);
     }
     t += duration + options.lead_s;
     last_up = s.path.finalPoint();
@@ -315,6 +332,14 @@ void sampleStrokes(const std::vector<PendingStroke>& strokes, const SvgOptions& 
 
 Recording readSvg(const std::string& text, const std::string& path, const SvgOptions& options,
                   std::size_t max_samples) {
+  // pugixml holds the whole document; a file of millions of tags (each at
+  // least a few samples if it draws) is refused before it is parsed.
+  const std::size_t tags = static_cast<std::size_t>(std::count(text.begin(), text.end(), '<'));
+  if (tags > kMaxSvgTags)
+    throw dataError(path, "size",
+                    "holds " + std::to_string(tags) + " tags, over the limit of " +
+                        std::to_string(kMaxSvgTags) +
+                        " for an SVG (its elements are read into memory whole)");
   const LineIndex lines(text);
   pugi::xml_document doc;
   const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
@@ -335,7 +360,8 @@ Recording readSvg(const std::string& text, const std::string& path, const SvgOpt
   if (options.mm_per_unit > 0)
     rec.units_note = "SVG user units at " + formatNumber(1 / options.mm_per_unit) +
                      " per mm (given on the command line)";
-  const SvgWalk walk = gatherStrokes(root, root_line, lines, path, options);
+  const SvgWalk walk =
+      gatherStrokes(root, root_line, lines, path, options, rec.mm_per_unit, max_samples);
   reportSkipped(walk, describe(root, root_line), path, &rec);
   sampleStrokes(walk.strokes, options, max_samples, path, &rec);
   return rec;

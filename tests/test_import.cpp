@@ -479,3 +479,40 @@ TEST_CASE("import: a UTF-8 byte-order mark at the head of a file is not data", "
     }
   }
 }
+
+TEST_CASE("import: an SVG's size is bounded before it is held", "[import][svg][errors]") {
+  // pugixml reads a document whole: a million tags and more is refused
+  // before it is parsed (kMaxSvgTags), naming the count and the limit.
+  std::string big = "<svg xmlns='http://www.w3.org/2000/svg'>";
+  big.reserve(16 * kMaxSvgTags);
+  for (std::size_t i = 0; i < kMaxSvgTags; ++i) big += "<line x2='1'/>";
+  big += "</svg>";
+  try {
+    readRecording(big, "big.svg", Format::kSvg);
+    FAIL("accepted");
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::kDataError);
+    CHECK_THAT(e.what(), Contains("big.svg: size") && Contains("1000002 tags") &&
+                             Contains("limit of 1000000"));
+  }
+  // A pressure profile of more than 1000 points is refused at once (a long
+  // profile on the root was parsed again for every element).
+  std::string profile;
+  for (int k = 0; k <= 1000; ++k) profile += formatNumber(k / 1000.0) + ":0.5 ";
+  const std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' data-bristle-pressure='" +
+                          profile + "'><line x2='10'/></svg>";
+  try {
+    readRecording(svg, "p.svg", Format::kSvg);
+    FAIL("accepted");
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::kDataError);
+    CHECK_THAT(e.what(), Contains("<line>") && Contains("more than 1000 points"));
+  }
+  // And the stroke count is bounded by the samples as they are gathered:
+  // 300 tiny lines at 4 samples each pass 1000 samples.
+  std::string many = "<svg xmlns='http://www.w3.org/2000/svg'>";
+  for (int i = 0; i < 300; ++i) many += "<line x2='1'/>";
+  many += "</svg>";
+  CHECK_THROWS_WITH(readRecording(many, "m.svg", Format::kSvg, SvgOptions{}, 1000),
+                    Contains("over the limit of 1000 samples"));
+}
