@@ -126,6 +126,7 @@ Recording readPointerCsv(const std::string& text, const std::string& path,
   Header h;
   bool have_header = false;
   double pointer_id = 0;
+  std::string pointer_id_written;  // as the first row wrote it, for messages
   int pointer_id_line = 0;
   while (nextDataLine(lines, &t, &no)) {
     const std::vector<std::string_view> cells = splitCommas(t);
@@ -199,12 +200,13 @@ Recording readPointerCsv(const std::string& text, const std::string& path,
     if (col(kPointerId)) {
       if (pointer_id_line == 0) {
         pointer_id = v[kPointerId];
+        pointer_id_written = std::string(written[kPointerId]);
         pointer_id_line = no;
       } else if (v[kPointerId] != pointer_id) {
         throw dataError(path, place(no, col(kPointerId), "pointerId"),
                         "pointerId = " + std::string(written[kPointerId]) +
                             " is a second pointer (line " + std::to_string(pointer_id_line) +
-                            " has " + std::to_string(static_cast<long long>(pointer_id)) +
+                            " has " + pointer_id_written +
                             "): record one pointer per file");
       }
     }

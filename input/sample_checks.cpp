@@ -22,6 +22,14 @@ double checkTime(double t_s, std::string_view written, const Recording& rec,
     throw dataError(path, where,
                     std::string(name) + " = " + std::string(written) +
                         " is outside the limit of +-1e9 s");
+  // The trajectory written counts time from the first sample (plus a hover of
+  // at most 10 s, --lead-s), and its own limit is 1e9 s.
+  if (!rec.samples.empty() && t_s - rec.samples.front().t_s > kMaxSourceTimeS - 10)
+    throw dataError(path, where,
+                    std::string(name) + " = " + std::string(written) + " is more than 1e9 s - 10 s "
+                        "after the first sample's (line " +
+                        std::to_string(rec.samples.front().line) +
+                        "): a recording spans at most that");
   if (!rec.samples.empty() && t_s < rec.samples.back().t_s)
     throw dataError(path, where,
                     std::string(name) + " = " + std::string(written) +

@@ -170,6 +170,28 @@ void addStrokes(const pugi::xml_node& n, const std::string& name, const Geom::Af
   }
 }
 
+// display="none", or display:none in the style attribute (how Inkscape
+// hides a layer): the element and everything in it are not drawn.
+bool hidden(const pugi::xml_node& n) {
+  if (std::strcmp(n.attribute("display").value(), "none") == 0) return true;
+  const std::string style = n.attribute("style").value();
+  std::size_t at = 0;
+  while ((at = style.find("display", at)) != std::string::npos) {
+    std::size_t i = at + 7;
+    while (i < style.size() && (style[i] == ' ' || style[i] == '\t')) ++i;
+    if (i < style.size() && style[i] == ':') {
+      ++i;
+      while (i < style.size() && (style[i] == ' ' || style[i] == '\t')) ++i;
+      if (style.compare(i, 4, "none") == 0 &&
+          (i + 4 == style.size() || style[i + 4] == ';' || style[i + 4] == ' ' ||
+           style[i + 4] == '!'))
+        return true;
+    }
+    at = i;
+  }
+  return false;
+}
+
 // What the walk over the document gathers: the strokes, and what it skipped.
 struct SvgWalk {
   std::vector<PendingStroke> strokes;
@@ -212,7 +234,7 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
     if (kNonDrawing.count(name)) continue;
     const int line = lines.lineOf(n.offset_debug());
     const std::string where = describe(n, line);
-    if (std::strcmp(n.attribute("display").value(), "none") == 0) continue;
+    if (hidden(n)) continue;
     const Geom::Affine ctm =
         parseTransform(n.attribute("transform").value(), path, where + ": transform") * f.ctm;
     const pugi::xml_attribute own = n.attribute("data-bristle-pressure");

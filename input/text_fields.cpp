@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
 #include "engine/error.h"
 
@@ -95,10 +97,16 @@ double parseNumber(std::string_view s, const std::string& path, int line_no, int
   // from_chars takes no leading '+', which recordings may write.
   std::string_view digits = s;
   if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+  if (!digits.empty() && (digits.front() == '+' || digits.front() == '-') && digits.size() < s.size())
+    throw fail(quoted(s) + " is not a number");  // "+-5", "++5"
   double value = 0;
   const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  if (ec == std::errc::result_out_of_range && ptr == digits.data() + digits.size())
+  if (ec == std::errc::result_out_of_range && ptr == digits.data() + digits.size()) {
+    // Below the smallest double ("1e-400") is zero as near as a double can
+    // say; beyond the largest is refused.
+    if (std::fabs(std::strtod(std::string(digits).c_str(), nullptr)) < 1) return 0;
     throw fail(quoted(s) + " is outside the range of a double");
+  }
   if (digits.empty() || ec != std::errc() || ptr != digits.data() + digits.size())
     throw fail(quoted(s) + " is not a number");
   if (!std::isfinite(value)) throw fail(quoted(s) + ": must be finite");

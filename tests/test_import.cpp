@@ -516,3 +516,30 @@ TEST_CASE("import: an SVG's size is bounded before it is held", "[import][svg][e
   CHECK_THROWS_WITH(readRecording(many, "m.svg", Format::kSvg, SvgOptions{}, 1000),
                     Contains("over the limit of 1000 samples"));
 }
+
+TEST_CASE("import: hidden layers, odd numbers and second pointers", "[import][errors]") {
+  // Inkscape hides a layer with style="display:none": it is not drawn.
+  const std::string svg =
+      "<svg xmlns='http://www.w3.org/2000/svg'>"
+      "<g style='opacity:1; display : none'><line x1='0' y1='0' x2='50' y2='0'/></g>"
+      "<line x1='0' y1='10' x2='10' y2='10'/></svg>";
+  const Recording rec = readRecording(svg, "h.svg", Format::kSvg);
+  for (const PenSample& s : rec.samples) CHECK(s.y == 10);  // only the visible line
+  // "+-5" is not a number; a number below the smallest double is 0.
+  CHECK_THROWS_WITH(readRecording("0 +-5 10 0.5\n0.01 11 10 0.5\n", "n.dat", Format::kMyPaint),
+                    Contains("n.dat: line 1, column 2") && Contains("'+-5' is not a number"));
+  const Recording tiny =
+      readRecording("0 1e-400 10 0.5\n0.01 11 10 0.5\n", "t.dat", Format::kMyPaint);
+  CHECK(tiny.samples.front().x == 0);
+  // A second pointer is named as both rows wrote their ids (1e20 used to be
+  // cast to an integer, which is undefined).
+  CHECK_THROWS_WITH(
+      readRecording("timeStamp,clientX,clientY,pressure,pointerId\n0,1,1,0.5,1e20\n1,2,2,0.5,2\n",
+                    "p.csv", Format::kPointerCsv),
+      Contains("pointerId = 2 is a second pointer (line 2 has 1e20)"));
+  // Times may not span more than 1e9 s - 10 s: the trajectory written counts
+  // from the first sample and has its own limit of 1e9 s.
+  CHECK_THROWS_WITH(readRecording("-9e8 1 1 0.5\n9e8 2 2 0.5\n", "s.dat", Format::kMyPaint),
+                    Contains("s.dat: line 2, column 1") &&
+                        Contains("after the first sample's (line 1)"));
+}
