@@ -56,8 +56,10 @@ std::vector<std::string_view> splitBlanks(std::string_view line) {
 std::vector<std::string_view> splitCommas(std::string_view line) {
   std::vector<std::string_view> out;
   std::size_t start = 0;
+  bool quoted = false;  // inside "...": a comma there is the cell's ("" is a quote, twice toggled)
   for (std::size_t i = 0; i <= line.size(); ++i) {
-    if (i == line.size() || line[i] == ',') {
+    if (i < line.size() && line[i] == '"') quoted = !quoted;
+    if (i == line.size() || (line[i] == ',' && !quoted)) {
       out.push_back(trim(line.substr(start, i - start)));
       start = i + 1;
     }

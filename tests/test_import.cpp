@@ -543,3 +543,20 @@ TEST_CASE("import: hidden layers, odd numbers and second pointers", "[import][er
                     Contains("s.dat: line 2, column 1") &&
                         Contains("after the first sample's (line 1)"));
 }
+
+TEST_CASE("import: a quoted Pointer Events cell may hold a comma", "[import]") {
+  // A quoted cell is one cell, commas and all: the error names its column and
+  // its whole text, and the columns after it keep their places.
+  CHECK_THROWS_WITH(readRecording("timeStamp,pointerType,clientX,clientY,pressure\n"
+                                  "0,\"pen, stylus\",10,20,0.5\n",
+                                  "q.csv", Format::kPointerCsv),
+                    Contains("q.csv: line 2, column 2 (pointerType): 'pen, stylus'"));
+  const Recording rec = readRecording(
+      "\"timeStamp\",\"pointerType\",\"clientX\",\"clientY\",\"pressure\"\n"
+      "0,\"pen\",10,20,0.5\n10,\"pen\",11,20,0.5\n",
+      "q.csv", Format::kPointerCsv);
+  REQUIRE(rec.samples.size() == 2);
+  CHECK(rec.samples[0].x == 10);
+  CHECK(rec.samples[0].y == 20);
+  CHECK(rec.samples[1].x == 11);
+}
