@@ -239,6 +239,16 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
         parseTransform(n.attribute("transform").value(), path, where + ": transform") * f.ctm;
     const pugi::xml_attribute own = n.attribute("data-bristle-pressure");
     const char* pressure = own ? own.value() : f.pressure;
+    if (name == "switch") {
+      // A viewer draws only the first child whose conditions hold; bristle
+      // supports no extensions, and takes the other conditions as holding.
+      for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
+        if (c.type() == pugi::node_element && *c.attribute("requiredExtensions").value() == '\0') {
+          stack.push_back({c, ctm, pressure});
+          break;
+        }
+      continue;
+    }
     if (kGroups.count(name) && name != "svg") {
       for (pugi::xml_node c = n.last_child(); c; c = c.previous_sibling())
         stack.push_back({c, ctm, pressure});

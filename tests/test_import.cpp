@@ -525,6 +525,13 @@ TEST_CASE("import: hidden layers, odd numbers and second pointers", "[import][er
       "<line x1='0' y1='10' x2='10' y2='10'/></svg>";
   const Recording rec = readRecording(svg, "h.svg", Format::kSvg);
   for (const PenSample& s : rec.samples) CHECK(s.y == 10);  // only the visible line
+  // A <switch> draws its first child whose conditions hold, not all of them.
+  const std::string sw =
+      "<svg xmlns='http://www.w3.org/2000/svg'><switch>"
+      "<line requiredExtensions='http://example.org/x' x1='0' y1='30' x2='9' y2='30'/>"
+      "<line x1='0' y1='20' x2='10' y2='20'/><line x1='0' y1='40' x2='10' y2='40'/>"
+      "</switch></svg>";
+  for (const PenSample& s : readRecording(sw, "s.svg", Format::kSvg).samples) CHECK(s.y == 20);
   // "+-5" is not a number; a number below the smallest double is 0.
   CHECK_THROWS_WITH(readRecording("0 +-5 10 0.5\n0.01 11 10 0.5\n", "n.dat", Format::kMyPaint),
                     Contains("n.dat: line 1, column 2") && Contains("'+-5' is not a number"));
