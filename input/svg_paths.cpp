@@ -1,6 +1,7 @@
 // SVG paths as pen motion (docs/input.md, "SVG"): pugixml reads the document,
 // lib2geom parses path data, applies the transforms and measures arc length.
-// Each <path> subpath, <polyline>, <polygon> and <line> is one stroke, drawn
+// Each <path> subpath, <polyline>, <polygon>, <line>, <circle>, <ellipse> and
+// <rect> is one stroke, drawn
 // in document order at a constant speed, sampled every sample_mm along its
 // arc length, its pressure following a profile over the fraction of its
 // length (the default ramps in, holds and ramps out; data-bristle-pressure on
@@ -73,7 +74,8 @@ const std::set<std::string> kNonDrawing = {
     "defs",   "title",          "desc",          "metadata", "style",  "script",
     "symbol", "clipPath",       "mask",          "marker",   "pattern", "linearGradient",
     "radialGradient", "filter", "namedview"};
-const std::set<std::string> kStrokes = {"path", "polyline", "polygon", "line"};
+const std::set<std::string> kStrokes = {"path",   "polyline", "polygon", "line",
+                                         "circle", "ellipse",  "rect"};
 
 struct Frame {
   pugi::xml_node node;
@@ -127,6 +129,72 @@ double documentMmPerUnit(const pugi::xml_node& root, const std::string& path, in
   return kPx;
 }
 
+// One number attribute of `n`; `fallback` when it is absent.
+double numberAttribute(const pugi::xml_node& n, const char* attr, double fallback,
+                       const std::string& path, const std::string& where) {
+  const std::vector<double> one =
+      parseNumberList(n.attribute(attr).value(), path, where + ": " + attr);
+  if (one.size() > 1) throw dataError(path, where, std::string(attr) + ": must be one number");
+  return one.empty() ? fallback : one[0];
+}
+
+// Path data of a basic shape, as SVG defines its outline (SVG 2, "Basic
+// shapes"): where the outline starts and which way it runs set where the
+// brush lands and how it travels. Empty when the shape draws nothing (a zero
+// radius, width or height); a negative one is an error.
+std::string shapePathData(const pugi::xml_node& n, const std::string& name,
+                          const std::string& path, const std::string& where) {
+  auto num = [&](const char* attr, double fallback) {
+    return numberAttribute(n, attr, fallback, path, where);
+  };
+  auto nonNegative = [&](const char* attr, double v) {
+    if (v < 0) throw dataError(path, where, std::string(attr) + ": must be >= 0");
+    return v;
+  };
+  char d[1024];  // 20 numbers of at most 24 characters, and the commands
+  if (name == "circle" || name == "ellipse") {
+    const double cx = num("cx", 0), cy = num("cy", 0);
+    double rx = 0, ry = 0;
+    if (name == "circle") {
+      rx = ry = nonNegative("r", num("r", 0));
+    } else {
+      const pugi::xml_attribute ax = n.attribute("rx"), ay = n.attribute("ry");
+      rx = nonNegative("rx", num("rx", 0));
+      ry = nonNegative("ry", num("ry", 0));
+      if (ax && !ay) ry = rx;  // one given: the other is the same ("auto")
+      if (ay && !ax) rx = ry;
+    }
+    if (!(rx > 0 && ry > 0)) return "";
+    // From (cx + rx, cy), the positive angle first: two half arcs.
+    std::snprintf(d, sizeof d,
+                  "M %.17g %.17g A %.17g %.17g 0 0 1 %.17g %.17g A %.17g %.17g 0 0 1 %.17g %.17g Z",
+                  cx + rx, cy, rx, ry, cx - rx, cy, rx, ry, cx + rx, cy);
+    return d;
+  }
+  // rect
+  const double x = num("x", 0), y = num("y", 0);
+  const double w = nonNegative("width", num("width", 0));
+  const double h = nonNegative("height", num("height", 0));
+  if (!(w > 0 && h > 0)) return "";
+  const pugi::xml_attribute ax = n.attribute("rx"), ay = n.attribute("ry");
+  double rx = nonNegative("rx", num("rx", 0)), ry = nonNegative("ry", num("ry", 0));
+  if (ax && !ay) ry = rx;
+  if (ay && !ax) rx = ry;
+  rx = std::min(rx, w / 2);
+  ry = std::min(ry, h / 2);
+  if (!(rx > 0 && ry > 0)) {
+    std::snprintf(d, sizeof d, "M %.17g %.17g H %.17g V %.17g H %.17g Z", x, y, x + w, y + h, x);
+    return d;
+  }
+  std::snprintf(d, sizeof d,
+                "M %.17g %.17g H %.17g A %.17g %.17g 0 0 1 %.17g %.17g V %.17g "
+                "A %.17g %.17g 0 0 1 %.17g %.17g H %.17g A %.17g %.17g 0 0 1 %.17g %.17g "
+                "V %.17g A %.17g %.17g 0 0 1 %.17g %.17g Z",
+                x + rx, y, x + w - rx, rx, ry, x + w, y + ry, y + h - ry, rx, ry, x + w - rx, y + h,
+                x + rx, rx, ry, x, y + h - ry, y + ry, rx, ry, x + rx, y);
+  return d;
+}
+
 // The strokes of one drawing element, in root user units.
 void addStrokes(const pugi::xml_node& n, const std::string& name, const Geom::Affine& ctm,
                 const std::string& where, const std::string& path, Geom::PathVector* out) {
@@ -139,17 +207,14 @@ void addStrokes(const pugi::xml_node& n, const std::string& name, const Geom::Af
       throw dataError(path, where, "d: malformed path data (" + std::string(e.what()) + ")");
     }
   } else if (name == "line") {
-    double v[4] = {0, 0, 0, 0};
-    const char* attrs[] = {"x1", "y1", "x2", "y2"};
-    for (int i = 0; i < 4; ++i) {
-      const std::vector<double> one =
-          parseNumberList(n.attribute(attrs[i]).value(), path, where + ": " + attrs[i]);
-      if (one.size() > 1) throw dataError(path, where, std::string(attrs[i]) + ": must be one number");
-      if (!one.empty()) v[i] = one[0];
-    }
-    Geom::Path p(Geom::Point(v[0], v[1]));
-    p.appendNew<Geom::LineSegment>(Geom::Point(v[2], v[3]));
+    Geom::Path p(Geom::Point(numberAttribute(n, "x1", 0, path, where),
+                             numberAttribute(n, "y1", 0, path, where)));
+    p.appendNew<Geom::LineSegment>(Geom::Point(numberAttribute(n, "x2", 0, path, where),
+                                               numberAttribute(n, "y2", 0, path, where)));
     pv.push_back(p);
+  } else if (name == "circle" || name == "ellipse" || name == "rect") {
+    const std::string d = shapePathData(n, name, path, where);
+    if (!d.empty()) pv = Geom::parse_svg_path(d.c_str());
   } else {  // polyline, polygon
     const std::vector<double> pts =
         parseNumberList(n.attribute("points").value(), path, where + ": points");
@@ -300,16 +365,18 @@ void reportSkipped(const SvgWalk& walk, const std::string& root_where, const std
   if (walk.strokes.empty()) {
     if (!walk.first_unsupported.empty())
       throw dataError(path, walk.first_unsupported,
-                      "no drawable path: bristle imports <path>, <polyline>, <polygon> and "
-                      "<line>, and this SVG holds only elements it does not (" + skipped + ")");
+                      "no drawable path: bristle imports <path>, <polyline>, <polygon>, <line>, "
+                      "<circle>, <ellipse> and <rect>, and this SVG holds only elements it does "
+                      "not (" + skipped + ")");
     throw dataError(path, root_where,
-                    "no drawable path: no <path>, <polyline>, <polygon> or <line> of any "
-                    "length");
+                    "no drawable path: no <path>, <polyline>, <polygon>, <line>, <circle>, "
+                    "<ellipse> or <rect> of any length");
   }
   if (!skipped.empty())
     rec->warnings.push_back(path + ": skipped " + skipped +
-                            " (bristle imports <path>, <polyline>, <polygon> and <line>; "
-                            "convert shapes and text to paths)");
+                            " (bristle imports <path>, <polyline>, <polygon>, <line>, <circle>, "
+                            "<ellipse> and <rect>; "
+                            "convert text and other elements to paths)");
   if (walk.empty_subpaths > 0)
     rec->warnings.push_back(path + ": skipped " + std::to_string(walk.empty_subpaths) +
                             " subpath(s) of zero length");

@@ -291,7 +291,7 @@ TEST_CASE("import cli: an SVG's three paths paint three strokes in their places"
                  scene + "' --canvas-px-per-mm 3");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  CHECK_THAT(r.err, Contains("skipped 1 <rect>"));
+  CHECK_THAT(r.err, Contains("skipped 1 <text>"));
   bristleOk("render -q '" + scene + "' -o '" + png + "'");
   const Coverage img = loadCoveragePng(png);
   const std::vector<Point> ink = inkedPoints(img);
@@ -385,12 +385,12 @@ TEST_CASE("import cli: bad input is exit 65 naming the place and the rule", "[im
   }
   SECTION("an SVG with nothing bristle draws names the element") {
     expect65(run("shapes.svg",
-                 "<svg xmlns='http://www.w3.org/2000/svg'>\n  <circle cx='5' cy='5' r='4'/>\n"
+                 "<svg xmlns='http://www.w3.org/2000/svg'>\n  <text x='5' y='5'>hi</text>\n"
                  "</svg>\n",
                  "import"),
-             "shapes.svg: <circle> (line 2): no drawable path: bristle imports <path>, "
-             "<polyline>, <polygon> and <line>, and this SVG holds only elements it does not "
-             "(1 <circle>)");
+             "shapes.svg: <text> (line 2): no drawable path: bristle imports <path>, "
+             "<polyline>, <polygon>, <line>, <circle>, <ellipse> and <rect>, and this SVG holds "
+             "only elements it does not (1 <text>)");
     expect65(run("empty.svg", "<svg xmlns='http://www.w3.org/2000/svg'><g/></svg>", "render"),
              "empty.svg: <svg> (line 1): no drawable path");
   }
