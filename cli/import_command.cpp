@@ -178,9 +178,10 @@ Subcommand registerImport(CLI::App& app) {
       "  bristle import scenes/recordings/pointer-events.csv -o tilted.csv --smooth-ms 20\n"
       "Inputs: MyPaint events (.dat: 't x y pressure' lines), a Pointer Events CSV (a\n"
       "header naming timeStamp, x, y, pressure, tiltX, ...), an SVG (<path>, <polyline>,\n"
-      "<polygon>, <line>). Pressure p becomes the depth D * p^gamma past the brush's first\n"
-      "contact, D = --max-depth-mm, or --max-depth-frac x the --brush's hair length; the pen\n"
-      "up hovers --hover-mm above it. docs/input.md has every rule.");
+      "<polygon>, <line>, <circle>, <ellipse>, <rect>). Pressure p becomes the depth\n"
+      "D * p^gamma past the brush's first contact, D = --max-depth-mm, or --max-depth-frac\n"
+      "x the --brush's hair length; the pen up hovers --hover-mm above it. docs/input.md\n"
+      "has every rule.");
   cmd->add_option("recording", a->input, "The recording or SVG; - reads stdin")->required();
   cmd->add_option("-o,--output", a->output,
                   "OUT.csv: one trajectory (- : stdout); OUT.json: a scene, each pen-down "
