@@ -113,6 +113,38 @@ Header parseHeader(const std::vector<std::string_view>& cells, const std::string
   return h;
 }
 
+// The pen's axis from tiltX/tiltY or altitudeAngle/azimuthAngle, and its
+// twist, when the file has those columns; each checked against its range.
+void readPenOrientation(const Header& h, const std::array<double, kFields>& v,
+                        const std::array<std::string_view, kFields>& written,
+                        const std::string& path, int no, PenSample* out) {
+  PenSample& s = *out;
+  auto col = [&](int id) { return h.column[id]; };
+  if (col(kTiltX)) {
+    const std::string rule = "a tilt must be in [-90, 90] degrees";
+    const double tx = checkRange(v[kTiltX], -90, 90, written[kTiltX], path, no, col(kTiltX),
+                                 "tiltX", rule);
+    const double ty = checkRange(v[kTiltY], -90, 90, written[kTiltY], path, no, col(kTiltY),
+                                 "tiltY", rule);
+    s.axis = penAxisFromTilt(tx, ty);
+    s.has_tilt = true;
+  } else if (col(kAltitude)) {
+    const double alt = checkRange(v[kAltitude], 0, M_PI / 2, written[kAltitude], path, no,
+                                  col(kAltitude), "altitudeAngle",
+                                  "an altitude must be in [0, pi/2] radians");
+    const double az = checkRange(v[kAzimuth], 0, 2 * M_PI, written[kAzimuth], path, no,
+                                 col(kAzimuth), "azimuthAngle",
+                                 "an azimuth must be in [0, 2 pi] radians");
+    s.axis = penAxisFromAltitudeAzimuth(alt, az);
+    s.has_tilt = true;
+  }
+  if (col(kTwist)) {
+    s.twist_deg = checkRange(v[kTwist], 0, 360, written[kTwist], path, no, col(kTwist),
+                             "twist", "a twist must be in [0, 360] degrees");
+    s.has_twist = true;
+  }
+}
+
 }  // namespace
 
 Recording readPointerCsv(const std::string& text, const std::string& path,
@@ -164,29 +196,7 @@ Recording readPointerCsv(const std::string& text, const std::string& path,
     s.y = checkCoordinate(v[kY], written[kY], path, no, col(kY), "y");
     s.pressure = checkPressure(v[kPressure], written[kPressure], path, no, col(kPressure),
                                "pressure");
-    if (col(kTiltX)) {
-      const std::string rule = "a tilt must be in [-90, 90] degrees";
-      const double tx = checkRange(v[kTiltX], -90, 90, written[kTiltX], path, no, col(kTiltX),
-                                   "tiltX", rule);
-      const double ty = checkRange(v[kTiltY], -90, 90, written[kTiltY], path, no, col(kTiltY),
-                                   "tiltY", rule);
-      s.axis = penAxisFromTilt(tx, ty);
-      s.has_tilt = true;
-    } else if (col(kAltitude)) {
-      const double alt = checkRange(v[kAltitude], 0, M_PI / 2, written[kAltitude], path, no,
-                                    col(kAltitude), "altitudeAngle",
-                                    "an altitude must be in [0, pi/2] radians");
-      const double az = checkRange(v[kAzimuth], 0, 2 * M_PI, written[kAzimuth], path, no,
-                                   col(kAzimuth), "azimuthAngle",
-                                   "an azimuth must be in [0, 2 pi] radians");
-      s.axis = penAxisFromAltitudeAzimuth(alt, az);
-      s.has_tilt = true;
-    }
-    if (col(kTwist)) {
-      s.twist_deg = checkRange(v[kTwist], 0, 360, written[kTwist], path, no, col(kTwist),
-                               "twist", "a twist must be in [0, 360] degrees");
-      s.has_twist = true;
-    }
+    readPenOrientation(h, v, written, path, no, &s);
     if (col(kButtons)) {
       const double b = v[kButtons];
       if (b < 0 || b > 65535 || b != std::floor(b))

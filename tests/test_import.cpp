@@ -296,7 +296,7 @@ TEST_CASE("import: lib2geom's arc length of a circle is 2 pi r", "[import][svg]"
   CHECK(last_down - first_down == Approx(2 * M_PI * 25 / 40).margin(1e-6));
 }
 
-TEST_CASE("import: a circle of any size measures 2 pi r; beyond the limits, a refusal",
+TEST_CASE("import: a circle of any size measures 2 pi r, and beyond the limits is refused",
           "[import][svg][errors]") {
   // lib2geom integrates to absolute tolerances: measured as they are, a
   // circle of radius 3e6 user units made it recurse until the stack ran out,
