@@ -4,11 +4,13 @@
 #include <2geom/elliptical-arc.h>
 #include <2geom/sbasis-geometric.h>
 #include <2geom/transforms.h>
+#include <gsl/gsl_errno.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 
 #include "engine/error.h"
 
@@ -194,6 +196,15 @@ double profilePressure(const std::vector<ProfilePoint>& profile, double u) {
 
 namespace {
 
+// lib2geom integrates arc lengths with GSL, whose default error handler
+// aborts the process when an integral misses its tolerance. A reader must
+// refuse, not abort: GSL's handler is switched off once (bristle uses GSL
+// nowhere else), and a failed measure shows as a length that is not finite.
+void quietGsl() {
+  static std::once_flag once;
+  std::call_once(once, [] { gsl_set_error_handler_off(); });
+}
+
 bool withinLimits(const Geom::Point& p) {
   return std::isfinite(p[Geom::X]) && std::isfinite(p[Geom::Y]) &&
          std::fabs(p[Geom::X]) <= kMaxSvgUnits && std::fabs(p[Geom::Y]) <= kMaxSvgUnits;
@@ -220,26 +231,12 @@ UnitBox unitBox(const Geom::Path& path) {
 
 // Curve lengths' tolerance in the unit box: 1e-9 of the path's extent. (A
 // circle still measures 1.4e-7 short, from lib2geom's polynomial form of an
-// elliptical arc.)
+// elliptical arc, not from the integral.)
 constexpr double kLengthTolUnit = 1e-9;
 // The arc-length parametrisation's tolerance in the unit box: 1e-8 of the
 // path's extent keeps samples within 1e-6 of a 100-unit circle's radius (the
 // test "import: lib2geom's arc length of a circle is 2 pi r").
 constexpr double kSampleTolUnit = 1e-8;
-
-// A curve's arc length in the unit box. lib2geom's Curve::length integrates
-// with GSL, which aborts the process when an integral misses its tolerance
-// and, in lib2geom 1.2, leaks its workspace on every call (~1 KB a curve: a
-// path of millions of tiny curves would take gigabytes). Its SBasis arc
-// length (arcLengthSb) gives the same lengths without GSL: 2.6e-9 relative
-// apart on a cubic, and the same 1.4e-7 shortfall on a circle, which comes
-// from the arc's SBasis form. Lines are exact.
-namespace {
-double curveLength(const Geom::Curve& c) {
-  if (c.isLineSegment()) return Geom::distance(c.initialPoint(), c.finalPoint());
-  return Geom::length(Geom::Piecewise<Geom::D2<Geom::SBasis>>(c.toSBasis()), kLengthTolUnit);
-}
-}  // namespace
 
 bool pathWithinLimits(const Geom::Path& path) {
   if (!withinLimits(path.initialPoint())) return false;
@@ -259,14 +256,16 @@ bool pathWithinLimits(const Geom::Path& path) {
 }
 
 double pathLength(const Geom::Path& path) {
+  quietGsl();
   const UnitBox box = unitBox(path);
   const Geom::Path unit = path * box.to_unit;
   double length = 0;
-  for (const Geom::Curve& c : unit) length += curveLength(c);
+  for (const Geom::Curve& c : unit) length += c.length(kLengthTolUnit);
   return length * box.extent;
 }
 
 std::vector<Geom::Point> samplePath(const Geom::Path& path, double segments) {
+  quietGsl();
   const std::size_t n =
       std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(std::max(segments, 1.0))) + 1);
   const UnitBox box = unitBox(path);
@@ -276,7 +275,7 @@ std::vector<Geom::Point> samplePath(const Geom::Path& path, double segments) {
   const Geom::Path unit = path * box.to_unit;
   Geom::Path solid(unit.initialPoint());
   for (const Geom::Curve& c : unit)
-    if (curveLength(c) > 0) solid.append(c);
+    if (c.length(kLengthTolUnit) > 0) solid.append(c);
   const Geom::Piecewise<Geom::D2<Geom::SBasis>> by_length =
       Geom::arc_length_parametrization(solid.toPwSb(), 3, kSampleTolUnit);
   const double total = by_length.domain().max();

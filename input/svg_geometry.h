@@ -47,7 +47,7 @@ double profilePressure(const std::vector<ProfilePoint>& profile, double u);
 // The largest coordinate or arc radius an SVG path may have, in root user
 // units: the recordings' limit on positions (docs/input.md, "Rules and
 // limits"). lib2geom's measures work to absolute tolerances, and beyond this
-// they recurse until the stack runs out.
+// they recurse without end or fail inside GSL.
 inline constexpr double kMaxSvgUnits = 1e9;
 
 // Whether every point, control point and arc radius of the path is finite and
