@@ -111,11 +111,21 @@ Scenario pressThenDrag(const Brush& brush) {
   return sc;
 }
 
+// The benchmarks' solver argument: 0 Ipopt as bristle runs it, 1 SLSQP, 2 Ipopt
+// with its own getrusage timers on, as Ipopt 3.11 runs by itself
+// (engine/ipopt_timers.h), for the cost of those timers side by side.
+std::unique_ptr<SpineSolver> makeBenchSolver(long solver) {
+  if (solver == 1) return makeSlsqpSolver();
+  IpoptSettings settings;
+  if (solver == 2) settings.extra_options.emplace_back("timing_statistics", "yes");
+  return makeIpoptSolver(settings);
+}
+
 // Forwards to Ipopt (or SLSQP) and adds the time spent inside solve() to a total.
 class TimedSolver : public SpineSolver {
  public:
-  TimedSolver(double* total_s, bool slsqp)
-      : inner_(slsqp ? makeSlsqpSolver() : makeIpoptSolver()), total_s_(total_s) {}
+  TimedSolver(double* total_s, long solver)
+      : inner_(makeBenchSolver(solver)), total_s_(total_s) {}
   SolveSummary solve(std::span<const SpineProblem* const> problems,
                      std::span<SpineSolution* const> solutions,
                      std::span<const VolumeLink> links) override {
@@ -166,9 +176,9 @@ struct Samples {
 // solve; at the end of the range it starts over with a fresh simulation.
 class Runner {
  public:
-  Runner(Brush brush, int begin, int end, bool slsqp)
+  Runner(Brush brush, int begin, int end, long solver)
       : brush_(std::move(brush)), sc_(pressThenDrag(brush_)), begin_(begin), end_(end),
-        slsqp_(slsqp) {}
+        solver_(solver) {}
 
   // Spines touching the canvas when the timed range begins (after a restart).
   int spinesInContactAtBegin() {
@@ -203,7 +213,7 @@ class Runner {
  private:
   void restart() {
     sim_ = std::make_unique<Simulation>(brush_, SimOptions{},
-                                        std::make_unique<TimedSolver>(&solve_s_, slsqp_));
+                                        std::make_unique<TimedSolver>(&solve_s_, solver_));
     sim_->reset(sc_.poses[0], 0);
     for (int i = 1; i < begin_; ++i) sim_->step(sc_.poses[i], i * kStepDtS);
     next_ = begin_;
@@ -212,7 +222,7 @@ class Runner {
   Brush brush_;
   Scenario sc_;
   int begin_, end_, next_ = 0;
-  bool slsqp_ = false;
+  long solver_ = 0;
   double solve_s_ = 0;
   std::unique_ptr<Simulation> sim_;
 };
@@ -232,31 +242,31 @@ void timeSteps(benchmark::State& state, Runner& runner) {
 }
 
 // One spine of 3 or 4 joints; range(1): 0 = pressing, 1 = dragging;
-// range(2): 0 = Ipopt, 1 = SLSQP.
+// range(2): the solver (makeBenchSolver).
 void BM_SpineStep(benchmark::State& state) {
   const bool drag = state.range(1) != 0;
   const Brush brush = makeBrush(1, static_cast<int>(state.range(0)));
   Runner runner(brush, drag ? 1 + kPressSteps : 1,
-                drag ? 1 + kPressSteps + kDragSteps : 1 + kPressSteps, state.range(2) != 0);
+                drag ? 1 + kPressSteps + kDragSteps : 1 + kPressSteps, state.range(2));
   timeSteps(state, runner);
 }
 BENCHMARK(BM_SpineStep)
-    ->ArgNames({"joints", "drag", "slsqp"})
-    ->ArgsProduct({{3, 4}, {0, 1}, {0, 1}})
+    ->ArgNames({"joints", "drag", "solver"})
+    ->ArgsProduct({{3, 4}, {0, 1}, {0, 1, 2}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 
 // Whole-brush steps while dragging: copies of the 4-joint spine, all pressed.
 void BM_BrushDragStep(benchmark::State& state) {
   Runner runner(makeBrush(static_cast<int>(state.range(0)), 4), 1 + kPressSteps,
-                1 + kPressSteps + kDragSteps, state.range(1) != 0);
+                1 + kPressSteps + kDragSteps, state.range(1));
   const int touching = runner.spinesInContactAtBegin();
   timeSteps(state, runner);
   state.counters["in_contact"] = touching;
 }
 BENCHMARK(BM_BrushDragStep)
-    ->ArgNames({"spines", "slsqp"})
-    ->ArgsProduct({{1, 5, 10, 20}, {0, 1}})
+    ->ArgNames({"spines", "solver"})
+    ->ArgsProduct({{1, 5, 10, 20}, {0, 1, 2}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 
@@ -275,7 +285,7 @@ void BM_RoundSCurve(benchmark::State& state) {
   double total_s = 0;
   for (auto _ : state) {
     double solve_s = 0, stroke_s = 0;
-    Simulation sim(brush, options, std::make_unique<TimedSolver>(&solve_s, state.range(0) != 0));
+    Simulation sim(brush, options, std::make_unique<TimedSolver>(&solve_s, state.range(0)));
     sim.reset(traj.poseAt(times.front()), times.front());
     for (size_t i = 1; i < times.size(); ++i) {
       const SimStats before = sim.stats();
@@ -304,8 +314,8 @@ void BM_RoundSCurve(benchmark::State& state) {
   state.counters["steps_per_s"] = total_s > 0 ? steps / total_s : 0;
 }
 BENCHMARK(BM_RoundSCurve)
-    ->ArgNames({"slsqp", "volume"})
-    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->ArgNames({"solver", "volume"})
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
     ->Iterations(3)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);

@@ -12,6 +12,7 @@
 #include <cstdlib>
 
 #include "engine/error.h"
+#include "engine/ipopt_timers.h"
 #include "engine/spine_solver.h"
 
 namespace bristle {
@@ -304,6 +305,16 @@ class IpoptSolver : public SpineSolver {
                             "warm_start_mult_bound_push"})
       o.SetNumericValue(opt, 1e-9);
     for (const auto& [name, value] : settings.extra_options) {
+      // Ipopt 3.14's switch for its timers, which 3.11 does not know: bristle
+      // takes it here (engine/ipopt_timers.h).
+      if (name == "timing_statistics") {
+        if (value != "yes" && value != "no" && bad_option_.empty()) bad_option_ = name + "=" + value;
+        timers_off_ = value == "no";
+        continue;
+      }
+      // A CPU-time limit and timing output need the timers.
+      if (name == "max_cpu_time" || (name == "print_timing_statistics" && value == "yes"))
+        timers_off_ = false;
       // Set each by its registered type (setting a wrong type makes Ipopt print
       // to stdout); an unknown name or unparsable value is refused.
       Ipopt::SmartPtr<const Ipopt::RegisteredOption> opt = app_->RegOptions()->GetOption(name);
@@ -357,6 +368,7 @@ class IpoptSolver : public SpineSolver {
     Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm);
     Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
     try {
+      const IpoptTimersOff timers_off(timers_off_);
       st = app_->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
     } catch (...) {
       st = Ipopt::NonIpopt_Exception_Thrown;
@@ -379,6 +391,7 @@ class IpoptSolver : public SpineSolver {
   bool initialized_ = false;
   std::string bad_option_;  // the first extra option Ipopt refused
   bool user_mu_strategy_ = false;  // the user chose the barrier strategy
+  bool timers_off_ = true;  // Ipopt's getrusage timers (engine/ipopt_timers.h)
 };
 
 }  // namespace

@@ -3,14 +3,19 @@
 // docs/design.md, "Solver notes"), and Ipopt's whole-brush NLP must reach its
 // per-spine optima.
 
+#include <sys/resource.h>
+
 #include <catch2/catch.hpp>
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "engine/error.h"
+#include "engine/ipopt_timers.h"
 #include "engine/simulation.h"
 #include "engine/solver_pair.h"
 #include "test_helpers.h"
@@ -540,4 +545,98 @@ TEST_CASE("makeSolverPair: the chosen solver first, the other as fallback, both 
   CHECK(full.primary->solve({&pp, 1}, {&ps, 1}).usable());
   // Extra Ipopt options reach Ipopt, which refuses a bad one (a usage error).
   CHECK_THROWS_AS(makeSolverPair({SolverKind::kSlsqp, 200, {{"no_such_option", "1"}}}), Error);
+}
+
+// Ipopt 3.11 reads getrusage ~290 times per iteration; bristle answers those
+// reads with zeros inside a solve (engine/ipopt_timers.h). Nothing of Ipopt's
+// algorithm depends on them, so the same problems give bit-identical
+// solutions with the timers off (the default) and on (timing_statistics=yes).
+TEST_CASE("ipopt: its own timers are off while it solves, with bit-identical results",
+          "[solvers][ipopt]") {
+  const double tilt = 0.3;
+  const Eigen::Vector3d axis(1, 0.5, 0);
+  const Brush brush = threeSpineBrush();
+  IpoptSettings timed;
+  timed.extra_options = {{"timing_statistics", "yes"}};
+  Simulation off(brush, SimOptions{}, makeIpoptSolver());
+  Simulation on(brush, SimOptions{}, makeIpoptSolver(timed));
+  const std::vector<Pose> path = handlePath({tilted(poseAt(0, 0, 14), tilt, axis),
+                                             tilted(poseAt(0, 0, 6.5), tilt, axis),
+                                             tilted(poseAt(4, 3, 7), tilt, axis)});
+  off.reset(path.front(), 0);
+  on.reset(path.front(), 0);
+  std::uint64_t skipped_off = 0, skipped_on = 0;
+  for (size_t i = 1; i < path.size(); ++i) {
+    const double t = 0.01 * double(i);
+    std::uint64_t before = ipoptTimerReadsSkipped();
+    const BrushState& a = off.step(path[i], t);
+    skipped_off += ipoptTimerReadsSkipped() - before;
+    before = ipoptTimerReadsSkipped();
+    const BrushState& b = on.step(path[i], t);
+    skipped_on += ipoptTimerReadsSkipped() - before;
+    INFO("step " << i);
+    for (size_t s = 0; s < a.spines.size(); ++s)
+      for (size_t j = 0; j < a.spines[s].joints_mm.size(); ++j)
+        REQUIRE(a.spines[s].joints_mm[j] == b.spines[s].joints_mm[j]);  // exact
+  }
+  INFO(off.stats().iterations << " Ipopt iterations, " << skipped_off << " timer reads skipped");
+  REQUIRE(off.stats().iterations > 50);  // the path really solves
+  CHECK(off.stats().iterations == on.stats().iterations);
+  // Ipopt 3.11 times several tasks per iteration, each with two reads at its
+  // start and two at its end: at least 4 reads per iteration is a floor that
+  // any Ipopt with per-task timers passes.
+  CHECK(skipped_off >= 4 * std::uint64_t(off.stats().iterations));
+  CHECK(skipped_on == 0);
+}
+
+TEST_CASE("ipopt timers: getrusage outside a solve is the real one", "[solvers][ipopt]") {
+  const std::uint64_t before = ipoptTimerReadsSkipped();
+  rusage usage{};
+  REQUIRE(getrusage(RUSAGE_SELF, &usage) == 0);
+  CHECK(usage.ru_maxrss > 0);  // this process has pages: not the zeros of a solve
+  CHECK(getrusage(12345, &usage) == -1);  // the kernel still refuses a bad `who`
+  CHECK(errno == EINVAL);
+  {
+    const IpoptTimersOff scope(false);  // not engaged: still real
+    REQUIRE(getrusage(RUSAGE_SELF, &usage) == 0);
+    CHECK(usage.ru_maxrss > 0);
+  }
+  {
+    const IpoptTimersOff scope(true);
+    REQUIRE(getrusage(RUSAGE_SELF, &usage) == 0);
+    CHECK(usage.ru_maxrss == 0);
+    {
+      const IpoptTimersOff inner(false);  // nested, not engaged: stays off
+      REQUIRE(getrusage(RUSAGE_SELF, &usage) == 0);
+      CHECK(usage.ru_maxrss == 0);
+    }
+  }
+  REQUIRE(getrusage(RUSAGE_SELF, &usage) == 0);  // the scope ended
+  CHECK(usage.ru_maxrss > 0);
+  CHECK(ipoptTimerReadsSkipped() - before == 2);
+}
+
+TEST_CASE("ipopt timers: on for a CPU-time limit, and timing_statistics is yes or no",
+          "[solvers][ipopt]") {
+  PressedSpine pressed;
+  const SpineProblem* pp = &pressed.problem;
+  auto skippedBy = [&](const IpoptSettings& settings) {
+    const std::unique_ptr<SpineSolver> solver = makeIpoptSolver(settings);
+    SpineSolution sol = pressed.start;
+    SpineSolution* ps = &sol;
+    const std::uint64_t before = ipoptTimerReadsSkipped();
+    REQUIRE(solver->solve({&pp, 1}, {&ps, 1}).usable());
+    return ipoptTimerReadsSkipped() - before;
+  };
+  IpoptSettings settings;
+  CHECK(skippedBy(settings) > 0);
+  // max_cpu_time is the one thing in Ipopt that reads its timers.
+  settings.extra_options = {{"max_cpu_time", "1000"}};
+  CHECK(skippedBy(settings) == 0);
+  settings.extra_options = {{"print_timing_statistics", "no"}};
+  CHECK(skippedBy(settings) > 0);
+  settings.extra_options = {{"timing_statistics", "no"}};
+  CHECK(skippedBy(settings) > 0);
+  settings.extra_options = {{"timing_statistics", "maybe"}};
+  CHECK_THROWS_AS(makeIpoptSolver(settings), Error);
 }

@@ -1,0 +1,34 @@
+#pragma once
+
+// Ipopt 3.11's own timers, switched off while bristle solves.
+//
+// Ipopt 3.11 (Debian bookworm's) times every task of every iteration through
+// getrusage(2), about 290 system calls per iteration, a quarter to a third of a
+// brush solve (docs/PERFORMANCE.md, "Ipopt's timers"). Ipopt 3.14 can switch
+// them off (option timing_statistics, off by default); 3.11 cannot. So bristle
+// defines getrusage itself: on a thread inside an IpoptTimersOff scope it
+// returns zero usage without a system call, and everywhere else it makes the
+// real system call. Nothing of Ipopt's algorithm reads the timers except the
+// max_cpu_time limit, so the solver keeps them on when that limit is set.
+
+#include <cstdint>
+
+namespace bristle {
+
+// While alive, getrusage on this thread reports zero usage (no system call).
+// Scopes nest; `engage` false makes the scope a no-op.
+class IpoptTimersOff {
+ public:
+  explicit IpoptTimersOff(bool engage);
+  ~IpoptTimersOff();
+  IpoptTimersOff(const IpoptTimersOff&) = delete;
+  IpoptTimersOff& operator=(const IpoptTimersOff&) = delete;
+
+ private:
+  bool was_off_;
+};
+
+// getrusage calls this thread answered with zeros since it started (tests).
+std::uint64_t ipoptTimerReadsSkipped();
+
+}  // namespace bristle
