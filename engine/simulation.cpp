@@ -192,7 +192,11 @@ void Simulation::setFriction(int s, const std::vector<bool>& sliding,
   }
   const bool touching = std::any_of(p.friction_n.begin(), p.friction_n.end(),
                                     [](double f) { return f > 0; });
-  p.eps_damp_rad = touching ? kSmoothDampContactRad : kSmoothDampRad;
+  // Lifting off: the contact joints of the previous step all left the paper in
+  // this step's first solve. The coarse width there would let the spine creep
+  // back towards rest and lose the bend plasticity leaves (spine_energy.h).
+  const bool lifting = std::any_of(lifted.begin(), lifted.end(), [](bool l) { return l; });
+  p.eps_damp_rad = touching || !lifting ? kSmoothDampContactRad : kSmoothDampRad;
 }
 
 // Hair volume couples the spines. A solver that takes the whole brush as one NLP

@@ -31,9 +31,13 @@ inline constexpr double kSmoothMm = 1e-3;
 // rest at every solve, eating the plasticity of §3.5, whose residual bend is
 // only D/K (~1e-3 rad). At 1e-5 rad the residual is kept to about 1%.
 inline constexpr double kSmoothDampRad = 1e-5;
-// While a spine touches the canvas its joints are driven by the contact, and
-// joint friction's creep is immaterial: there the damping term takes the same
-// width as the friction term, which Ipopt solves in a third of the iterations.
+// A spine given to a solver is held by the canvas or its neighbours: one that
+// only its springs and damping act on relaxes in closed form instead
+// (Simulation::relaxInAir). Its joints are driven by that contact and joint
+// friction's creep is immaterial, so the damping term takes the width of the
+// friction term, which Ipopt solves in a third of the iterations. The fine
+// width is kept for the one step in which a spine lifts off the paper, which
+// sets the residual bend that plasticity leaves (docs/design.md, "Smoothing").
 inline constexpr double kSmoothDampContactRad = 1e-3;
 
 struct EnergyTerms {
