@@ -3,6 +3,7 @@
 // `replay` taking its brush from the session's header.
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -230,6 +231,20 @@ TEST_CASE("render --stats: the figures and the warnings as JSON", "[cli][stats]"
   CHECK_THAT(painted, Contains("\"warnings\":[]"));
   CHECK_THAT(painted, Contains("\"failed_steps\":0"));
   CHECK(painted.find("\"painted_pixels\":0,") == std::string::npos);
+  // The solver's work, as the summary line on stderr gives it.
+  const RunResult loud =
+      runShell(d, b + " render --brush round --trajectory short.csv -o s.png --stats s.json");
+  REQUIRE(loud.code == 0);
+  const nlohmann::json figures = nlohmann::json::parse(readAll(d.file("s.json")));
+  const long iterations = figures.at("solver_iterations").get<long>();
+  CHECK(iterations > 0);
+  CHECK_THAT(loud.err, Contains(", " + std::to_string(iterations) + " solver iterations"));
+  const std::string solved = std::string(1, '(')
+                                 .append(std::to_string(figures.at("solved_steps").get<long>()))
+                                 .append(" solved, ")
+                                 .append(std::to_string(figures.at("stiction_resolves").get<long>()))
+                                 .append(" stiction re-solves");
+  CHECK_THAT(loud.err, Contains(solved));
   const RunResult air =
       runShell(d, b + " render -q --brush round --trajectory air.csv -o a.png --stats a.json");
   CHECK(air.code == 0);
