@@ -289,7 +289,7 @@ const char* ipoptStatusName(Ipopt::ApplicationReturnStatus s) {
 // Newton's steps remain. From 1e-6 the round, badger and calligraphy brushes'
 // S-curves took 18-28% more iterations; from 1e-11 the round took 27% more
 // (too small a mu for the steps in which the contact set changes). Measured in
-// docs/PERFORMANCE.md, "Ipopt's warm starts and damping width".
+// docs/PERFORMANCE.md, "Ipopt's warm starts, damping width and timers off".
 constexpr double kWarmMuInit = 1e-9;
 
 class IpoptSolver : public SpineSolver {

@@ -3,8 +3,9 @@
 // Ipopt 3.11's own timers, switched off while bristle solves.
 //
 // Ipopt 3.11 (Debian bookworm's) times every task of every iteration through
-// getrusage(2), about 290 system calls per iteration, a quarter to a third of a
-// brush solve (docs/PERFORMANCE.md, "Ipopt's timers"). Ipopt 3.14 can switch
+// getrusage(2), 100-300 system calls per iteration, up to about a quarter of a
+// brush solve (docs/PERFORMANCE.md, "Ipopt's warm starts, damping width and
+// timers off"). Ipopt 3.14 can switch
 // them off (option timing_statistics, off by default); 3.11 cannot. So bristle
 // defines getrusage itself: on a thread inside an IpoptTimersOff scope it
 // returns zero usage without a system call, and everywhere else it makes the
