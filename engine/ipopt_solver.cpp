@@ -312,6 +312,7 @@ class IpoptSolver : public SpineSolver {
                             "warm_start_slack_bound_frac", "warm_start_slack_bound_push",
                             "warm_start_mult_bound_push"})
       o.SetNumericValue(opt, 1e-9);
+    bool timers_needed = false;
     for (const auto& [name, value] : settings.extra_options) {
       // Ipopt 3.14's switch for its timers, which 3.11 does not know: bristle
       // takes it here (engine/ipopt_timers.h).
@@ -320,9 +321,9 @@ class IpoptSolver : public SpineSolver {
         timers_off_ = value == "no";
         continue;
       }
-      // A CPU-time limit and timing output need the timers.
+      // A CPU-time limit and timing output need the timers, whatever the order.
       if (name == "max_cpu_time" || (name == "print_timing_statistics" && value == "yes"))
-        timers_off_ = false;
+        timers_needed = true;
       // Set each by its registered type (setting a wrong type makes Ipopt print
       // to stdout); an unknown name or unparsable value is refused.
       Ipopt::SmartPtr<const Ipopt::RegisteredOption> opt = app_->RegOptions()->GetOption(name);
@@ -342,6 +343,7 @@ class IpoptSolver : public SpineSolver {
       if (!ok && bad_option_.empty()) bad_option_ = name + "=" + value;
       if (name == "mu_strategy" || name == "mu_init") user_mu_strategy_ = true;
     }
+    timers_off_ = timers_off_ && !timers_needed;
     if (!bad_option_.empty())
       throw Error(ExitCode::kUsage, "Ipopt option " + bad_option_ + ": unknown name or bad value");
     initialized_ = app_->Initialize() == Ipopt::Solve_Succeeded;

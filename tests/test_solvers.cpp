@@ -633,6 +633,8 @@ TEST_CASE("ipopt timers: on for a CPU-time limit, and timing_statistics is yes o
   // max_cpu_time is the one thing in Ipopt that reads its timers.
   settings.extra_options = {{"max_cpu_time", "1000"}};
   CHECK(skippedBy(settings) == 0);
+  settings.extra_options = {{"max_cpu_time", "1000"}, {"timing_statistics", "no"}};
+  CHECK(skippedBy(settings) == 0);  // the limit wins, whichever comes last
   settings.extra_options = {{"print_timing_statistics", "no"}};
   CHECK(skippedBy(settings) > 0);
   settings.extra_options = {{"timing_statistics", "no"}};
