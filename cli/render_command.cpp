@@ -195,7 +195,8 @@ Subcommand registerRender(CLI::App& app) {
                      "higher)")
       ->expected(3);
   render->add_option("--ipopt-option", r->ipopt_options,
-                     "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone");
+                     "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; "
+                     "bristle's own: friction_form=epigraph|objective, timing_statistics=yes|no");
   addPxPerMm(render, r->px_per_mm, "Canvas resolution (pixels per mm)");
   render->add_option("--max-step-mm", r->max_step_mm,
                      "Largest motion of a spine root per simulation step (mm)")

@@ -21,6 +21,26 @@ namespace {
 using Ipopt::Index;
 using Ipopt::Number;
 
+// Friction (eq. 3) is a norm of the joint's displacement, smoothed only over
+// 1e-3 mm. As an objective term, a joint that sticks or creeps puts the optimum
+// on a near-kink: Newton's model of |dx| has no curvature along dx, so its step
+// crosses the kink by the spring's whole reach and the line search cuts it back
+// to 1e-3 of its length, step after step (docs/dynamics.md, "Friction in
+// epigraph form"). In the epigraph form each joint's friction w G(q) becomes a
+// variable t >= 0 with w t in the objective and the constraint t - G(q) >= 0:
+// the same minimum (t = G there, as w > 0), but the bound t >= 0 is in
+// Newton's model, and the barrier handles the kink as it handles the canvas.
+// Damping (eq. 4) stays in the objective: in this form it took more iterations.
+// The form is an option (IpoptSolver::epigraph_ below says why it is not the
+// default), chosen with --ipopt-option friction_form=epigraph|objective.
+// How far above its norm each t starts. On the constraint itself (0), the
+// slack starts at Ipopt's 1e-9 push, so the first Newton step, which also has
+// to lift joints that the carried warm start put into the paper, is cut to a
+// sliver and 36 of the fan's 1,475 S-curve solves went into restoration. Its
+// iterations over that S-curve: 11,084 at 0, 8,552 at 1e-6, 8,097 at 1e-4,
+// 8,155 at 1e-3, 8,583 at 1e-2 (docs/PERFORMANCE.md).
+constexpr double kEpigraphSlackMm = 1e-4;
+
 class BrushNlp : public Ipopt::TNLP {
   // The Hessian block coupling two spines through hair volume.
   struct CrossBlock {
@@ -30,20 +50,29 @@ class BrushNlp : public Ipopt::TNLP {
 
  public:
   BrushNlp(std::span<const SpineProblem* const> problems, std::span<SpineSolution* const> sols,
-           std::span<const VolumeLink> links, bool warm)
-      : problems_(problems), sols_(sols), links_(links), warm_(warm) {
-    for (const SpineProblem* p : problems_) {
+           std::span<const VolumeLink> links, bool warm, bool epigraph)
+      : problems_(problems), sols_(sols), links_(links), warm_(warm), epigraph_(epigraph) {
+    terms_.resize(problems_.size());
+    for (size_t s = 0; s < problems_.size(); ++s) {
+      const SpineProblem& p = *problems_[s];
+      const int n = p.spine->jointCount();
+      if (epigraph_)
+        for (int j = 1; j <= n; ++j)
+          if (p.friction_n[j - 1] > 0) terms_[s].push_back(j);
+      const int m = static_cast<int>(terms_[s].size());
       var_offset_.push_back(nvars_);
       con_offset_.push_back(ncons_);
-      const int n = p->spine->jointCount();
-      nvars_ += 2 * n;
-      ncons_ += n;
-      nnz_jac_ += n * (n + 1);  // constraint j depends on the 2j angles before it
+      nvars_ += 2 * n + m;
+      ncons_ += n + m;
+      nnz_jac_ += n * (n + 1);  // canvas constraint j depends on the 2j angles before it
+      for (int j : terms_[s]) nnz_jac_ += 2 * j + 1;  // the angles before x_j, and t
       nnz_hess_ += (2 * n) * (2 * n + 1) / 2;
     }
     fk_.resize(problems_.size());
     grad_.resize(nvars_);
     hess_.resize(problems_.size());
+    norm_.resize(problems_.size());
+    for (size_t s = 0; s < problems_.size(); ++s) norm_[s].resize(terms_[s].size());
     // One dense off-diagonal Hessian block per coupled pair of spines, in the
     // lower triangle: rows of the later spine (larger variable offset), columns
     // of the earlier one.
@@ -73,16 +102,24 @@ class BrushNlp : public Ipopt::TNLP {
     return true;
   }
 
-  bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index m, Number* g_l,
+  bool get_bounds_info(Index, Number* x_l, Number* x_u, Index, Number* g_l,
                        Number* g_u) override {
-    for (Index i = 0; i < n; ++i) {
-      const double lim = (i % 2 == 0) ? kThetaLimitRad : kPhiLimitRad;
-      x_l[i] = -lim;
-      x_u[i] = lim;
-    }
-    for (Index j = 0; j < m; ++j) {
-      g_l[j] = 0.0;     // eq. 5: every joint on or above the canvas
-      g_u[j] = 2e19;    // > nlp_upper_bound_inf: no upper bound
+    for (size_t s = 0; s < problems_.size(); ++s) {
+      const int nq = problems_[s]->vars(), nc = nq / 2, m = termCount(s);
+      for (int i = 0; i < nq; ++i) {
+        const double lim = (i % 2 == 0) ? kThetaLimitRad : kPhiLimitRad;
+        x_l[var_offset_[s] + i] = -lim;
+        x_u[var_offset_[s] + i] = lim;
+      }
+      for (int i = 0; i < m; ++i) {  // t >= 0
+        x_l[var_offset_[s] + nq + i] = 0.0;
+        x_u[var_offset_[s] + nq + i] = 2e19;
+      }
+      // eq. 5: every joint on or above the canvas; and t - G >= 0.
+      for (int j = 0; j < nc + m; ++j) {
+        g_l[con_offset_[s] + j] = 0.0;
+        g_u[con_offset_[s] + j] = 2e19;  // > nlp_upper_bound_inf: no upper bound
+      }
     }
     return true;
   }
@@ -90,19 +127,41 @@ class BrushNlp : public Ipopt::TNLP {
   bool get_starting_point(Index, bool init_x, Number* x, bool init_z, Number* z_L, Number* z_U,
                           Index, bool init_lambda, Number* lambda) override {
     for (size_t s = 0; s < problems_.size(); ++s) {
+      const SpineProblem& p = *problems_[s];
       const SpineSolution& sol = *sols_[s];
-      const int nv = problems_[s]->vars(), nc = nv / 2;
+      const int nv = p.vars(), nc = nv / 2, m = termCount(s);
       const bool have = warm_ && sol.lambda.size() == size_t(nc);
+      const int vo = var_offset_[s], co = con_offset_[s];
       for (int i = 0; i < nv; ++i) {
         const double lim = (i % 2 == 0) ? kThetaLimitRad : kPhiLimitRad;
-        if (init_x) x[var_offset_[s] + i] = std::clamp(sol.q[i], -lim, lim);
+        if (init_x) x[vo + i] = std::clamp(sol.q[i], -lim, lim);
         if (init_z) {
-          z_L[var_offset_[s] + i] = have ? sol.z_lower[i] : 0.0;
-          z_U[var_offset_[s] + i] = have ? sol.z_upper[i] : 0.0;
+          z_L[vo + i] = have ? sol.z_lower[i] : 0.0;
+          z_U[vo + i] = have ? sol.z_upper[i] : 0.0;
         }
       }
       if (init_lambda)
-        for (int j = 0; j < nc; ++j) lambda[con_offset_[s] + j] = have ? sol.lambda[j] : 0.0;
+        for (int j = 0; j < nc; ++j) lambda[co + j] = have ? sol.lambda[j] : 0.0;
+      if (m == 0) continue;
+      if (init_x) {
+        SpineFk fk;
+        spineForwardKinematics(*p.spine, p.handle, p.baseData(), x + vo, 0, &fk);
+        FrictionJointTerm term;
+        for (int i = 0; i < m; ++i) {
+          frictionJointTerm(p, fk, terms_[s][i], 0, &term);
+          x[vo + nv + i] = term.g + kEpigraphSlackMm;
+        }
+      }
+      for (int i = 0; i < m; ++i) {
+        // t > 0 at the optimum unless the joint stays put, where its bound's
+        // multiplier is small; dL/dt = w + lambda - z = 0 gives lambda = -w.
+        if (init_z) {
+          const int j = terms_[s][i];
+          z_L[vo + nv + i] = have && sol.friction_z.size() == size_t(nc) ? sol.friction_z[j - 1] : 0.0;
+          z_U[vo + nv + i] = 0.0;
+        }
+        if (init_lambda) lambda[co + nc + i] = -p.friction_n[terms_[s][i] - 1];
+      }
     }
     return true;
   }
@@ -121,8 +180,12 @@ class BrushNlp : public Ipopt::TNLP {
 
   bool eval_g(Index, const Number* x, bool new_x, Index, Number* g) override {
     update(x, new_x);
-    for (size_t s = 0; s < problems_.size(); ++s)
-      for (int j = 1; j <= fk_[s].n; ++j) g[con_offset_[s] + j - 1] = fk_[s].x[j].z();
+    for (size_t s = 0; s < problems_.size(); ++s) {
+      const int n = fk_[s].n, nq = 2 * n;
+      for (int j = 1; j <= n; ++j) g[con_offset_[s] + j - 1] = fk_[s].x[j].z();
+      for (int i = 0; i < termCount(s); ++i)
+        g[con_offset_[s] + n + i] = x[var_offset_[s] + nq + i] - norm_[s][i].g;
+    }
     return true;
   }
 
@@ -131,20 +194,37 @@ class BrushNlp : public Ipopt::TNLP {
     Index k = 0;
     if (values == nullptr) {
       for (size_t s = 0; s < problems_.size(); ++s) {
-        const int n = problems_[s]->spine->jointCount();
+        const int n = problems_[s]->spine->jointCount(), nq = 2 * n;
+        const int vo = var_offset_[s], co = con_offset_[s];
         for (int j = 1; j <= n; ++j)
           for (int v = 0; v < 2 * j; ++v) {
-            rows[k] = con_offset_[s] + j - 1;
-            cols[k] = var_offset_[s] + v;
+            rows[k] = co + j - 1;
+            cols[k] = vo + v;
             ++k;
           }
+        for (int i = 0; i < termCount(s); ++i) {
+          // Joint j's friction depends on the 2j angles before it, and on t.
+          for (int v = 0; v < 2 * terms_[s][i]; ++v) {
+            rows[k] = co + n + i;
+            cols[k] = vo + v;
+            ++k;
+          }
+          rows[k] = co + n + i;
+          cols[k] = vo + nq + i;
+          ++k;
+        }
       }
       return true;
     }
     update(x, new_x);
-    for (size_t s = 0; s < problems_.size(); ++s)
+    for (size_t s = 0; s < problems_.size(); ++s) {
       for (int j = 1; j <= fk_[s].n; ++j)
         for (int v = 0; v < 2 * j; ++v) values[k++] = fk_[s].d(j, v).z();
+      for (const FrictionJointTerm& t : norm_[s]) {
+        for (int v = 0; v < t.var_count; ++v) values[k++] = -t.grad[v];
+        values[k++] = 1.0;
+      }
+    }
     return true;
   }
 
@@ -174,10 +254,20 @@ class BrushNlp : public Ipopt::TNLP {
     for (size_t s = 0; s < problems_.size(); ++s) {
       const SpineFk& fk = fk_[s];
       const int nv = fk.vars();
-      const std::vector<double>& h = hess_[s];
+      // The objective's Hessian, then each norm constraint's: the Lagrangian
+      // has lambda (t - G), so G's Hessian enters with -lambda.
+      lagrangian_.resize(static_cast<size_t>(nv) * nv);
+      for (int i = 0; i < nv * nv; ++i) lagrangian_[i] = obj_factor * hess_[s][i];
+      for (int i = 0; i < termCount(s); ++i) {
+        const FrictionJointTerm& t = norm_[s][i];
+        const double l = -lambda[con_offset_[s] + fk.n + i];
+        for (int c = 0; c < t.var_count; ++c)
+          for (int r = 0; r < t.var_count; ++r)
+            lagrangian_[c * nv + r] += l * t.hess[c * t.var_count + r];
+      }
       for (int r = 0; r < nv; ++r)
         for (int c = 0; c <= r; ++c) {
-          double v = obj_factor * h[c * nv + r];
+          double v = lagrangian_[c * nv + r];
           // Constraint j involves angles of joints < j only.
           for (int j = std::max(r, c) / 2 + 1; j <= fk.n; ++j)
             v += lambda[con_offset_[s] + j - 1] * fk.dd(j, r, c).z();
@@ -196,29 +286,40 @@ class BrushNlp : public Ipopt::TNLP {
     for (size_t s = 0; s < problems_.size(); ++s) {
       SpineSolution& sol = result_.emplace_back();
       const int nv = problems_[s]->vars(), nc = nv / 2;
-      sol.q.assign(x + var_offset_[s], x + var_offset_[s] + nv);
-      sol.z_lower.assign(z_L + var_offset_[s], z_L + var_offset_[s] + nv);
-      sol.z_upper.assign(z_U + var_offset_[s], z_U + var_offset_[s] + nv);
-      sol.lambda.assign(lambda + con_offset_[s], lambda + con_offset_[s] + nc);
+      const int vo = var_offset_[s], co = con_offset_[s];
+      sol.q.assign(x + vo, x + vo + nv);
+      sol.z_lower.assign(z_L + vo, z_L + vo + nv);
+      sol.z_upper.assign(z_U + vo, z_U + vo + nv);
+      sol.lambda.assign(lambda + co, lambda + co + nc);
       sol.normal_force_n.resize(nc);
       // Ipopt's Lagrangian is f + lambda^T g: an active g >= 0 has lambda <= 0,
       // and -lambda is the canvas's force on the joint in newtons (E in N mm, g in mm).
       for (int j = 0; j < nc; ++j) sol.normal_force_n[j] = std::max(0.0, -sol.lambda[j]);
+      sol.friction_z.assign(nc, 0.0);
+      for (int i = 0; i < termCount(s); ++i) sol.friction_z[terms_[s][i] - 1] = z_L[vo + nv + i];
     }
   }
 
   std::vector<SpineSolution> result_;
 
  private:
+  int termCount(size_t s) const { return static_cast<int>(terms_[s].size()); }
+
   void update(const Number* x, bool new_x) {
     if (!new_x && have_) return;
     have_ = true;
     energy_ = 0;
+    const EnergyParts parts = epigraph_ ? EnergyParts::kWithoutFriction : EnergyParts::kAll;
     for (size_t s = 0; s < problems_.size(); ++s) {
-      const int nv = problems_[s]->vars();
+      const SpineProblem& p = *problems_[s];
+      const int nv = p.vars(), vo = var_offset_[s];
       hess_[s].resize(nv * nv);
-      energy_ += spineEnergy(*problems_[s], x + var_offset_[s], &fk_[s], nullptr,
-                             grad_.data() + var_offset_[s], hess_[s].data());
+      energy_ += spineEnergy(p, x + vo, &fk_[s], nullptr, grad_.data() + vo, hess_[s].data(), parts);
+      for (int i = 0; i < termCount(s); ++i) {
+        frictionJointTerm(p, fk_[s], terms_[s][i], 2, &norm_[s][i]);
+        energy_ += norm_[s][i].weight * x[vo + nv + i];
+        grad_[vo + nv + i] = norm_[s][i].weight;
+      }
     }
     for (CrossBlock& b : blocks_)
       b.h.assign(static_cast<size_t>(problems_[b.hi]->vars()) * problems_[b.lo]->vars(), 0.0);
@@ -248,14 +349,18 @@ class BrushNlp : public Ipopt::TNLP {
   std::span<SpineSolution* const> sols_;
   std::span<const VolumeLink> links_;
   bool warm_;
+  bool epigraph_;
+  std::vector<std::vector<int>> terms_;  // per spine, its norm terms in the epigraph form
   std::vector<CrossBlock> blocks_;
   std::vector<int> link_block_;  // per link, its block
   std::vector<double> cross_;    // one link's cross terms (workspace)
-  std::vector<int> var_offset_, con_offset_;
+  std::vector<int> var_offset_, con_offset_;  // per spine: angles then t; canvas then norms
   int nvars_ = 0, ncons_ = 0, nnz_jac_ = 0, nnz_hess_ = 0;
   std::vector<SpineFk> fk_;
   std::vector<double> grad_;
   std::vector<std::vector<double>> hess_;
+  std::vector<std::vector<FrictionJointTerm>> norm_;  // per spine, per term: G and derivatives
+  std::vector<double> lagrangian_;           // one spine's Hessian block (workspace)
   double energy_ = 0;
   bool have_ = false;
 };
@@ -321,6 +426,14 @@ class IpoptSolver : public SpineSolver {
         timers_off_ = value == "no";
         continue;
       }
+      // bristle's own: friction and damping as objective terms or in epigraph
+      // form (BrushNlp above).
+      if (name == "friction_form") {
+        if (value != "epigraph" && value != "objective" && bad_option_.empty())
+          bad_option_ = name + "=" + value;
+        epigraph_ = value != "objective";
+        continue;
+      }
       // A CPU-time limit and timing output need the timers, whatever the order.
       if (name == "max_cpu_time" || (name == "print_timing_statistics" && value == "yes"))
         timers_needed = true;
@@ -375,7 +488,9 @@ class IpoptSolver : public SpineSolver {
       o.SetStringValue("mu_strategy", warm ? "monotone" : "adaptive");
       o.SetNumericValue("mu_init", warm ? kWarmMuInit : 0.1);
     }
-    Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm);
+    // Cold starts keep friction in the objective: from cold starts the
+    // epigraph form sent solves into Ipopt's restoration phase.
+    Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm, epigraph_ && warm);
     Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
     try {
       const IpoptTimersOff timers_off(timers_off_);
@@ -402,6 +517,11 @@ class IpoptSolver : public SpineSolver {
   std::string bad_option_;  // the first extra option Ipopt refused
   bool user_mu_strategy_ = false;  // the user chose the barrier strategy
   bool timers_off_ = true;  // Ipopt's getrusage timers (engine/ipopt_timers.h)
+  // Friction in epigraph form on warm starts (BrushNlp): off unless asked for
+  // (--ipopt-option friction_form=epigraph). It halves the fan's iterations but
+  // costs the round and badger 16% more, and buckles a straight spine pressed
+  // straight down to the other side (docs/dynamics.md, "Friction in epigraph form").
+  bool epigraph_ = false;
 };
 
 }  // namespace

@@ -152,39 +152,20 @@ void addJointTerms(const SpineProblem& p, const double* q, EnergySums& sum) {
 }
 
 // eqs. 3, 13-14, friction on the joints that touched the canvas at the
-// previous step.
+// previous step: (1 - eta) mu |F_n| |dx_c| each (frictionJointTerm).
 void addFrictionTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
   const int n = p.spine->jointCount();
-  EnergyTerms& e = sum.e;
-  double* grad = sum.grad;
-  double* hess = sum.hess;
-  auto H = [&](int i, int j) -> double& { return sum.H(i, j); };
-  // (1 - eta) mu |F_n| |dx_c|.
-  Anisotropy aniso;
-  aniso.strength = p.anisotropy_strength;
-  aniso.exponent = p.anisotropy_exponent;
+  const int order = sum.hess ? 2 : (sum.grad ? 1 : 0);
+  FrictionJointTerm t;
   for (int j = 1; j <= n; ++j) {
-    const double c = p.friction_n[j - 1];
-    if (c <= 0) continue;
-    const Eigen::Vector2d d = fk->x[j].head<2>() - p.anchor_xy_mm[j - 1];
-    aniso.pull_dir = p.pull_dir.empty() ? Eigen::Vector2d::Zero() : p.pull_dir[j - 1];
-    const FrictionTerm sn = frictionTerm(d, aniso, p.eps_mm);
-    e.friction_nmm += c * sn.f;
-    // Only joints 0..j-1 move x_j.
-    const int nvj = 2 * j;
-    if (grad)
-      for (int v = 0; v < nvj; ++v) grad[v] += c * sn.grad.dot(fk->d(j, v).head<2>());
-    if (hess)
-      for (int v = 0; v < nvj; ++v) {
-        const Eigen::Vector2d dv = fk->d(j, v).head<2>();
-        const Eigen::Vector2d hdv = sn.hess * dv;
-        for (int w = 0; w <= v; ++w) {
-          const double val =
-              c * (hdv.dot(fk->d(j, w).head<2>()) + sn.grad.dot(fk->dd(j, v, w).head<2>()));
-          H(v, w) += val;
-          if (w != v) H(w, v) += val;
-        }
-      }
+    if (!frictionJointTerm(p, *fk, j, order, &t)) continue;
+    const double c = t.weight;
+    sum.e.friction_nmm += c * t.g;
+    if (sum.grad)
+      for (int v = 0; v < t.var_count; ++v) sum.grad[v] += c * t.grad[v];
+    if (sum.hess)
+      for (int v = 0; v < t.var_count; ++v)
+        for (int w = 0; w < t.var_count; ++w) sum.H(v, w) += c * t.hess[w * t.var_count + v];
   }
 }
 
@@ -231,7 +212,7 @@ void addVolumeTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
 }  // namespace
 
 double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
-                   double* grad, double* hess) {
+                   double* grad, double* hess, EnergyParts parts) {
   const SpineSpec& s = *p.spine;
   const int nv = 2 * s.jointCount();
   const int order = hess ? 2 : (grad ? 1 : 0);
@@ -243,10 +224,41 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
   sum.hess = hess;
   sum.nv = nv;
   addJointTerms(p, q, sum);
-  addFrictionTerms(p, fk, sum);
+  if (parts == EnergyParts::kAll) addFrictionTerms(p, fk, sum);
   addVolumeTerms(p, fk, sum);
   if (terms) *terms = sum.e;
   return sum.e.total();
+}
+
+bool frictionJointTerm(const SpineProblem& p, const SpineFk& fk, int j, int order,
+                       FrictionJointTerm* out) {
+  out->weight = 0;
+  const double c = p.friction_n[j - 1];
+  if (c <= 0) return false;
+  Anisotropy aniso;
+  aniso.strength = p.anisotropy_strength;
+  aniso.exponent = p.anisotropy_exponent;
+  aniso.pull_dir = p.pull_dir.empty() ? Eigen::Vector2d::Zero() : p.pull_dir[j - 1];
+  const Eigen::Vector2d d = fk.x[j].head<2>() - p.anchor_xy_mm[j - 1];
+  const FrictionTerm sn = frictionTerm(d, aniso, p.eps_mm);
+  const int nvj = 2 * j;  // only joints 0..j-1 move x_j
+  out->weight = c;
+  out->g = sn.f;
+  out->var_count = nvj;
+  if (order < 1) return true;
+  out->grad.resize(nvj);
+  for (int v = 0; v < nvj; ++v) out->grad[v] = sn.grad.dot(fk.d(j, v).head<2>());
+  if (order < 2) return true;
+  out->hess.resize(static_cast<size_t>(nvj) * nvj);
+  for (int v = 0; v < nvj; ++v) {
+    const Eigen::Vector2d hdv = sn.hess * fk.d(j, v).head<2>();
+    for (int w = 0; w <= v; ++w) {
+      const double val = hdv.dot(fk.d(j, w).head<2>()) + sn.grad.dot(fk.dd(j, v, w).head<2>());
+      out->hess[w * nvj + v] = val;
+      out->hess[v * nvj + w] = val;
+    }
+  }
+  return true;
 }
 
 }  // namespace bristle

@@ -113,9 +113,33 @@ struct SpineProblem {
   int vars() const { return 2 * spine->jointCount(); }
 };
 
+// Which terms spineEnergy adds up.
+enum class EnergyParts {
+  kAll,
+  // All but the friction (eqs. 3, 13-14), which a solver then takes joint by
+  // joint from frictionJointTerm (the epigraph form, engine/ipopt_solver.cpp).
+  kWithoutFriction,
+};
+
 // Evaluates E at q. grad (size 2n) and hess (2n x 2n, column-major, full) may be
 // null. fk is a workspace; on return it holds the kinematics at q (order 2 if hess).
 double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
-                   double* grad, double* hess);
+                   double* grad, double* hess, EnergyParts parts = EnergyParts::kAll);
+
+// The friction of one joint j = 1..n that touched the canvas: weight * G(q),
+// with weight = mu F_n of the previous step and G = (1 - eta) |dx| smoothed
+// (eqs. 3, 13-14). E_f of spineEnergy is the sum of these over the joints.
+struct FrictionJointTerm {
+  double weight = 0;          // N; 0 when the joint did not touch
+  double g = 0;               // mm
+  int var_count = 0;          // G depends on q[0, var_count): the 2j angles before x_j
+  std::vector<double> grad;   // var_count: dG/dq
+  std::vector<double> hess;   // var_count^2, column-major: d2G/dq2
+};
+// Joint j's term at the kinematics fk (of order >= `order`; order 0 gives G, 1
+// adds the gradient, 2 the Hessian). Returns false, with weight 0, for a joint
+// without friction this step.
+bool frictionJointTerm(const SpineProblem& p, const SpineFk& fk, int joint, int order,
+                       FrictionJointTerm* out);
 
 }  // namespace bristle

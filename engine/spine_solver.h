@@ -35,6 +35,9 @@ struct SpineSolution {
   std::vector<double> normal_force_n;  // n canvas forces on joints 1..n (N, >= 0)
   // Backend warm-start data (empty until the first solve).
   std::vector<double> lambda, z_lower, z_upper;
+  // Per joint (0 where it had none): the multiplier of the bound t >= 0 on its
+  // friction's epigraph variable (engine/ipopt_solver.cpp).
+  std::vector<double> friction_z;
 };
 
 // Bounds on every joint angle: theta stays off the Euler-XYZ singularity at

@@ -65,19 +65,33 @@ TEST_CASE("spring energy is K beta^2 / 2 with beta from eq. 12", "[energy]") {
   CHECK(e.damping_nmm == 0);
 }
 
-TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
+namespace {
+// A three-joint spine, slightly curved at rest, whose joints 2 and 3 touched
+// the canvas at the previous step, dragged with anisotropic friction
+// (eqs. 13-14) pulling each its own way.
+SpineSpec contactSpine() {
   SpineSpec spine = makeSpine({4.0, 3.5, 3.0}, {10, 7, 5}, 0.008, Eigen::Vector3d(0.5, 0, -0.3));
   spine.rest_angles_rad[0] = Eigen::Vector2d(0.05, -0.02);
   spine.rest_angles_rad[2] = Eigen::Vector2d(-0.1, 0.2);
+  return spine;
+}
+SpineProblem contactProblem(const SpineSpec* spine) {
   SpineProblem p;
-  p.spine = &spine;
+  p.spine = spine;
   p.handle.position_mm = Eigen::Vector3d(10, 20, 6);
   p.handle.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
   p.friction_n = {0.0, 0.15, 0.4};  // joints 2 and 3 in contact
   p.anchor_xy_mm = {Eigen::Vector2d(0, 0), Eigen::Vector2d(11.0, 24.0), Eigen::Vector2d(9.5, 27.0)};
   p.prev_q = {0.1, -0.2, 0.45, 0.05, 0.2, 0.3};
-  // Anisotropic friction (eqs. 13-14) on both contact joints, k = 1.5 and 3.
   p.pull_dir = {Eigen::Vector2d::Zero(), Eigen::Vector2d(0.6, 0.8), Eigen::Vector2d(-1, 0)};
+  return p;
+}
+}  // namespace
+
+TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
+  SpineSpec spine = contactSpine();
+  SpineProblem p = contactProblem(&spine);
+  // Anisotropic friction on both contact joints, k = 1.5 and 3.
   p.anisotropy_strength = GENERATE(0.0, 0.7);
   p.anisotropy_exponent = GENERATE(1.5, 3.0);
   // Also re-based (docs/dynamics.md): the angles as increments from base
@@ -234,4 +248,74 @@ TEST_CASE("anisotropic friction: C_eta removes friction along the pull direction
   CHECK(frictionTerm({len, 0}, a, kSmoothMm).f == Approx(len).margin(kTol));
   a.strength = 1;  // C_eta = 1: no friction at all in the pull direction
   CHECK(frictionTerm({len, 0}, a, kSmoothMm).f == Approx(0).margin(kTol));
+}
+
+TEST_CASE("friction joint by joint: the energy's friction, with its own derivatives",
+          "[energy][friction]") {
+  // The epigraph form of engine/ipopt_solver.cpp takes the friction out of the
+  // objective (EnergyParts::kWithoutFriction) and puts each joint's weight * G
+  // into a constraint: the two must add back up to spineEnergy, and G's
+  // gradient and Hessian must be G's own (central differences as above).
+  const SpineSpec spine = contactSpine();
+  SpineProblem p = contactProblem(&spine);
+  p.anisotropy_strength = GENERATE(0.0, 0.7);
+  p.anisotropy_exponent = 2.0;
+  // The sums differ from spineEnergy's only by the order of additions.
+  constexpr double kSumTol = 1e-12;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-0.9, 0.9);
+  for (int trial = 0; trial < 4; ++trial) {
+    std::vector<double> q(6);
+    for (double& a : q) a = angle(rng);
+    std::vector<double> g_all(6), h_all(36), g_rest(6), h_rest(36);
+    SpineFk fk;
+    EnergyTerms all, rest;
+    const double e_all = spineEnergy(p, q.data(), &fk, &all, g_all.data(), h_all.data());
+    const double e_rest = spineEnergy(p, q.data(), &fk, &rest, g_rest.data(), h_rest.data(),
+                                      EnergyParts::kWithoutFriction);
+    CHECK(rest.friction_nmm == 0);
+    CHECK(rest.spring_nmm == all.spring_nmm);
+    CHECK(rest.damping_nmm == all.damping_nmm);
+    double sum = 0;
+    std::vector<double> g_sum(6, 0.0), h_sum(36, 0.0);
+    FrictionJointTerm t;
+    CHECK_FALSE(frictionJointTerm(p, fk, 1, 2, &t));  // joint 1 did not touch
+    CHECK(t.weight == 0);
+    for (int j = 2; j <= 3; ++j) {
+      REQUIRE(frictionJointTerm(p, fk, j, 2, &t));
+      REQUIRE(t.var_count == 2 * j);
+      CHECK(t.weight == p.friction_n[j - 1]);
+      sum += t.weight * t.g;
+      for (int v = 0; v < t.var_count; ++v) {
+        g_sum[v] += t.weight * t.grad[v];
+        for (int w = 0; w < t.var_count; ++w)
+          h_sum[w * 6 + v] += t.weight * t.hess[w * t.var_count + v];
+      }
+      // G's own derivatives against central differences of G.
+      for (int v = 0; v < t.var_count; ++v) {
+        std::vector<double> qp = q, qm = q;
+        qp[v] += kFdStep;
+        qm[v] -= kFdStep;
+        SpineFk fp, fm;
+        FrictionJointTerm tp, tm;
+        spineForwardKinematics(spine, p.handle, qp.data(), 1, &fp);
+        spineForwardKinematics(spine, p.handle, qm.data(), 1, &fm);
+        frictionJointTerm(p, fp, j, 1, &tp);
+        frictionJointTerm(p, fm, j, 1, &tm);
+        INFO("trial " << trial << " joint " << j << " var " << v);
+        CHECK(close(t.grad[v], (tp.g - tm.g) / (2 * kFdStep)));
+        for (int w = 0; w < t.var_count; ++w)
+          CHECK(close(t.hess[v * t.var_count + w], (tp.grad[w] - tm.grad[w]) / (2 * kFdStep)));
+      }
+    }
+    INFO("trial " << trial);
+    CHECK(all.friction_nmm == Approx(sum).epsilon(kSumTol));
+    CHECK(e_all - e_rest == Approx(sum).epsilon(1e-9).margin(kSumTol));
+    for (int v = 0; v < 6; ++v) {
+      CHECK(std::fabs(g_all[v] - g_rest[v] - g_sum[v]) <= kSumTol * (1 + std::fabs(g_all[v])));
+      for (int w = 0; w < 6; ++w)
+        CHECK(std::fabs(h_all[w * 6 + v] - h_rest[w * 6 + v] - h_sum[w * 6 + v]) <=
+              kSumTol * (1 + std::fabs(h_all[w * 6 + v])));
+    }
+  }
 }
