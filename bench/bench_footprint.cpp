@@ -215,14 +215,13 @@ FootprintImage timeFootprints(benchmark::State& state, Render&& render) {
   return fp;
 }
 
-// Geometry + footprint render + readback of the pressed calligraphy brush with
-// 200 strips; range(0) = px per mm, which sets the footprint window's size.
-void BM_GeometryAndFootprint(benchmark::State& state) {
-  const Brush brush = benchBrush(1);
+// Geometry + footprint render + readback of `brush` pressed, at px_per_mm,
+// which sets the footprint window's size.
+void timePressedFootprint(benchmark::State& state, const Brush& brush, double px_per_mm) {
   BrushGeometry geometry(brush);
   const BrushState st = pressedState(brush);
   CanvasGrid grid;
-  grid.px_per_mm = double(state.range(0));
+  grid.px_per_mm = px_per_mm;
   grid.x0_mm = grid.y0_mm = -40;
   grid.width_px = grid.height_px = static_cast<int>(80 * grid.px_per_mm);
   StrokeRenderer renderer;
@@ -232,7 +231,22 @@ void BM_GeometryAndFootprint(benchmark::State& state) {
   state.counters["window_w"] = fp.window.width_px;
   state.counters["window_h"] = fp.window.height_px;
 }
+// The calligraphy brush with 200 strips; range(0) = px per mm.
+void BM_GeometryAndFootprint(benchmark::State& state) {
+  timePressedFootprint(state, benchBrush(1), double(state.range(0)));
+}
 BENCHMARK(BM_GeometryAndFootprint)->ArgName("px_per_mm")->Arg(8)->Arg(16)->Arg(32)->Arg(56)
+    ->UseManualTime()->Unit(benchmark::kMicrosecond);
+
+// Issue 21's goal for thousands of hairs: geometry + footprint + readback of
+// the pressed calligraphy brush with range(0) strips at 56 px/mm (a window of
+// about 512^2, as above), so that 200 and 1,000 strips compare in one run.
+void BM_StripCountFootprint(benchmark::State& state) {
+  Brush brush = benchBrush(1);
+  brush.strips.count = static_cast<int>(state.range(0));
+  timePressedFootprint(state, brush, 56);
+}
+BENCHMARK(BM_StripCountFootprint)->ArgName("strips")->Arg(200)->Arg(1000)
     ->UseManualTime()->Unit(benchmark::kMicrosecond);
 
 // The same pressed state swept over a step: the state moved range(0) pixels
