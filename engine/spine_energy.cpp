@@ -156,7 +156,9 @@ void addJointTerms(const SpineProblem& p, const double* q, EnergySums& sum) {
 void addFrictionTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
   const int n = p.spine->jointCount();
   const int order = sum.hess ? 2 : (sum.grad ? 1 : 0);
-  FrictionJointTerm t;
+  // Kept between calls: its vectors are sized once, not on every evaluation
+  // of a solver's hot loop.
+  thread_local FrictionJointTerm t;
   for (int j = 1; j <= n; ++j) {
     if (!frictionJointTerm(p, *fk, j, order, &t)) continue;
     const double c = t.weight;
