@@ -71,8 +71,8 @@ class BrushNlp : public Ipopt::TNLP {
     fk_.resize(problems_.size());
     grad_.resize(nvars_);
     hess_.resize(problems_.size());
-    norm_.resize(problems_.size());
-    for (size_t s = 0; s < problems_.size(); ++s) norm_[s].resize(terms_[s].size());
+    friction_.resize(problems_.size());
+    for (size_t s = 0; s < problems_.size(); ++s) friction_[s].resize(terms_[s].size());
     // One dense off-diagonal Hessian block per coupled pair of spines, in the
     // lower triangle: rows of the later spine (larger variable offset), columns
     // of the earlier one.
@@ -157,7 +157,8 @@ class BrushNlp : public Ipopt::TNLP {
         // multiplier is small; dL/dt = w + lambda - z = 0 gives lambda = -w.
         if (init_z) {
           const int j = terms_[s][i];
-          z_L[vo + nv + i] = have && sol.friction_z.size() == size_t(nc) ? sol.friction_z[j - 1] : 0.0;
+          const bool kept = have && sol.friction_z.size() == size_t(nc);
+          z_L[vo + nv + i] = kept ? sol.friction_z[j - 1] : 0.0;
           z_U[vo + nv + i] = 0.0;
         }
         if (init_lambda) lambda[co + nc + i] = -p.friction_n[terms_[s][i] - 1];
@@ -184,7 +185,7 @@ class BrushNlp : public Ipopt::TNLP {
       const int n = fk_[s].n, nq = 2 * n;
       for (int j = 1; j <= n; ++j) g[con_offset_[s] + j - 1] = fk_[s].x[j].z();
       for (int i = 0; i < termCount(s); ++i)
-        g[con_offset_[s] + n + i] = x[var_offset_[s] + nq + i] - norm_[s][i].g;
+        g[con_offset_[s] + n + i] = x[var_offset_[s] + nq + i] - friction_[s][i].g;
     }
     return true;
   }
@@ -220,7 +221,7 @@ class BrushNlp : public Ipopt::TNLP {
     for (size_t s = 0; s < problems_.size(); ++s) {
       for (int j = 1; j <= fk_[s].n; ++j)
         for (int v = 0; v < 2 * j; ++v) values[k++] = fk_[s].d(j, v).z();
-      for (const FrictionJointTerm& t : norm_[s]) {
+      for (const FrictionJointTerm& t : friction_[s]) {
         for (int v = 0; v < t.var_count; ++v) values[k++] = -t.grad[v];
         values[k++] = 1.0;
       }
@@ -254,12 +255,12 @@ class BrushNlp : public Ipopt::TNLP {
     for (size_t s = 0; s < problems_.size(); ++s) {
       const SpineFk& fk = fk_[s];
       const int nv = fk.vars();
-      // The objective's Hessian, then each norm constraint's: the Lagrangian
-      // has lambda (t - G), so G's Hessian enters with -lambda.
+      // The objective's Hessian, then each friction constraint's: the
+      // Lagrangian has lambda (t - G), so G's Hessian enters with -lambda.
       lagrangian_.resize(static_cast<size_t>(nv) * nv);
       for (int i = 0; i < nv * nv; ++i) lagrangian_[i] = obj_factor * hess_[s][i];
       for (int i = 0; i < termCount(s); ++i) {
-        const FrictionJointTerm& t = norm_[s][i];
+        const FrictionJointTerm& t = friction_[s][i];
         const double l = -lambda[con_offset_[s] + fk.n + i];
         for (int c = 0; c < t.var_count; ++c)
           for (int r = 0; r < t.var_count; ++r)
@@ -314,11 +315,12 @@ class BrushNlp : public Ipopt::TNLP {
       const SpineProblem& p = *problems_[s];
       const int nv = p.vars(), vo = var_offset_[s];
       hess_[s].resize(nv * nv);
-      energy_ += spineEnergy(p, x + vo, &fk_[s], nullptr, grad_.data() + vo, hess_[s].data(), parts);
+      energy_ +=
+          spineEnergy(p, x + vo, &fk_[s], nullptr, grad_.data() + vo, hess_[s].data(), parts);
       for (int i = 0; i < termCount(s); ++i) {
-        frictionJointTerm(p, fk_[s], terms_[s][i], 2, &norm_[s][i]);
-        energy_ += norm_[s][i].weight * x[vo + nv + i];
-        grad_[vo + nv + i] = norm_[s][i].weight;
+        frictionJointTerm(p, fk_[s], terms_[s][i], 2, &friction_[s][i]);
+        energy_ += friction_[s][i].weight * x[vo + nv + i];
+        grad_[vo + nv + i] = friction_[s][i].weight;
       }
     }
     for (CrossBlock& b : blocks_)
@@ -350,16 +352,16 @@ class BrushNlp : public Ipopt::TNLP {
   std::span<const VolumeLink> links_;
   bool warm_;
   bool epigraph_;
-  std::vector<std::vector<int>> terms_;  // per spine, its norm terms in the epigraph form
+  std::vector<std::vector<int>> terms_;  // per spine, the joints (1..n) whose friction has a t
   std::vector<CrossBlock> blocks_;
   std::vector<int> link_block_;  // per link, its block
   std::vector<double> cross_;    // one link's cross terms (workspace)
-  std::vector<int> var_offset_, con_offset_;  // per spine: angles then t; canvas then norms
+  std::vector<int> var_offset_, con_offset_;  // per spine: angles, then t; canvas, then t - G
   int nvars_ = 0, ncons_ = 0, nnz_jac_ = 0, nnz_hess_ = 0;
   std::vector<SpineFk> fk_;
   std::vector<double> grad_;
   std::vector<std::vector<double>> hess_;
-  std::vector<std::vector<FrictionJointTerm>> norm_;  // per spine, per term: G and derivatives
+  std::vector<std::vector<FrictionJointTerm>> friction_;  // per spine, per term: G and derivatives
   std::vector<double> lagrangian_;           // one spine's Hessian block (workspace)
   double energy_ = 0;
   bool have_ = false;
@@ -426,8 +428,7 @@ class IpoptSolver : public SpineSolver {
         timers_off_ = value == "no";
         continue;
       }
-      // bristle's own: friction and damping as objective terms or in epigraph
-      // form (BrushNlp above).
+      // bristle's own: friction as objective terms or in epigraph form (BrushNlp above).
       if (name == "friction_form") {
         if (value != "epigraph" && value != "objective" && bad_option_.empty())
           bad_option_ = name + "=" + value;
@@ -490,7 +491,8 @@ class IpoptSolver : public SpineSolver {
     }
     // Cold starts keep friction in the objective: from cold starts the
     // epigraph form sent solves into Ipopt's restoration phase.
-    Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm, epigraph_ && warm);
+    Ipopt::SmartPtr<BrushNlp> nlp =
+        new BrushNlp(problems, solutions, links, warm, epigraph_ && warm);
     Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
     try {
       const IpoptTimersOff timers_off(timers_off_);
