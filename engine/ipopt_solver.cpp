@@ -41,6 +41,17 @@ using Ipopt::Number;
 // 8,155 at 1e-3, 8,583 at 1e-2 (docs/PERFORMANCE.md).
 constexpr double kEpigraphSlackMm = 1e-4;
 
+// Every eval_* below answers false on a NaN or infinity, which Ipopt takes as
+// a failed evaluation (it cuts the step, or stops with a failed solve). Left to
+// itself, Ipopt 3.11 passes a non-finite derivative into the linear solver
+// (it checks only when check_derivatives_for_naninf is on), where MUMPS has
+// crashed the process on a NaN Hessian.
+bool allFinite(const Number* v, Index n) {
+  for (Index i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
 class BrushNlp : public Ipopt::TNLP {
   // The Hessian block coupling two spines through hair volume.
   struct CrossBlock {
@@ -176,10 +187,10 @@ class BrushNlp : public Ipopt::TNLP {
   bool eval_grad_f(Index n, const Number* x, bool new_x, Number* g) override {
     update(x, new_x);
     std::copy(grad_.begin(), grad_.begin() + n, g);
-    return true;
+    return allFinite(g, n);
   }
 
-  bool eval_g(Index, const Number* x, bool new_x, Index, Number* g) override {
+  bool eval_g(Index, const Number* x, bool new_x, Index m, Number* g) override {
     update(x, new_x);
     for (size_t s = 0; s < problems_.size(); ++s) {
       const int n = fk_[s].n, nq = 2 * n;
@@ -187,11 +198,11 @@ class BrushNlp : public Ipopt::TNLP {
       for (int i = 0; i < termCount(s); ++i)
         g[con_offset_[s] + n + i] = x[var_offset_[s] + nq + i] - friction_[s][i].g;
     }
-    return true;
+    return allFinite(g, m);
   }
 
-  bool eval_jac_g(Index, const Number* x, bool new_x, Index, Index, Index* rows, Index* cols,
-                  Number* values) override {
+  bool eval_jac_g(Index, const Number* x, bool new_x, Index, Index nele_jac, Index* rows,
+                  Index* cols, Number* values) override {
     Index k = 0;
     if (values == nullptr) {
       for (size_t s = 0; s < problems_.size(); ++s) {
@@ -226,11 +237,11 @@ class BrushNlp : public Ipopt::TNLP {
         values[k++] = 1.0;
       }
     }
-    return true;
+    return allFinite(values, nele_jac);
   }
 
   bool eval_h(Index, const Number* x, bool new_x, Number obj_factor, Index, const Number* lambda,
-              bool, Index, Index* rows, Index* cols, Number* values) override {
+              bool, Index nele_hess, Index* rows, Index* cols, Number* values) override {
     Index k = 0;
     if (values == nullptr) {
       for (size_t s = 0; s < problems_.size(); ++s) {
@@ -277,7 +288,7 @@ class BrushNlp : public Ipopt::TNLP {
     }
     for (const CrossBlock& b : blocks_)
       for (double h : b.h) values[k++] = obj_factor * h;
-    return true;
+    return allFinite(values, nele_hess);
   }
 
   void finalize_solution(Ipopt::SolverReturn, Index, const Number* x, const Number* z_L,

@@ -730,3 +730,38 @@ TEST_CASE("ipopt timers: on for a CPU-time limit, and timing_statistics is yes o
   settings.extra_options = {{"timing_statistics", "maybe"}};
   CHECK_THROWS_AS(makeIpoptSolver(settings), Error);
 }
+
+// A NaN in a derivative must fail the solve, not reach Ipopt's linear solver,
+// where MUMPS has crashed the process on a NaN Hessian (BrushNlp's evaluations
+// answer false on a non-finite value). Friction without its smoothing (eps = 0)
+// is finite at a joint that stays put, |0| = 0, but its derivatives there are
+// 0/0. (Ipopt itself catches this NaN gradient too; a NaN only in the Hessian,
+// which it does not check, has no input of today's energy to come from.)
+TEST_CASE("ipopt: a non-finite derivative fails the solve cleanly", "[solvers][ipopt]") {
+  PressedSpine pressed;
+  pressed.sim.step(poseAt(0, 0, 8), 0.01);
+  REQUIRE(pressed.sim.state().spines[0].summary.usable());
+  SpineProblem p = pressed.sim.lastProblems()[0];
+  double friction = 0;
+  for (double f : p.friction_n) friction += f;
+  REQUIRE(friction > 0);  // a joint touches, so its friction term is there
+  p.eps_mm = 0;
+  // From the previous step's angles, with every anchor exactly where its
+  // joint is there (the simulation's anchors differ by rounding, ~4e-16 mm).
+  SpineSolution sol = pressed.sim.state().spines[0].solution;
+  sol.q = p.prev_q;
+  SpineFk fk;
+  spineForwardKinematics(*p.spine, p.handle, p.baseData(), sol.q.data(), 0, &fk);
+  for (size_t j = 0; j < p.anchor_xy_mm.size(); ++j) p.anchor_xy_mm[j] = fk.x[j + 1].head<2>();
+  std::vector<double> grad(sol.q.size());
+  const double e = spineEnergy(p, sol.q.data(), &fk, nullptr, grad.data(), nullptr);
+  REQUIRE(std::isfinite(e));
+  REQUIRE(std::isnan(grad[0]));
+  const SpineSolution before = sol;
+  const SpineProblem* pp = &p;
+  SpineSolution* ps = &sol;
+  const SolveSummary s = makeIpoptSolver()->solve({&pp, 1}, {&ps, 1});
+  CHECK(s.status == SolveStatus::kFailed);
+  CHECK(s.message == "Invalid_Number_Detected");
+  CHECK(sol.q == before.q);
+}

@@ -31,6 +31,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 SRC = Path(__file__).resolve().parents[2]
@@ -160,7 +161,9 @@ def main():
         # In order, one at a time: an example may use what one before it made
         # (README's pipe into compare, replay of the recorded session).
         for where, cmd in examples:
+            t0 = time.monotonic()
             code, err = run_one(d, env, bristle, cmd)
+            elapsed = time.monotonic() - t0
             want, text = 0, ""
             for pattern, c, t in EXPECTED:
                 if re.search(pattern, cmd):
@@ -172,7 +175,7 @@ def main():
             else:
                 verdict = f"FAIL: exit {code}, expected {want}: {err.strip()[-300:]}"
                 failed += 1
-            print(f"{where}: {cmd}\n  {verdict}")
+            print(f"{where}: {cmd}\n  {verdict} ({elapsed:.1f} s)")
     finally:
         shutil.rmtree(d, ignore_errors=True)
     print(f"{len(examples)} examples, {failed} failed")
