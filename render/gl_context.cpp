@@ -37,6 +37,18 @@ void checkGalliumDriver() {
                            "to use llvmpipe");
 }
 
+// llvmpipe rasterises on LP_NUM_THREADS threads besides the caller's (by
+// default one per CPU). bristle's footprints are small windows, drawn once per
+// step: handing each to the threads and waiting for them costs more than the
+// rasterising it saves. With none (0), the calling thread rasterises, which
+// gave the same pixels with less wall and CPU time on the 2-core machine
+// (docs/PERFORMANCE.md, "llvmpipe's threads"): an S-curve render took 7.2
+// against 8.9 s, and a default-resolution footprint 1.7 against 2.7-3.2 ms.
+// A value the user set is kept. Read once, when llvmpipe's screen is made.
+void chooseRasteriserThreads() {
+  ::setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);
+}
+
 std::string glString(GLenum name) {
   const GLubyte* s = glGetString(name);
   return s != nullptr ? reinterpret_cast<const char*>(s) : "(null)";
@@ -54,6 +66,7 @@ struct GlContext::Impl {
 
 GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
   checkGalliumDriver();
+  chooseRasteriserThreads();
 
   // No depth/stencil/accum on the dummy buffer: the FBO brings its own depth.
   const int attributes[] = {
