@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "engine/dense_kkt.h"
 #include "engine/error.h"
 #include "engine/ipopt_timers.h"
 #include "engine/spine_solver.h"
@@ -79,6 +80,7 @@ class BrushNlp : public Ipopt::TNLP {
       for (int j : terms_[s]) nnz_jac_ += 2 * j + 1;  // the angles before x_j, and t
       nnz_hess_ += (2 * n) * (2 * n + 1) / 2;
     }
+    largest_coupled_rows_ = largestCoupledRows();
     fk_.resize(problems_.size());
     grad_.resize(nvars_);
     hess_.resize(problems_.size());
@@ -291,6 +293,29 @@ class BrushNlp : public Ipopt::TNLP {
     return allFinite(values, nele_hess);
   }
 
+  // Rows of the largest block of the KKT matrix Ipopt factors: spines that
+  // hair volume links solve as one block. A spine of n joints with m friction
+  // variables has 2n + m variables and n + m constraints, and each constraint
+  // brings a slack and a multiplier: 4n + 3m rows.
+  int largestCoupledRows() const {
+    const int ns = static_cast<int>(problems_.size());
+    std::vector<int> group(ns);
+    for (int s = 0; s < ns; ++s) group[s] = s;
+    auto root = [&](int s) {
+      while (group[s] != s) s = group[s] = group[group[s]];
+      return s;
+    };
+    for (const VolumeLink& l : links_) group[std::max(root(l.a), root(l.b))] = std::min(root(l.a), root(l.b));
+    std::vector<int> rows(ns, 0);
+    int largest = 0;
+    for (int s = 0; s < ns; ++s) {
+      const int n = problems_[s]->spine->jointCount(), m = termCount(s);
+      largest = std::max(largest, rows[root(s)] += 4 * n + 3 * m);
+    }
+    return largest;
+  }
+  int largest_coupled_rows_ = 0;
+
   void finalize_solution(Ipopt::SolverReturn, Index, const Number* x, const Number* z_L,
                          const Number* z_U, Index, const Number*, const Number* lambda, Number,
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
@@ -410,6 +435,14 @@ const char* ipoptStatusName(Ipopt::ApplicationReturnStatus s) {
 // docs/PERFORMANCE.md, "Ipopt's warm starts, damping width and timers off".
 constexpr double kWarmMuInit = 1e-9;
 
+// The largest KKT block the dense solver takes; a larger one goes to MUMPS.
+// A dense factorisation costs s^3 / 3 flops, MUMPS a fixed cost per call plus
+// its sparse work. On the depth S-curve (docs/PERFORMANCE.md, "A dense KKT
+// solver for Ipopt"): the round's 7 linked spines (112 rows) took 0.80 of
+// MUMPS's time dense, the calligraphy brush's (140 rows) 1.04, the badger's
+// 15 (240 rows) 2.1.
+constexpr int kDenseKktMaxRows = 128;
+
 class IpoptSolver : public SpineSolver {
  public:
   explicit IpoptSolver(const IpoptSettings& settings) : app_(IpoptApplicationFactory()) {
@@ -446,6 +479,13 @@ class IpoptSolver : public SpineSolver {
         epigraph_ = value != "objective";
         continue;
       }
+      // bristle's own linear solver (the default): dense Bunch-Kaufman per
+      // block of the KKT matrix, in MA27's place, where the blocks are small
+      // (engine/dense_kkt.h). Any other value is Ipopt's, for every solve.
+      if (name == "linear_solver") {
+        dense_kkt_ = value == "dense";
+        if (dense_kkt_) continue;
+      }
       // A CPU-time limit and timing output need the timers, whatever the order.
       if (name == "max_cpu_time" || (name == "print_timing_statistics" && value == "yes"))
         timers_needed = true;
@@ -469,6 +509,12 @@ class IpoptSolver : public SpineSolver {
       if (name == "mu_strategy" || name == "mu_init") user_mu_strategy_ = true;
     }
     timers_off_ = timers_off_ && !timers_needed;
+    if (dense_kkt_) {
+      installDenseKktSolver();
+      // MA27's default scaling is HSL's MC19, which Debian does not have; the
+      // MUMPS solves took none either (Ipopt's default for it).
+      if (!o.SetStringValue("linear_system_scaling", "none")) bad_option_ = "linear_system_scaling";
+    }
     if (!bad_option_.empty())
       throw Error(ExitCode::kUsage, "Ipopt option " + bad_option_ + ": unknown name or bad value");
     initialized_ = app_->Initialize() == Ipopt::Solve_Succeeded;
@@ -504,6 +550,9 @@ class IpoptSolver : public SpineSolver {
     // epigraph form sent solves into Ipopt's restoration phase.
     Ipopt::SmartPtr<BrushNlp> nlp =
         new BrushNlp(problems, solutions, links, warm, epigraph_ && warm);
+    if (dense_kkt_)
+      o.SetStringValue("linear_solver",
+                       nlp->largest_coupled_rows_ <= kDenseKktMaxRows ? "ma27" : "mumps");
     Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
     try {
       const IpoptTimersOff timers_off(timers_off_);
@@ -535,6 +584,10 @@ class IpoptSolver : public SpineSolver {
   // costs the round and badger 16% more, and buckles a straight spine pressed
   // straight down to the other side (docs/dynamics.md, "Friction in epigraph form").
   bool epigraph_ = false;
+  // The dense KKT solver for blocks of up to kDenseKktMaxRows rows, MUMPS
+  // beyond (--ipopt-option linear_solver=dense, the default; any other value
+  // is Ipopt's own choice for every solve).
+  bool dense_kkt_ = true;
 };
 
 }  // namespace

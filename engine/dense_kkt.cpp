@@ -1,0 +1,235 @@
+#include "engine/dense_kkt.h"
+
+#include <HSLLoader.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <numeric>
+#include <type_traits>
+#include <vector>
+
+// LAPACK (reference LAPACK 3.11 on Debian), with gfortran's hidden lengths of
+// the character arguments.
+extern "C" {
+void dsytrf_(const char* uplo, const int* n, double* a, const int* lda, int* ipiv, double* work,
+             const int* lwork, int* info, std::size_t uplo_len);
+void dsytrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda,
+             const int* ipiv, double* b, const int* ldb, int* info, std::size_t uplo_len);
+}
+
+namespace bristle {
+
+static_assert(std::is_same_v<ipfint, int>, "Ipopt's Fortran integer is int");
+
+// How the calls share their state through the caller's arrays:
+//   IKEEP (3n, written by ma27a): [0, n) the rows in block order; [n, 2n)
+//     each row's position in its block; [2n, 3n) each row's block.
+//   NSTEPS (from ma27a): the number of blocks.
+//   IW (written by ma27b): [0] n, [1] blocks, [2, 3 + blocks) each block's
+//     first position in block order, then n pivot indices (dsytrf's, 1-based
+//     within the block), then the n rows in block order (for ma27c, which
+//     does not get IKEEP).
+//   A (written by ma27b): block after block, each its dense s x s factor,
+//     column-major, L and D in the lower triangle.
+// Blocks are the connected components of the matrix's graph: rows i and j are
+// in one block when an entry (i, j) is given, whatever its value.
+
+namespace {
+
+constexpr int kInfoFlag = 0, kInfoError = 1, kInfoRealsNeeded = 4, kInfoIntsNeeded = 5,
+              kInfoRealsUsed = 8, kInfoIntsUsed = 9, kInfoNegative = 14;
+// MA27's INFO(1): 0 success; 3 a warning, the matrix is singular (rank in
+// INFO(2)); -1 n < 1; -2 nz < 0; -3 IW too small, -4 A too small (the size
+// needed in INFO(2)); 1 an index out of range.
+constexpr int kOk = 0, kSingular = 3, kBadN = -1, kBadNz = -2, kIwSmall = -3, kASmall = -4,
+              kBadIndex = 1;
+
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+// Block sizes from IKEEP's block of each row.
+std::vector<int> blockSizes(int n, int blocks, const int* ikeep) {
+  std::vector<int> size(blocks, 0);
+  for (int i = 0; i < n; ++i) ++size[ikeep[2 * n + i]];
+  return size;
+}
+
+long long realsNeeded(const std::vector<int>& size) {
+  long long total = 0;
+  for (int s : size) total += static_cast<long long>(s) * s;
+  return total;
+}
+
+int intsNeeded(int n, int blocks) { return 3 + blocks + 2 * n; }
+
+}  // namespace
+
+extern "C" void bristleDenseMa27i(int* icntl, double* cntl) {
+  std::fill(icntl, icntl + 30, 0);
+  std::fill(cntl, cntl + 5, 0.0);
+  icntl[0] = 6;  // MA27's default output streams; nothing here prints
+  icntl[1] = 6;
+  cntl[0] = 0.1;  // its pivot threshold; Bunch-Kaufman's own is fixed
+}
+
+extern "C" void bristleDenseMa27a(int* n, int* nz, const int* irn, const int* icn, int*, int*,
+                                  int* ikeep, int*, int* nsteps, int*, int*, double*,
+                                  int* info, double* ops) {
+  std::fill(info, info + 20, 0);
+  if (*n < 1) { info[kInfoFlag] = kBadN; return; }
+  if (*nz < 0) { info[kInfoFlag] = kBadNz; return; }
+  const int N = *n;
+  std::vector<int> parent(N);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (int k = 0; k < *nz; ++k) {
+    const int i = irn[k] - 1, j = icn[k] - 1;
+    if (i < 0 || i >= N || j < 0 || j >= N) { info[kInfoFlag] = kBadIndex; return; }
+    const int ri = findRoot(parent, i), rj = findRoot(parent, j);
+    if (ri != rj) parent[std::max(ri, rj)] = std::min(ri, rj);
+  }
+  // Blocks numbered by their first row; rows in increasing order within each.
+  std::vector<int> block_of_root(N, -1);
+  int blocks = 0;
+  for (int i = 0; i < N; ++i) {
+    const int r = findRoot(parent, i);
+    if (block_of_root[r] < 0) block_of_root[r] = blocks++;
+    ikeep[2 * N + i] = block_of_root[r];
+  }
+  const std::vector<int> size = blockSizes(N, blocks, ikeep);
+  std::vector<int> next(blocks, 0);
+  for (int b = 1; b < blocks; ++b) next[b] = next[b - 1] + size[b - 1];
+  std::vector<int> first = next;
+  for (int i = 0; i < N; ++i) {
+    const int b = ikeep[2 * N + i];
+    ikeep[N + i] = next[b] - first[b];
+    ikeep[next[b]++] = i;
+  }
+  *nsteps = blocks;
+  const long long reals = std::max<long long>(realsNeeded(size), *nz);
+  info[kInfoRealsNeeded] = static_cast<int>(std::min<long long>(reals, 2147483647));
+  info[kInfoIntsNeeded] = intsNeeded(N, blocks);
+  double flops = 0;
+  for (int s : size) flops += double(s) * s * s / 3;
+  *ops = flops;
+}
+
+namespace {
+
+// Negative and zero eigenvalues of the D of one factored block (dsytrf's 1 x 1
+// and 2 x 2 pivots, by Sylvester's law of inertia the matrix's own).
+void countInertia(int s, const double* f, const int* ipiv, int* negative, int* zero) {
+  for (int k = 0; k < s;) {
+    if (ipiv[k] > 0 || k + 1 == s) {
+      const double d = f[k * s + k];
+      *negative += d < 0;
+      *zero += d == 0;
+      k += 1;
+      continue;
+    }
+    const double a = f[k * s + k], b = f[k * s + k + 1], c = f[(k + 1) * s + k + 1];
+    const double det = a * c - b * b, trace = a + c;
+    if (det < 0) {
+      *negative += 1;
+    } else if (det == 0) {
+      *zero += (trace == 0) ? 2 : 1;
+      *negative += trace < 0;
+    } else {
+      *negative += trace < 0 ? 2 : 0;
+    }
+    k += 2;
+  }
+}
+
+}  // namespace
+
+extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* icn, double* a,
+                                  int* la, int* iw, int* liw, int* ikeep, int* nsteps,
+                                  int* maxfrt, int*, int*, double*, int* info) {
+  std::fill(info, info + 20, 0);
+  if (*n < 1) { info[kInfoFlag] = kBadN; return; }
+  if (*nz < 0) { info[kInfoFlag] = kBadNz; return; }
+  const int N = *n, blocks = *nsteps;
+  const std::vector<int> size = blockSizes(N, blocks, ikeep);
+  const long long reals = std::max<long long>(realsNeeded(size), *nz);
+  if (reals > *la) {
+    info[kInfoFlag] = kASmall;
+    info[kInfoError] = static_cast<int>(std::min<long long>(reals, 2147483647));
+    return;
+  }
+  const int ints = intsNeeded(N, blocks);
+  if (ints > *liw) {
+    info[kInfoFlag] = kIwSmall;
+    info[kInfoError] = ints;
+    return;
+  }
+  std::vector<long long> offset(blocks + 1, 0);
+  for (int b = 0; b < blocks; ++b) offset[b + 1] = offset[b] + static_cast<long long>(size[b]) * size[b];
+  // The values arrive in a[0, nz), where the factors go: copy them out first.
+  thread_local std::vector<double> values;
+  values.assign(a, a + *nz);
+  std::fill(a, a + offset[blocks], 0.0);
+  for (int k = 0; k < *nz; ++k) {
+    const int i = irn[k] - 1, j = icn[k] - 1;
+    const int b = ikeep[2 * N + i];
+    const int li = ikeep[N + i], lj = ikeep[N + j], s = size[b];
+    a[offset[b] + static_cast<long long>(std::min(li, lj)) * s + std::max(li, lj)] += values[k];
+  }
+  iw[0] = N;
+  iw[1] = blocks;
+  int* first = iw + 2;
+  int* ipiv = first + blocks + 1;
+  int* order = ipiv + N;
+  first[0] = 0;
+  for (int b = 0; b < blocks; ++b) first[b + 1] = first[b] + size[b];
+  std::copy(ikeep, ikeep + N, order);
+  int negative = 0, zero = 0, largest = 0;
+  thread_local std::vector<double> work;
+  for (int b = 0; b < blocks; ++b) {
+    const int s = size[b];
+    largest = std::max(largest, s);
+    const int lwork = std::max(1, 64 * s);
+    work.resize(lwork);
+    int lapack_info = 0;
+    dsytrf_("L", &s, a + offset[b], &s, ipiv + first[b], work.data(), &lwork, &lapack_info, 1);
+    countInertia(s, a + offset[b], ipiv + first[b], &negative, &zero);
+  }
+  *maxfrt = largest;
+  info[kInfoNegative] = negative;
+  info[kInfoRealsUsed] = static_cast<int>(std::min<long long>(offset[blocks], 2147483647));
+  info[kInfoIntsUsed] = ints;
+  if (zero > 0) {
+    info[kInfoFlag] = kSingular;
+    info[kInfoError] = N - zero;  // the rank
+  } else {
+    info[kInfoFlag] = kOk;
+  }
+}
+
+extern "C" void bristleDenseMa27c(int*, double* a, int*, int* iw, int*, double* w, int*,
+                                  double* rhs, int*, int*, int*, double*) {
+  const int N = iw[0], blocks = iw[1];
+  const int* first = iw + 2;
+  const int* ipiv = first + blocks + 1;
+  const int* order = ipiv + N;
+  long long offset = 0;
+  const int one = 1;
+  for (int b = 0; b < blocks; ++b) {
+    const int s = first[b + 1] - first[b];
+    for (int k = 0; k < s; ++k) w[k] = rhs[order[first[b] + k]];
+    int lapack_info = 0;
+    dsytrs_("L", &s, &one, a + offset, &s, ipiv + first[b], w, &s, &lapack_info, 1);
+    for (int k = 0; k < s; ++k) rhs[order[first[b] + k]] = w[k];
+    offset += static_cast<long long>(s) * s;
+  }
+}
+
+void installDenseKktSolver() {
+  LSL_setMA27(&bristleDenseMa27a, &bristleDenseMa27b, &bristleDenseMa27c, &bristleDenseMa27i);
+}
+
+}  // namespace bristle

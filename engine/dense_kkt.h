@@ -1,0 +1,40 @@
+#pragma once
+// A linear solver for Ipopt's KKT systems that factors each independent block
+// of the matrix densely with LAPACK's Bunch-Kaufman LDL^T (dsytrf), behind
+// the calling convention of HSL's MA27, which Debian's Ipopt 3.11 accepts
+// through its HSL loader (LSL_setMA27; docs/dynamics.md, "Ipopt's linear
+// solver").
+//
+// Why: bristle's KKT systems are small (a spine of J joints gives 4J rows)
+// and, without hair volume, block diagonal, one block per spine. MUMPS 5.5
+// pays a fixed cost on every call (its driver sizes its own save file after
+// each analysis, factorisation and solve), which was 13-22% of a render's
+// time (docs/PERFORMANCE.md). A dense block of 20 rows factors in a few
+// microseconds.
+//
+// MA27 keeps no state between calls: its caller holds the arrays. So the
+// block structure and the factors live in the caller's IW and A arrays, laid
+// out as dense_kkt.cpp describes.
+
+namespace bristle {
+
+// The Fortran-convention entry points, with MA27's argument lists (all
+// pointers; indices 1-based). Exposed for the tests, which check them against
+// direct solves.
+extern "C" {
+void bristleDenseMa27i(int* icntl, double* cntl);
+void bristleDenseMa27a(int* n, int* nz, const int* irn, const int* icn, int* iw, int* liw,
+                       int* ikeep, int* iw1, int* nsteps, int* iflag, int* icntl, double* cntl,
+                       int* info, double* ops);
+void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* icn, double* a, int* la,
+                       int* iw, int* liw, int* ikeep, int* nsteps, int* maxfrt, int* iw1,
+                       int* icntl, double* cntl, int* info);
+void bristleDenseMa27c(int* n, double* a, int* la, int* iw, int* liw, double* w, int* maxfrt,
+                       double* rhs, int* iw1, int* nsteps, int* icntl, double* cntl);
+}
+
+// Hands the functions above to Ipopt's HSL loader as its MA27. After this, an
+// Ipopt whose option linear_solver is "ma27" uses them. Idempotent.
+void installDenseKktSolver();
+
+}  // namespace bristle

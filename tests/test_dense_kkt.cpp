@@ -1,0 +1,186 @@
+// The dense KKT solver that Ipopt can use in MA27's place (engine/dense_kkt.h),
+// through MA27's own calling sequence as Ipopt's interface makes it: solutions
+// against the matrix, inertia against Eigen's eigenvalues, and MA27's error
+// codes for singular matrices, short workspaces and bad indices.
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "engine/dense_kkt.h"
+
+using namespace bristle;
+
+namespace {
+
+// A solve of a well-conditioned system of size <= 40 in double precision
+// leaves a residual of ~1e-14 relative to |A| |x|; 1e-10 is far above that
+// and far below any wrong factor or permutation.
+constexpr double kResidualTol = 1e-10;
+
+// A symmetric matrix as Ipopt hands it over: 1-based triplets, each
+// off-diagonal entry once (in either triangle), some entries split in two
+// triplets that add up, and entries that are structurally there but zero.
+struct Triplets {
+  int n = 0;
+  std::vector<int> irn, icn;
+  std::vector<double> val;
+  Eigen::MatrixXd dense() const {
+    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, n);
+    for (size_t k = 0; k < val.size(); ++k) {
+      const int i = irn[k] - 1, j = icn[k] - 1;
+      m(i, j) += val[k];
+      if (i != j) m(j, i) += val[k];
+    }
+    return m;
+  }
+  void add(int i, int j, double v) {  // 0-based
+    irn.push_back(i + 1);
+    icn.push_back(j + 1);
+    val.push_back(v);
+  }
+};
+
+// Blocks of the given sizes, on the rows listed in `rows` (so that a block's
+// rows are not contiguous), each a KKT matrix [H J^T; J 0] with H indefinite
+// when `kkt`, else a dense random symmetric matrix.
+Triplets blockMatrix(const std::vector<int>& sizes, const std::vector<int>& rows, bool kkt,
+                     std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  Triplets t;
+  t.n = static_cast<int>(rows.size());
+  int start = 0;
+  for (int s : sizes) {
+    const int m = kkt ? s / 3 : 0;  // constraint rows at the block's end
+    for (int c = 0; c < s; ++c)
+      for (int r = c; r < s; ++r) {
+        const bool constraint_block = r >= s - m && c >= s - m;
+        const int i = rows[start + r], j = rows[start + c];
+        if (constraint_block) {
+          if (r == c) t.add(i, j, 0.0);  // a structural zero on the diagonal
+          continue;
+        }
+        double v = u(rng);
+        if (r == c && !kkt) v += (c % 2 == 0 ? 3.0 : -3.0);
+        if ((r + c) % 3 == 0) {  // split into two triplets, one transposed
+          t.add(i, j, 0.25 * v);
+          t.add(j, i, 0.75 * v);
+        } else {
+          t.add(r % 2 ? i : j, r % 2 ? j : i, v);
+        }
+      }
+    start += s;
+  }
+  return t;
+}
+
+struct Ma27Run {
+  int iflag_a = 0, iflag_b = 0, negative = 0, error_b = 0;
+  std::vector<double> x;
+};
+
+// Ipopt's sequence (IpMa27TSolverInterface): ma27i, ma27a, workspaces from
+// its advice (times `factor`), ma27b, then ma27c per right-hand side.
+Ma27Run runMa27(const Triplets& t, const Eigen::VectorXd& b, double factor = 5) {
+  int icntl[30];
+  double cntl[5];
+  bristleDenseMa27i(icntl, cntl);
+  int n = t.n, nz = static_cast<int>(t.val.size());
+  int liw = 2 * (2 * nz + 3 * n + 1);
+  std::vector<int> iw(liw), ikeep(3 * n), iw1(2 * n);
+  int nsteps = 0, iflag = 0, info[20];
+  double ops = 0;
+  Ma27Run run;
+  bristleDenseMa27a(&n, &nz, t.irn.data(), t.icn.data(), iw.data(), &liw, ikeep.data(),
+                    iw1.data(), &nsteps, &iflag, icntl, cntl, info, &ops);
+  run.iflag_a = info[0];
+  if (run.iflag_a != 0) return run;
+  int la = std::max(nz, static_cast<int>(factor * info[4]));
+  liw = std::max(1, static_cast<int>(factor * info[5]));
+  std::vector<double> a(la);
+  iw.assign(liw, 0);
+  std::copy(t.val.begin(), t.val.end(), a.begin());
+  int maxfrt = 0;
+  bristleDenseMa27b(&n, &nz, t.irn.data(), t.icn.data(), a.data(), &la, iw.data(), &liw,
+                    ikeep.data(), &nsteps, &maxfrt, iw1.data(), icntl, cntl, info);
+  run.iflag_b = info[0];
+  run.error_b = info[1];
+  run.negative = info[14];
+  if (run.iflag_b != 0) return run;
+  std::vector<double> w(maxfrt);
+  run.x.assign(b.data(), b.data() + n);
+  std::vector<int> iw1_solve(std::max(1, nsteps));
+  bristleDenseMa27c(&n, a.data(), &la, iw.data(), &liw, w.data(), &maxfrt, run.x.data(),
+                    iw1_solve.data(), &nsteps, icntl, cntl);
+  return run;
+}
+
+int negativeEigenvalues(const Eigen::MatrixXd& m) {
+  const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(m).eigenvalues();
+  return static_cast<int>((ev.array() < 0).count());
+}
+
+}  // namespace
+
+TEST_CASE("dense KKT solver: solutions and inertia of block matrices, as MA27 gives them",
+          "[solvers][dense_kkt]") {
+  std::mt19937 rng(17);
+  const bool kkt = GENERATE(false, true);
+  const std::vector<int> sizes = kkt ? std::vector<int>{12, 6, 21, 3} : std::vector<int>{1, 5, 12, 2};
+  int n = 0;
+  for (int s : sizes) n += s;
+  std::vector<int> rows(n);
+  for (int i = 0; i < n; ++i) rows[i] = i;
+  std::shuffle(rows.begin(), rows.end(), rng);
+  const Triplets t = blockMatrix(sizes, rows, kkt, rng);
+  const Eigen::MatrixXd m = t.dense();
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) b[i] = std::sin(1.0 + i);
+  const Ma27Run run = runMa27(t, b);
+  REQUIRE(run.iflag_a == 0);
+  REQUIRE(run.iflag_b == 0);
+  CHECK(run.negative == negativeEigenvalues(m));
+  if (kkt) {
+    // [H J^T; J 0] with J of full row rank has at least m negative eigenvalues.
+    int constraints = 0;
+    for (int s : sizes) constraints += s / 3;
+    CHECK(run.negative >= constraints);
+  }
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(run.x.data(), n);
+  const double scale = (m.cwiseAbs() * x.cwiseAbs()).maxCoeff();
+  CHECK((m * x - b).cwiseAbs().maxCoeff() <= kResidualTol * scale);
+}
+
+TEST_CASE("dense KKT solver: a singular matrix is MA27's warning 3 with its rank",
+          "[solvers][dense_kkt]") {
+  // Two blocks; the second, [1 1; 1 1], has rank 1.
+  Triplets t;
+  t.n = 3;
+  t.add(0, 0, 2.0);
+  t.add(1, 1, 1.0);
+  t.add(2, 1, 1.0);
+  t.add(2, 2, 1.0);
+  const Ma27Run run = runMa27(t, Eigen::VectorXd::Ones(3));
+  CHECK(run.iflag_b == 3);
+  CHECK(run.error_b == 2);
+}
+
+TEST_CASE("dense KKT solver: MA27's codes for short workspaces and bad input",
+          "[solvers][dense_kkt]") {
+  std::mt19937 rng(3);
+  std::vector<int> rows(10);
+  for (int i = 0; i < 10; ++i) rows[i] = i;
+  const Triplets t = blockMatrix({10}, rows, false, rng);
+  // A workspace of a tenth of the advice: -4 (A too small) with the size needed.
+  const Ma27Run small = runMa27(t, Eigen::VectorXd::Ones(10), 0.1);
+  CHECK(small.iflag_b == -4);
+  CHECK(small.error_b == 100);
+  Triplets bad = t;
+  bad.irn[3] = 11;  // row 11 of 10
+  CHECK(runMa27(bad, Eigen::VectorXd::Ones(10)).iflag_a == 1);
+  Triplets empty;
+  CHECK(runMa27(empty, Eigen::VectorXd()).iflag_a == -1);
+}
