@@ -113,11 +113,14 @@ Scenario pressThenDrag(const Brush& brush) {
 
 // The benchmarks' solver argument: 0 Ipopt as bristle runs it, 1 SLSQP, 2 Ipopt
 // with its own getrusage timers on, as Ipopt 3.11 runs by itself
-// (engine/ipopt_timers.h), for the cost of those timers side by side.
+// (engine/ipopt_timers.h), for the cost of those timers side by side; 3 Ipopt
+// with MUMPS for every KKT matrix, as before bristle's dense solver
+// (engine/dense_kkt.h).
 std::unique_ptr<SpineSolver> makeBenchSolver(long solver) {
   if (solver == 1) return makeSlsqpSolver();
   IpoptSettings settings;
   if (solver == 2) settings.extra_options.emplace_back("timing_statistics", "yes");
+  if (solver == 3) settings.extra_options.emplace_back("linear_solver", "mumps");
   return makeIpoptSolver(settings);
 }
 
@@ -252,7 +255,7 @@ void BM_SpineStep(benchmark::State& state) {
 }
 BENCHMARK(BM_SpineStep)
     ->ArgNames({"joints", "drag", "solver"})
-    ->ArgsProduct({{3, 4}, {0, 1}, {0, 1, 2}})
+    ->ArgsProduct({{3, 4}, {0, 1}, {0, 1, 2, 3}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 
@@ -266,7 +269,7 @@ void BM_BrushDragStep(benchmark::State& state) {
 }
 BENCHMARK(BM_BrushDragStep)
     ->ArgNames({"spines", "solver"})
-    ->ArgsProduct({{1, 5, 10, 20}, {0, 1, 2}})
+    ->ArgsProduct({{1, 5, 10, 20}, {0, 1, 2, 3}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 
@@ -315,7 +318,7 @@ void BM_RoundSCurve(benchmark::State& state) {
 }
 BENCHMARK(BM_RoundSCurve)
     ->ArgNames({"solver", "volume"})
-    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}})
     ->Iterations(3)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);

@@ -438,9 +438,10 @@ constexpr double kWarmMuInit = 1e-9;
 // The largest KKT block the dense solver takes; a larger one goes to MUMPS.
 // A dense factorisation costs s^3 / 3 flops, MUMPS a fixed cost per call plus
 // its sparse work. On the depth S-curve (docs/PERFORMANCE.md, "A dense KKT
-// solver for Ipopt"): the round's 7 linked spines (112 rows) took 0.80 of
-// MUMPS's time dense, the calligraphy brush's (140 rows) 1.04, the badger's
-// 15 (240 rows) 2.1.
+// solver for Ipopt"), with linked spines solved densely too: the round's 7
+// (112 rows) took 0.80 of MUMPS's time, the calligraphy brush's (140 rows)
+// 1.04, the badger's 15 (240 rows) 2.1. (Linked spines now stay with MUMPS
+// for another reason; see IpoptSolver::solve.)
 constexpr int kDenseKktMaxRows = 128;
 
 class IpoptSolver : public SpineSolver {
@@ -550,9 +551,18 @@ class IpoptSolver : public SpineSolver {
     // epigraph form sent solves into Ipopt's restoration phase.
     Ipopt::SmartPtr<BrushNlp> nlp =
         new BrushNlp(problems, solutions, links, warm, epigraph_ && warm);
+    // Brushes with hair volume stay with MUMPS, whatever their blocks' size:
+    // their presses sit at buckling points where the branch the hair takes
+    // follows round-off, and the dense solver's round-off moved the badger's
+    // and calligraphy brush's press blots (docs/dynamics.md, "Ipopt's linear
+    // solver").
+    bool volume = !links.empty();
+    for (const SpineProblem* p : problems)
+      volume = volume || !p->volume.empty() || p->volume_stiffness_n_per_mm > 0 ||
+               p->cohesion_n_per_mm > 0;
     if (dense_kkt_)
       o.SetStringValue("linear_solver",
-                       nlp->largest_coupled_rows_ <= kDenseKktMaxRows ? "ma27" : "mumps");
+                       !volume && nlp->largest_coupled_rows_ <= kDenseKktMaxRows ? "ma27" : "mumps");
     Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
     try {
       const IpoptTimersOff timers_off(timers_off_);
