@@ -138,6 +138,7 @@ class TimedSolver : public SpineSolver {
     return s;
   }
   bool couplesSpines() const override { return inner_->couplesSpines(); }
+  bool wantsPredictedStart() const override { return inner_->wantsPredictedStart(); }
   const char* name() const override { return inner_->name(); }
 
  private:

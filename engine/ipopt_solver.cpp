@@ -524,6 +524,7 @@ class IpoptSolver : public SpineSolver {
   const char* name() const override { return "ipopt"; }
 
   bool couplesSpines() const override { return true; }
+  bool wantsPredictedStart() const override { return true; }
 
   SolveSummary solve(std::span<const SpineProblem* const> problems,
                      std::span<SpineSolution* const> solutions,

@@ -34,6 +34,11 @@ constexpr double kBucklingNudgeRad = 1e-3;
 // A joint this close to the canvas rests on it (Ipopt leaves active constraints
 // at ~1e-9 mm), whatever its multiplier.
 constexpr double kTouchMm = 1e-5;
+// predictStart: this many Gauss-Newton steps (measured: the held joints then
+// sit within 1e-4 mm of their targets, a hundredth of SimOptions' slip
+// distance), with Levenberg's damping relative to J^T J.
+constexpr int kPredictIterations = 3;
+constexpr double kPredictDamping = 1e-3;
 // A contact joint the solution puts this far above the canvas has left it. Well
 // above the solver's constraint accuracy, well below anything visible.
 constexpr double kLiftedMm = 1e-3;
@@ -378,9 +383,81 @@ std::vector<int> Simulation::startSpines(const Pose& handle, std::vector<SpineSo
     bool straight = true;
     for (const Eigen::Matrix3d& b : problems_[s].base)
       straight = straight && (b.col(2) - Eigen::Vector3d::UnitZ()).norm() < 1e-9;
-    if (straight) (*trial)[s].q[0] = kBucklingNudgeRad;
+    // At the buckling point the nudge alone picks the branch: the predicted
+    // start would bend the spine whichever way its round-off leans.
+    if (straight)
+      (*trial)[s].q[0] = kBucklingNudgeRad;
+    else if (options_.predict_start && solver_->wantsPredictedStart())
+      predictStart(s, handle, &(*trial)[s].q);
   }
   return which;
+}
+
+// Where the solve of eq. 3 starts. The carried shape (q = 0) drags every joint
+// along with the handle, but a joint that stuck to the paper stays stuck in
+// most steps: its friction term then starts a whole step's motion from its
+// kink at the anchor, where its curvature is 1 / eps_mm times larger than at
+// the start, and Newton's steps overshoot until the line search has cut them
+// down (32 Ipopt iterations a step against 8 for sliding joints, measured on
+// the tablet recording; docs/PERFORMANCE.md). So the start is moved, by a few
+// damped Gauss-Newton steps on the joint angles, to put
+//   - each joint that stuck at the previous step back on its anchor (x, y) at
+//     its previous height, and
+//   - each other joint the carry pushed below the paper onto it (z = 0),
+// the least change of angles doing so. Only the start moves: the energy, the
+// constraints and so the minimum are those of eq. 3.
+void Simulation::predictStart(int s, const Pose& handle, std::vector<double>* q) {
+  const SpineSpec& spec = brush_.spines[s];
+  const SpineState& prev = state_.spines[s];
+  const SpineProblem& p = problems_[s];
+  const int n = spec.jointCount();
+  const int nv = p.vars();
+  // The held joints and their targets, chosen once at the carried shape, so
+  // that the start is a smooth function of the step's inputs (a set chosen
+  // anew each iteration, or an early stop, would make it jump).
+  enum class Hold : char { kFree, kAnchor, kPaper };
+  std::vector<Hold> hold(n + 1, Hold::kFree);
+  spineForwardKinematics(spec, handle, p.baseData(), q->data(), 0, &fk_);
+  bool any = false;
+  for (int j = 1; j <= n; ++j) {
+    if (j - 1 < static_cast<int>(prev.contact.size()) && prev.contact[j - 1] &&
+        !prev.sliding[j - 1])
+      hold[j] = Hold::kAnchor;
+    else if (fk_.x[j].z() < 0)
+      hold[j] = Hold::kPaper;
+    any = any || hold[j] != Hold::kFree;
+  }
+  if (!any) return;
+  Eigen::MatrixXd jtj(nv, nv);
+  Eigen::VectorXd jtr(nv);
+  for (int it = 0; it < kPredictIterations; ++it) {
+    spineForwardKinematics(spec, handle, p.baseData(), q->data(), 1, &fk_);
+    jtj.setZero();
+    jtr.setZero();
+    for (int j = 1; j <= n; ++j) {
+      if (hold[j] == Hold::kFree) continue;
+      // The residual: to the anchor at the previous height, or (z only) to the paper.
+      Eigen::Vector3d r = fk_.x[j], w(0, 0, 1);
+      if (hold[j] == Hold::kAnchor) {
+        r -= Eigen::Vector3d(p.anchor_xy_mm[j - 1].x(), p.anchor_xy_mm[j - 1].y(),
+                             std::max(prev.joints_mm[j].z(), 0.0));
+        w = Eigen::Vector3d::Ones();
+      }
+      for (int v = 0; v < nv; ++v) {
+        const Eigen::Vector3d dv = fk_.d(j, v).cwiseProduct(w);
+        jtr(v) += dv.dot(r);
+        for (int u = 0; u <= v; ++u) jtj(v, u) += dv.dot(fk_.d(j, u));
+      }
+    }
+    // Levenberg's damping, relative to J^T J's scale (mm^2 per rad^2): the
+    // problem is underdetermined when few joints are held.
+    const double damping = kPredictDamping * jtj.diagonal().sum() / nv;
+    if (!(damping > 0)) return;
+    jtj.diagonal().array() += damping;
+    const Eigen::VectorXd dq = -jtj.selfadjointView<Eigen::Lower>().ldlt().solve(jtr);
+    if (!dq.allFinite()) return;
+    for (int v = 0; v < nv; ++v) (*q)[v] += dq(v);
+  }
 }
 
 void Simulation::correctContactSet(const Pose& handle, const std::vector<int>& which,

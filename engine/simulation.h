@@ -4,6 +4,7 @@
 // every spine's constrained energy minimisation at the new pose, with stiction
 // (§3.4.1), anisotropic friction (§3.4.2) and joint damping (§3.5).
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -16,6 +17,14 @@ namespace bristle {
 struct SimOptions {
   double max_step_mm = 0.25;  // no spine root moves further than this per step
   double min_rate_hz = 120;   // and steps come at least this often
+  // Where the brush is steady (render/stroke_renderer.h), planned steps are
+  // merged into one while the handle moves at most this far.
+  double steady_step_mm = 0;
+  // Each solve starts from the previous shape carried with the handle, with the
+  // joints that stuck to the paper put back where they stuck and any joint the
+  // carry pushed into the paper lifted onto it (docs/dynamics.md, "Where a
+  // solve starts"). false: the carried shape alone (for comparisons).
+  bool predict_start = true;
   // Canvas multipliers below this are grazing contact, not contact
   // (docs/design.md, "Solver notes": grazing joints show 1e-6..3e-4 N).
   double contact_threshold_n = 1e-3;
@@ -66,6 +75,26 @@ struct SimStats {
   int relaxed_spines = 0;  // spine-steps relaxed in the air in closed form
   int split_steps = 0;     // steps or pieces of steps redone in halves after a failed solve
   long iterations = 0;
+  int steady_steps = 0;       // steps that each took several planned steps at once
+  int steady_merged = 0;      // planned steps those covered
+  int steady_rejected = 0;    // merged steps redone as planned (the brush was not steady)
+
+  // Sums another run's figures into these (a scene's strokes, a sheet's cells).
+  void add(const SimStats& r) {
+    steps += r.steps;
+    solved_steps += r.solved_steps;
+    resolves += r.resolves;
+    fallback_solves += r.fallback_solves;
+    failed_spine_solves += r.failed_spine_solves;
+    failed_steps += r.failed_steps;
+    longest_failed_run = std::max(longest_failed_run, r.longest_failed_run);
+    relaxed_spines += r.relaxed_spines;
+    split_steps += r.split_steps;
+    iterations += r.iterations;
+    steady_steps += r.steady_steps;
+    steady_merged += r.steady_merged;
+    steady_rejected += r.steady_rejected;
+  }
 };
 
 // Neighbouring spines for hair volume (docs/dynamics.md): pairs whose mean
@@ -106,6 +135,15 @@ class Simulation {
     state_ = s.state;
     stats_ = s.stats;
   }
+  void countSteady(int merged) {
+    ++stats_.steady_steps;
+    stats_.steady_merged += merged;
+  }
+  // A merged step redone as planned: its solver work stays counted.
+  void countRejectedSteady(long wasted_iterations) {
+    ++stats_.steady_rejected;
+    stats_.iterations += wasted_iterations;
+  }
 
  private:
   void buildProblem(int s, const Pose& handle);
@@ -115,6 +153,7 @@ class Simulation {
                   const std::vector<VolumeLink>& links);
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
   bool relaxInAir(int s, const Pose& handle);
+  void predictStart(int s, const Pose& handle, std::vector<double>* q);
   // One step without splitting (§3.1), in stages: start each spine (carried
   // rigidly, relaxed in air when clear: returns those left to solve), solve,
   // correct the contact set and re-solve, commit, sum the canvas force.

@@ -62,6 +62,12 @@ class SpineSolver {
   // True when solve() minimises the problems' energies and the links' as one
   // NLP. Otherwise hair volume is solved one spine at a time (Gauss-Seidel).
   virtual bool couplesSpines() const { return false; }
+  // True when the solver gains from a start that puts stuck joints back on
+  // their anchors (Simulation's predicted start, docs/dynamics.md "Where a
+  // solve starts"): an interior-point method does; SLSQP, whose quasi-Newton
+  // steps do not overshoot the friction cone's point in the same way, took
+  // more evaluations from it (docs/PERFORMANCE.md).
+  virtual bool wantsPredictedStart() const { return false; }
   virtual const char* name() const = 0;
 };
 

@@ -55,16 +55,7 @@ SceneResult renderScene(const Scene& scene, const SceneRenderOptions& options,
     if (!r.touched) result.untouched.push_back(static_cast<int>(i));
     result.deposited_mm3 += r.deposited_mm3;
     result.picked_up_mm3 += r.picked_up_mm3;
-    SimStats& s = result.stats;
-    s.steps += r.stats.steps;
-    s.solved_steps += r.stats.solved_steps;
-    s.resolves += r.stats.resolves;
-    s.fallback_solves += r.stats.fallback_solves;
-    s.failed_spine_solves += r.stats.failed_spine_solves;
-    s.failed_steps += r.stats.failed_steps;
-    s.longest_failed_run = std::max(s.longest_failed_run, r.stats.longest_failed_run);
-    s.relaxed_spines += r.stats.relaxed_spines;
-    s.iterations += r.stats.iterations;
+    result.stats.add(r.stats);
   }
   return result;
 }

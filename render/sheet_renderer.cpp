@@ -96,18 +96,6 @@ PlannedCells planCells(const Sheet& sheet, const SheetLayout& L) {
   return plan;
 }
 
-void addStats(const SimStats& r, SimStats* s) {
-  s->steps += r.steps;
-  s->solved_steps += r.solved_steps;
-  s->resolves += r.resolves;
-  s->fallback_solves += r.fallback_solves;
-  s->failed_spine_solves += r.failed_spine_solves;
-  s->failed_steps += r.failed_steps;
-  s->longest_failed_run = std::max(s->longest_failed_run, r.longest_failed_run);
-  s->relaxed_spines += r.relaxed_spines;
-  s->iterations += r.iterations;
-}
-
 // Every stroke on its own canvas by the function `bristle render --brush
 // --trajectory` paints with (paintStroke): the canvas the stroke needs, a fresh
 // brush load, fresh paper. Fills each cell's stroke and ink box and the sheet's
@@ -145,7 +133,7 @@ std::vector<Image8> paintCells(const Sheet& sheet, const SheetRenderOptions& opt
     done += plan.steps[size_t(i)];
     strokes.push_back(composeRgb8(painted.canvas, options.compose));
     cell.ink = inkBox(strokes.back(), paper);
-    addStats(cell.stroke.stats, &out->stats);
+    out->stats.add(cell.stroke.stats);
   }
   return strokes;
 }

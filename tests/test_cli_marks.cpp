@@ -210,7 +210,11 @@ TEST_CASE("marks: a straight press-and-lift leaves one filled blot", "[marks]") 
   c.tilt_deg = 0;
   // Ipopt, the reference: SLSQP can stall on the straight centre spine of a
   // round pressed straight down, a buckling point (docs/dynamics.md).
-  const BlotStats b = blotStats(renderCase(name, c, dir, "blot", "ipopt"));
+  // A speck under 20 px (0.3 mm^2 at 8 px/mm: one hair tip's dot beside a
+  // blot of 2,000-6,000 px) is not a second blot to a painter; the
+  // calligraphy brush's press leaves one of 13 px at its edge.
+  constexpr int kSpeckPx = 20;
+  const BlotStats b = blotStats(renderCase(name, c, dir, "blot", "ipopt"), 0.1, kSpeckPx);
   INFO("components " << b.components << ", fill " << b.fill);
   CHECK(b.components == 1);
   CHECK(b.fill >= 0.85);

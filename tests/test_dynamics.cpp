@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "engine/brush.h"
 #include "engine/simulation.h"
@@ -150,6 +151,62 @@ TEST_CASE("step planning bounds root motion and keeps a minimum rate", "[dynamic
     CHECK(moved <= opt.max_step_mm + 1e-12);
     CHECK(times[i] - times[i - 1] <= 1 / opt.min_rate_hz + 1e-12);
   }
+}
+
+TEST_CASE("a solve started from the stuck joints reaches the carried start's minima in fewer "
+          "iterations",
+          "[dynamics][start]") {
+  // Two joints so that the spine can flex while its tip holds; a handle that
+  // rocks back and forth by less than friction holds (the tip sticks), then
+  // drags away (it slips). Simulation A starts each solve from the predicted
+  // start (SimOptions::predict_start), B from the carried shape, both from A's
+  // state at every step, so each step compares one solve with the other.
+  SpineSpec spine = makeSpine({6, 6}, {8, 5});
+  spine.rest_angles_rad[0] = Eigen::Vector2d(0.05, 0);
+  const Brush brush = makeBrush({spine}, 0.5, 0.4);
+  SimOptions carried_only;
+  carried_only.predict_start = false;
+  Simulation a(brush, SimOptions{}, makeIpoptSolver());
+  Simulation b(brush, carried_only, makeIpoptSolver());
+  double t = 0;
+  a.reset(poseAt(0, 0, 14), t);
+  b.reset(poseAt(0, 0, 14), t);
+  moveHandle(a, poseAt(0, 0, 14), poseAt(0, 0, 8), &t);
+  REQUIRE(a.state().spines[0].contact[1]);
+  std::vector<Pose> path;
+  for (int i = 1; i <= 40; ++i) path.push_back(poseAt(0.08 * std::sin(0.4 * i), 0, 8));
+  for (int i = 1; i <= 40; ++i) path.push_back(poseAt(0.25 * i, 0.05 * i, 8));
+  // The issue's bar for "the same minimum": joints within 1e-3 mm. Ipopt's
+  // tol of 1e-8 leaves ~1e-6 mm, and a joint that sticks in one and creeps in
+  // the other would differ by the slip distance, 1e-2 mm.
+  constexpr double kSameMinimumMm = 1e-3;
+  long iterations_a = 0, iterations_b = 0;
+  int stuck_steps = 0;
+  double worst_mm = 0;
+  for (const Pose& pose : path) {
+    const Simulation::Snapshot before = a.snapshot();
+    b.restore(before);
+    t += 0.01;
+    a.step(pose, t);
+    b.step(pose, t);
+    REQUIRE(a.state().spines[0].summary.usable());
+    REQUIRE(b.state().spines[0].summary.usable());
+    iterations_a += a.stats().iterations - before.stats.iterations;
+    iterations_b += b.stats().iterations - before.stats.iterations;
+    if (before.state.spines[0].contact[1] && !before.state.spines[0].sliding[1]) ++stuck_steps;
+    for (size_t j = 0; j < a.state().spines[0].joints_mm.size(); ++j)
+      worst_mm = std::max(worst_mm, (a.state().spines[0].joints_mm[j] -
+                                     b.state().spines[0].joints_mm[j]).norm());
+  }
+  INFO("iterations predicted " << iterations_a << ", carried " << iterations_b << " over "
+                               << path.size() << " steps, " << stuck_steps
+                               << " stuck; joints apart by up to " << worst_mm << " mm");
+  CHECK(worst_mm < kSameMinimumMm);
+  CHECK(stuck_steps >= 20);  // the rocking held the tip: the case the start is for
+  // Observed: 442 iterations against 920 (0.48). 0.7 leaves room for other
+  // Ipopt builds and still fails if the start were ignored.
+  CHECK(iterations_a < 0.7 * iterations_b);
+  CHECK(a.state().spines[0].sliding[1]);  // and the drag made it slide in the end
 }
 
 TEST_CASE("a lifted brush springs back: at rest one step after it leaves the canvas (D = 0)",
