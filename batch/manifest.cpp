@@ -67,6 +67,7 @@ const std::map<std::string, OptionType>& knownOptions() {
       {"paper-scale", OptionType::kNumber},     {"paper-seed", OptionType::kNumber},
       {"paper-tooth", OptionType::kNumber},     {"px-per-mm", OptionType::kNumber},
       {"solver", OptionType::kString},          {"solver-max-iterations", OptionType::kNumber},
+      {"steady-step-mm", OptionType::kNumber},
       {"tip-length", OptionType::kNumber},      {"width", OptionType::kNumber},
   };
   return kOptions;

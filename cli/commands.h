@@ -50,6 +50,7 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   SolverKind solver = SolverKind::kIpopt;
   double px_per_mm = 8;
   double max_step_mm = 0.25;
+  double steady_step_mm = SimOptions{}.steady_step_mm;
   double min_rate_hz = 120;
   double contact_band_mm = 0.1;
   int solver_max_iterations = kDefaultSolverMaxIterations;  // also a scene's

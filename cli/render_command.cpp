@@ -77,6 +77,7 @@ int runRender(const RenderArgs& args) {
   png.px_per_mm = args.px_per_mm;
   png.contact_band_mm = args.contact_band_mm;
   png.max_step_mm = args.max_step_mm;
+  png.steady_step_mm = args.steady_step_mm;
   png.min_rate_hz = args.min_rate_hz;
   static_cast<PaintOptions&>(png) = args;
   const std::string brush_file = findBrushFile(args.brush, "--brush");
@@ -203,6 +204,12 @@ Subcommand registerRender(CLI::App& app) {
                      "Largest motion of a spine root per simulation step (mm)")
       ->capture_default_str()
       ->check(CLI::Range(0.01, 5.0));
+  render->add_option("--steady-step-mm", r->steady_step_mm,
+                     "Where the brush is steady (no joint touches down, lifts, sticks or slips), "
+                     "planned steps are solved as one while the handle moves at most this far "
+                     "(mm); 0 solves every planned step")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 5.0));
   render->add_option("--min-rate-hz", r->min_rate_hz, "Fewest simulation steps per second")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 10000.0));

@@ -92,6 +92,7 @@ render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
   options.px_per_mm = o.px_per_mm;
   options.contact_band_mm = o.contact_band_mm;
   options.sim.max_step_mm = o.max_step_mm;
+  options.sim.steady_step_mm = o.steady_step_mm;
   options.sim.min_rate_hz = o.min_rate_hz;
   return options;
 }

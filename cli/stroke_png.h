@@ -25,6 +25,7 @@ struct StrokePngOptions : PaintOptions {  // paint and paper, as `bristle render
   double px_per_mm = 8;
   double contact_band_mm = 0.1;
   double max_step_mm = 0.25;
+  double steady_step_mm = SimOptions{}.steady_step_mm;
   double min_rate_hz = 120;
   std::vector<std::string> inputs;  // files named in the PNG's provenance text
 };

@@ -223,6 +223,9 @@ void parseSimOptions(const JsonObject& s, SimOptions* sim) {
   sim->max_step_mm = s.number("max_step_mm", sim->max_step_mm);
   s.require(sim->max_step_mm >= kMinStepMm && sim->max_step_mm <= kMaxStepMm, "max_step_mm",
             "must be in [0.01, 5] mm");
+  sim->steady_step_mm = s.number("steady_step_mm", sim->steady_step_mm);
+  s.require(sim->steady_step_mm >= 0 && sim->steady_step_mm <= kMaxStepMm, "steady_step_mm",
+            "must be in [0, 5] mm (0: every planned step is solved)");
   s.rejectUnknownKeys();
 }
 

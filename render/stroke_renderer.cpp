@@ -152,6 +152,41 @@ double contactJumpMm(const Brush& brush, const BrushState& a, const BrushState& 
   return jump;
 }
 
+// At most this many planned steps are taken as one steady step.
+constexpr int kMaxSteadyGroup = 8;
+constexpr int kMaxSteadyBackoff = 16;
+
+double rootRadiusMm(const Brush& brush) {
+  double r = 0;
+  for (const SpineSpec& s : brush.spines) r = std::max(r, s.root_mm.norm());
+  return r;
+}
+
+// The bound planStepTimes puts on a spine root's motion between two poses.
+double rootMotionMm(const Pose& a, const Pose& b, double root_radius) {
+  return (b.position_mm - a.position_mm).norm() +
+         rotationAngleRad(a.rotation, b.rotation) * root_radius;
+}
+
+// A step taken over several planned steps is kept when the brush did nothing
+// the planned steps would resolve differently: no joint touched down or lifted,
+// none switched between sticking and sliding, no solve failed, and the part on
+// the paper jumped no further than a steady step.
+bool steadyStep(const Simulation::Snapshot& before, const Simulation& sim, double max_jump_mm,
+                double contact_band_mm) {
+  const SimStats& a = before.stats;
+  const SimStats& b = sim.stats();
+  if (b.failed_spine_solves != a.failed_spine_solves || b.split_steps != a.split_steps ||
+      b.fallback_solves != a.fallback_solves)
+    return false;
+  const BrushState& s0 = before.state;
+  const BrushState& s1 = sim.state();
+  for (size_t s = 0; s < s0.spines.size(); ++s)
+    if (s0.spines[s].contact != s1.spines[s].contact || s0.spines[s].sliding != s1.spines[s].sliding)
+      return false;
+  return contactJumpMm(sim.brush(), s0, s1, contact_band_mm) <= max_jump_mm;
+}
+
 // Splitting stops after this many halvings (a step split into at most 32).
 constexpr int kMaxSplitDepth = 5;
 
@@ -245,10 +280,58 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
     if (on_step) on_step(sim.state(), planned, steps);
   };
 
+  // Steady steps: where the brush is steady, several planned steps are taken
+  // as one (docs/dynamics.md, "Steady steps"). Merges start at 2 planned
+  // steps and double while kept; after one is redone, the next tries wait 1,
+  // 2, 4 ... kMaxSteadyBackoff planned steps.
+  const double steady_mm = options.sim.steady_step_mm;
+  const double root_radius = rootRadiusMm(sim.brush());
+  const double steady_jump_mm = std::max(steady_mm, 2.0 / px_per_mm);
+  int group = 2;
+  int backoff = 1, hold = 0;
+  auto tryMerged = [&]() -> bool {
+    // The longest run of planned steps from planned - 1 whose handle path stays
+    // within steady_mm, at most `group` of them.
+    double path = 0;
+    int k = 0;
+    while (k < group && planned + k < steps) {
+      const double m = rootMotionMm(trajectory.poseAt(times[planned + k - 1]),
+                                    trajectory.poseAt(times[planned + k]), root_radius);
+      if (path + m > steady_mm) break;
+      path += m;
+      ++k;
+    }
+    if (k < 2 || hold > 0) {
+      hold = std::max(hold - 1, 0);
+      return false;
+    }
+    const double t1 = times[planned + k - 1];
+    if (t1 > stop_t_s) return false;
+    const Simulation::Snapshot before = sim.snapshot();
+    sim.step(trajectory.poseAt(t1), t1);
+    if (!steadyStep(before, sim, steady_jump_mm, options.contact_band_mm)) {
+      const long wasted = sim.stats().iterations - before.stats.iterations;
+      sim.restore(before);
+      sim.countRejectedSteady(wasted);
+      group = 2;
+      hold = backoff;
+      backoff = std::min(2 * backoff, kMaxSteadyBackoff);
+      return false;
+    }
+    sim.countSteady(k);
+    planned += k - 1;
+    group = std::min(2 * group, kMaxSteadyGroup);
+    backoff = 1;
+    if (on_step) on_step(sim.state(), planned, steps);
+    return true;
+  };
+
   sim.reset(trajectory.poseAt(times.front()), times.front());
   if (on_step) on_step(sim.state(), 0, steps);
-  for (planned = 1; planned < steps && !stopped; ++planned)
+  for (planned = 1; planned < steps && !stopped; ++planned) {
+    if (steady_mm > options.sim.max_step_mm && tryMerged()) continue;
     advance(advance, times[planned - 1], times[planned], 0);
+  }
 }
 
 StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajectory,

@@ -44,7 +44,7 @@ json goodScene() {
     "name": "test",
     "canvas": {"size_mm": [80, 40], "px_per_mm": 4, "background": "#f4efe2",
                "paper": {"tooth_depth_mm": 0.05, "tooth_scale_mm": 0.5, "seed": 9}},
-    "sim": {"rate_hz": 100, "max_step_mm": 0.3},
+    "sim": {"rate_hz": 100, "max_step_mm": 0.3, "steady_step_mm": 0.8},
     "mix": "rgb",
     "solver": "slsqp",
     "strokes": [
@@ -91,6 +91,7 @@ TEST_CASE("a sound scene parses into canvas, paper, paint loadings and placement
   CHECK(s.canvas.paper.seed == 9);
   CHECK(s.sim.min_rate_hz == 100);
   CHECK(s.sim.max_step_mm == 0.3);
+  CHECK(s.sim.steady_step_mm == 0.8);
   CHECK(s.mix == MixModel::kLinearRgb);
   CHECK(s.solver == SolverKind::kSlsqp);
   REQUIRE(s.strokes.size() == 2);
@@ -220,6 +221,8 @@ TEST_CASE("bad values are 65 naming the JSON pointer and the rule", "[scene]") {
        "scene.json: /solver = \"newton\": ", "must be \"ipopt\" or \"slsqp\""},
       {"rate", [](json& j) { j["sim"]["rate_hz"] = 0; },
        "scene.json: /sim/rate_hz = 0: ", "must be in [1, 10000]"},
+      {"steady step", [](json& j) { j["sim"]["steady_step_mm"] = -1; },
+       "scene.json: /sim/steady_step_mm = -1: ", "must be in [0, 5] mm"},
       {"empty brush path", [](json& j) { j["strokes"][0]["brush"] = ""; },
        "scene.json: /strokes/0/brush = \"\": ", "must name a brush file"},
   };

@@ -1045,14 +1045,14 @@ case("batch-option-unknown", "an option no job command has", BATCH_DRY, 65,
      "m.json: /jobs/0/options/frobnicate: unknown option 'frobnicate' (known: amount, at, "
      "background, bits, color, colour, contact-band-mm, height, impasto, ipopt-option, load, "
      "max-step-mm, min-rate-hz, mix, offset-mm, paint, paper-scale, paper-seed, paper-tooth, "
-     "px-per-mm, solver, solver-max-iterations, tip-length, width)",
+     "px-per-mm, solver, solver-max-iterations, steady-step-mm, tip-length, width)",
      all_of(STROKE, folder("out"), job_options({"frobnicate": 1})))
 case("batch-defaults-option-unknown", "an unknown option in the manifest's defaults",
      BATCH_DRY, 65,
      "m.json: /defaults/options/quiet-paper: unknown option 'quiet-paper' (known: amount, at, "
      "background, bits, color, colour, contact-band-mm, height, impasto, ipopt-option, load, "
      "max-step-mm, min-rate-hz, mix, offset-mm, paint, paper-scale, paper-seed, paper-tooth, "
-     "px-per-mm, solver, solver-max-iterations, tip-length, width)",
+     "px-per-mm, solver, solver-max-iterations, steady-step-mm, tip-length, width)",
      all_of(STROKE, folder("out"),
             manifest(edit=lambda m: m.update(defaults={"options": {"quiet-paper": False}}))))
 case("batch-option-flag-not-bool", "a flag given a number", BATCH_DRY, 65,
