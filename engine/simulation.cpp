@@ -679,11 +679,16 @@ void requireHeights(const Trajectory& traj) {
 }
 }  // namespace
 
+double rootMotionBoundMm(const Brush& brush, const Pose& a, const Pose& b) {
+  double root_radius = 0;
+  for (const SpineSpec& s : brush.spines) root_radius = std::max(root_radius, s.root_mm.norm());
+  return (b.position_mm - a.position_mm).norm() +
+         rotationAngleRad(a.rotation, b.rotation) * root_radius;
+}
+
 std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,
                                   const SimOptions& options) {
   requireHeights(traj);
-  double root_radius = 0;
-  for (const SpineSpec& s : brush.spines) root_radius = std::max(root_radius, s.root_mm.norm());
   auto count = [](double v) {
     std::ostringstream ss;
     ss.precision(v < 1e15 ? 15 : 3);
@@ -696,8 +701,7 @@ std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,
     const TrajectorySample& a = traj.samples[k];
     const TrajectorySample& b = traj.samples[k + 1];
     const double dt = b.t_s - a.t_s;
-    const double moved = (b.pose.position_mm - a.pose.position_mm).norm() +
-                         rotationAngleRad(a.pose.rotation, b.pose.rotation) * root_radius;
+    const double moved = rootMotionBoundMm(brush, a.pose, b.pose);
     const double n = std::max({1.0, std::ceil(moved / options.max_step_mm),
                                std::ceil(dt * options.min_rate_hz - 1e-9)});
     // Checked as doubles, before any becomes an integer or a step time.

@@ -217,9 +217,14 @@ inline constexpr double kMaxPlannedSteps = 1e7;
 // 250 m/s at the default 0.25 mm per step, 10 m/s at the finest 0.01 mm.
 inline constexpr double kMaxStepsPerSecond = 1e6;
 
+// The furthest any spine root of `brush` can move between two handle poses:
+// |dp| + angle * (largest |root|), the bound step planning keeps under
+// max_step_mm.
+double rootMotionBoundMm(const Brush& brush, const Pose& a, const Pose& b);
+
 // Times of the simulation steps for a trajectory: every sample time, subdivided
-// so that no spine root moves more than max_step_mm per step (bounded by
-// |dp| + angle * |root|) and steps are at most 1 / min_rate_hz apart. Throws
+// so that no spine root moves more than max_step_mm per step
+// (rootMotionBoundMm) and steps are at most 1 / min_rate_hz apart. Throws
 // kDataError naming the sample's line when the plan passes kMaxPlannedSteps or
 // kMaxStepsPerSecond, before the steps are allocated.
 std::vector<double> planStepTimes(const Trajectory& trajectory, const Brush& brush,

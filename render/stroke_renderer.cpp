@@ -156,18 +156,6 @@ double contactJumpMm(const Brush& brush, const BrushState& a, const BrushState& 
 constexpr int kMaxSteadyGroup = 8;
 constexpr int kMaxSteadyBackoff = 16;
 
-double rootRadiusMm(const Brush& brush) {
-  double r = 0;
-  for (const SpineSpec& s : brush.spines) r = std::max(r, s.root_mm.norm());
-  return r;
-}
-
-// The bound planStepTimes puts on a spine root's motion between two poses.
-double rootMotionMm(const Pose& a, const Pose& b, double root_radius) {
-  return (b.position_mm - a.position_mm).norm() +
-         rotationAngleRad(a.rotation, b.rotation) * root_radius;
-}
-
 // A step taken over several planned steps is kept when the brush did nothing
 // the planned steps would resolve differently: no joint touched down or lifted,
 // none switched between sticking and sliding, no solve failed, and the part on
@@ -285,7 +273,6 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
   // steps and double while kept; after one is redone, the next tries wait 1,
   // 2, 4 ... kMaxSteadyBackoff planned steps.
   const double steady_mm = options.sim.steady_step_mm;
-  const double root_radius = rootRadiusMm(sim.brush());
   const double steady_jump_mm = std::max(steady_mm, 2.0 / px_per_mm);
   int group = 2;
   int backoff = 1, hold = 0;
@@ -295,8 +282,8 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
     double path = 0;
     int k = 0;
     while (k < group && planned + k < steps) {
-      const double m = rootMotionMm(trajectory.poseAt(times[planned + k - 1]),
-                                    trajectory.poseAt(times[planned + k]), root_radius);
+      const double m = rootMotionBoundMm(sim.brush(), trajectory.poseAt(times[planned + k - 1]),
+                                         trajectory.poseAt(times[planned + k]));
       if (path + m > steady_mm) break;
       path += m;
       ++k;
