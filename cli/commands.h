@@ -54,6 +54,7 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   double min_rate_hz = 120;
   double contact_band_mm = 0.1;
   int solver_max_iterations = kDefaultSolverMaxIterations;  // also a scene's
+  int threads = 0;  // --threads (0: render::defaultRenderThreads()); also a scene's
   std::vector<std::string> ipopt_options;  // NAME=VALUE
   std::vector<double> offset_mm;           // x, y, z added to every handle position
   bool quiet = false;
@@ -110,6 +111,7 @@ struct SheetArgs {
   double px_per_mm = 0;  // 0: the sheet's
   std::optional<SolverKind> solver;  // nothing: the sheet's
   int solver_max_iterations = kDefaultSolverMaxIterations;
+  int threads = 0;  // --threads (0: render::defaultRenderThreads())
   bool impasto = false;
   bool quiet = false;
   std::string batch_key;  // --batch-key (hidden): from `bristle batch`

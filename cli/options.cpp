@@ -62,6 +62,14 @@ void addSolverMaxIterations(CLI::App* app, int& max_iterations) {
       ->check(CLI::Range(1, 100000));
 }
 
+void addRenderThreads(CLI::App* app, int& threads) {
+  app->add_option("--threads", threads,
+                  "1: simulate and draw in turns; 2: simulate the next steps while this one is "
+                  "drawn. The same pixels either way (default: 2 where the process may use 2 "
+                  "or more CPUs)")
+      ->check(CLI::Range(1, 2));
+}
+
 CLI::Option* addPxPerMm(CLI::App* app, double& px_per_mm, const std::string& help,
                         bool show_default) {
   CLI::Option* o = app->add_option("--px-per-mm", px_per_mm, help);

@@ -28,6 +28,10 @@ CLI::Option* addSolver(CLI::App* app, SolverKind& kind, const std::string& help)
 // The iteration limit of the spine solvers, the same for every command that simulates.
 void addSolverMaxIterations(CLI::App* app, int& max_iterations);
 
+// --threads 1|2 of render and sheet (render::StrokeOptions::threads); `threads`
+// stays 0, the machine's choice, unless given.
+void addRenderThreads(CLI::App* app, int& threads);
+
 // --px-per-mm, in the range every command accepts (0.5 to 100); the default is
 // shown unless `show_default` is false (a value that means "the file's own").
 CLI::Option* addPxPerMm(CLI::App* app, double& px_per_mm, const std::string& help,

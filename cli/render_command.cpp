@@ -79,6 +79,7 @@ int runRender(const RenderArgs& args) {
   png.max_step_mm = args.max_step_mm;
   png.steady_step_mm = args.steady_step_mm;
   png.min_rate_hz = args.min_rate_hz;
+  png.threads = args.threads;
   static_cast<PaintOptions&>(png) = args;
   const std::string brush_file = findBrushFile(args.brush, "--brush");
   png.inputs = {brush_file, args.trajectory};
@@ -191,6 +192,7 @@ Subcommand registerRender(CLI::App& app) {
                      "solves, paint laid down, ...)");
   addSolver(render, r->solver, "Spine solver");
   addSolverMaxIterations(render, r->solver_max_iterations);
+  addRenderThreads(render, r->threads);
   render->add_option("--offset-mm", r->offset_mm,
                      "Shift the trajectory by X Y Z mm (e.g. 0 0 10 to hold a longer brush "
                      "higher)")

@@ -29,7 +29,8 @@ namespace {
 // (--batch-key is the batch's own, cli/options.h).
 constexpr const char* kSceneOptions[] = {"--output", "--trace",   "--stats", "--impasto",
                                          "--bits",   "--quiet",   "--help",
-                                         "--solver-max-iterations", "--batch-key"};
+                                         "--solver-max-iterations", "--threads",
+                                         "--batch-key"};
 
 // Was a stroke (its pointer, "/strokes/3") already named in a warning?
 bool warnedAbout(const std::vector<std::string>& warnings, const std::string& pointer) {
@@ -47,8 +48,8 @@ void checkSceneOptions(const RenderArgs& args) {
       throw Error(ExitCode::kUsage,
                   "render " + args.scene + ": " + given +
                       " cannot be used with a scene (the scene sets it); with a scene only -o, "
-                      "--trace, --stats, --impasto, --bits, --solver-max-iterations and --quiet "
-                      "are allowed");
+                      "--trace, --stats, --impasto, --bits, --solver-max-iterations, --threads and "
+                      "--quiet are allowed");
   }
 }
 
@@ -108,6 +109,7 @@ int runRenderScene(const RenderArgs& args) {
   };
   render::SceneRenderOptions options;
   options.solver_max_iterations = args.solver_max_iterations;
+  options.threads = args.threads;
   const render::SceneResult result = render::renderScene(scene, options, &canvas, on_step);
 
   render::ComposeOptions compose;

@@ -72,6 +72,7 @@ int runSheet(const SheetArgs& args) {
   render::SheetRenderOptions options;
   options.compose.impasto = args.impasto;
   options.solver_max_iterations = args.solver_max_iterations;
+  options.threads = args.threads;
   const render::SheetImage result = render::renderSheet(
       sheet, options,
       [&](int cell, int cells, long step, long steps) { progress.update(cell, cells, step, steps); });
@@ -122,6 +123,7 @@ Subcommand registerSheet(CLI::App& app) {
       sheet, "--solver", [sh](SolverKind k) { sh->solver = k; },
       "Spine solver, instead of the sheet's", "");
   addSolverMaxIterations(sheet, sh->solver_max_iterations);
+  addRenderThreads(sheet, sh->threads);
   sheet->add_flag("--impasto", sh->impasto, "Light the paint's thickness from the upper left");
   sheet->add_flag("-q,--quiet", sh->quiet, "No progress, no summary, no output path on stdout");
   addBatchKey(sheet, sh->batch_key);

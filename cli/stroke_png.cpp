@@ -94,6 +94,7 @@ render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
   options.sim.max_step_mm = o.max_step_mm;
   options.sim.steady_step_mm = o.steady_step_mm;
   options.sim.min_rate_hz = o.min_rate_hz;
+  options.threads = o.threads;
   return options;
 }
 

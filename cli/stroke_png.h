@@ -27,6 +27,7 @@ struct StrokePngOptions : PaintOptions {  // paint and paper, as `bristle render
   double max_step_mm = 0.25;
   double steady_step_mm = SimOptions{}.steady_step_mm;
   double min_rate_hz = 120;
+  int threads = 0;  // render::StrokeOptions::threads
   std::vector<std::string> inputs;  // files named in the PNG's provenance text
 };
 

@@ -21,6 +21,7 @@ SceneResult renderScene(const Scene& scene, const SceneRenderOptions& options,
   stroke_options.px_per_mm = scene.canvas.px_per_mm;
   stroke_options.contact_band_mm = options.contact_band_mm;
   stroke_options.sim = scene.sim;
+  stroke_options.threads = options.threads;
 
   // The planned steps of every stroke, for progress over the whole scene.
   std::vector<long> planned;

@@ -17,6 +17,7 @@ struct SceneRenderOptions {
   double contact_band_mm = 0.1;
   // Per solve, for both solvers (SolverSettings::max_iterations).
   int solver_max_iterations = kDefaultSolverMaxIterations;
+  int threads = 0;  // StrokeOptions::threads
 };
 
 // After every simulation step: which stroke, the state, and the step counts

@@ -107,6 +107,7 @@ std::vector<Image8> paintCells(const Sheet& sheet, const SheetRenderOptions& opt
   stroke_options.px_per_mm = sheet.px_per_mm;
   stroke_options.contact_band_mm = options.contact_band_mm;
   stroke_options.sim = sheet.sim;
+  stroke_options.threads = options.threads;
   const Rgb8 paper = sheetPaperColour(sheet, options.compose);
   StrokeSetup setup;
   setup.load = sheet.paint;

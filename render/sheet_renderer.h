@@ -62,6 +62,7 @@ struct SheetRenderOptions {
   double contact_band_mm = 0.1;    // the contact band (StrokeOptions::contact_band_mm)
   // Per solve, for both solvers (SolverSettings::max_iterations).
   int solver_max_iterations = kDefaultSolverMaxIterations;
+  int threads = 0;  // StrokeOptions::threads
 };
 
 // After every simulation step: the cell (in layout order), and the steps of the

@@ -1,4 +1,5 @@
 #include "render/stroke_renderer.h"
+#include "render/step_pipeline.h"
 
 #include <algorithm>
 #include <cmath>
@@ -331,15 +332,18 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
   StrokeResult result;
   bool first = true;
   BrushState painted;  // the state the last stamp showed
-  stepAlongTrajectory(
-      sim, trajectory, options, canvas->grid().px_per_mm,
-      [&](const BrushState& state, int step, int steps) {
-        // The first state has no step before it: a stamp, not a sweep.
-        paintStep(geometry, first ? nullptr : &painted, state, options, canvas, paint, &result);
-        first = false;
-        painted = state;
-        if (on_step) on_step(state, step, steps);
-      });
+  const StepCallback draw = [&](const BrushState& state, int step, int steps) {
+    // The first state has no step before it: a stamp, not a sweep.
+    paintStep(geometry, first ? nullptr : &painted, state, options, canvas, paint, &result);
+    first = false;
+    painted = state;
+    if (on_step) on_step(state, step, steps);
+  };
+  const int threads = options.threads > 0 ? options.threads : defaultRenderThreads();
+  if (threads >= 2)
+    stepAlongTrajectoryAhead(sim, trajectory, options, canvas->grid().px_per_mm, draw);
+  else
+    stepAlongTrajectory(sim, trajectory, options, canvas->grid().px_per_mm, draw);
   result.stats = sim.stats();
   return result;
 }

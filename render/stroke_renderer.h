@@ -23,6 +23,11 @@ struct StrokeOptions {
   SimOptions sim;
   // Paint transfer per step (engine/paint.h).
   TransferParams transfer;
+  // 1: simulation and drawing take turns on the calling thread. 2: the steps
+  // are simulated on a second thread while the calling thread draws the ones
+  // already solved (render/step_pipeline.h); the same pixels either way.
+  // 0: defaultRenderThreads(), 2 where the process may run on 2+ CPUs.
+  int threads = 0;
 };
 
 // Called after every simulation step with the index of the planned step it

@@ -241,7 +241,9 @@ TEST_CASE("with a scene, options the scene sets are usage errors naming them",
   CHECK(o.code == 73);
 }
 
-TEST_CASE("render SCENE --solver-max-iterations limits every stroke's solves", "[cli][scene]") {
+TEST_CASE("render SCENE --solver-max-iterations limits every stroke's solves, and --threads is "
+          "taken",
+          "[cli][scene]") {
   TempDir dir;
   json one = crossingScene();
   one["strokes"].erase(1);
@@ -259,6 +261,11 @@ TEST_CASE("render SCENE --solver-max-iterations limits every stroke's solves", "
   const json starved = run("starved", "--solver-max-iterations 1");
   CHECK(starved["failed_steps"].get<int>() > 0);
   CHECK(render::readPngRgba8(dir.file("starved.png")).pixels !=
+        render::readPngRgba8(dir.file("full.png")).pixels);
+  // --threads is taken as well, and changes the time, not the pixels.
+  const json turns = run("turns", "--threads 1");
+  CHECK(turns["failed_steps"] == 0);
+  CHECK(render::readPngRgba8(dir.file("turns.png")).pixels ==
         render::readPngRgba8(dir.file("full.png")).pixels);
 }
 

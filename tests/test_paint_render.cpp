@@ -4,6 +4,13 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/fnv1a64.h"
 #include "engine/paint.h"
@@ -11,6 +18,7 @@
 #include "engine/spine_solver.h"
 #include "render/compose.h"
 #include "render/image_compare.h"
+#include "render/step_pipeline.h"
 #include "render/stroke_renderer.h"
 
 using namespace bristle;
@@ -461,4 +469,121 @@ TEST_CASE("steady steps merge planned steps only while the contact set holds, an
   const double same = ssim(planned.image, steady.image);
   INFO("SSIM " << same);
   CHECK(same > kSameStrokeSsim);
+}
+
+namespace {
+
+// The flat along the S-curve in sumi ink, with `threads` (StrokeOptions::threads),
+// onto `canvas` (made here for the stroke).
+StrokeResult inkCurve(int threads, std::unique_ptr<SpineSolver> solver,
+                      const StepCallback& on_step, std::optional<PaintCanvas>* canvas) {
+  const Brush flat = loadBrush(kFlat);
+  const Trajectory curve = shifted(kDir + "/scenes/trajectories/s-curve.csv", 0, 0, -1.8);
+  StrokeOptions options;
+  options.threads = threads;
+  canvas->emplace(canvasForStroke(flat, curve, options), PaperSpec{}, MixModel::kKubelkaMunk);
+  BrushPaint paint(flat);
+  paint.load(loadOf(PaintLoad::Mode::kSolid, {"sumi-ink"}), (*canvas)->model(), "test");
+  StrokeRenderer renderer;
+  return renderer.render(flat, curve, std::move(solver), options, &**canvas, &paint, on_step);
+}
+
+// A solver that throws on its n-th solve: an error on the stepping thread.
+class BreakingSolver : public SpineSolver {
+ public:
+  BreakingSolver(std::unique_ptr<SpineSolver> inner, int breaks_at)
+      : inner_(std::move(inner)), breaks_at_(breaks_at) {}
+  using SpineSolver::solve;
+  SolveSummary solve(std::span<const SpineProblem* const> problems,
+                     std::span<SpineSolution* const> solutions,
+                     std::span<const VolumeLink> links) override {
+    if (++solves_ == breaks_at_) throw std::runtime_error("the solver broke");
+    return inner_->solve(problems, solutions, links);
+  }
+  bool couplesSpines() const override { return inner_->couplesSpines(); }
+  bool wantsPredictedStart() const override { return inner_->wantsPredictedStart(); }
+  const char* name() const override { return inner_->name(); }
+
+ private:
+  std::unique_ptr<SpineSolver> inner_;
+  int breaks_at_ = 0, solves_ = 0;
+};
+
+}  // namespace
+
+// Simulation and drawing on two threads (StrokeOptions::threads,
+// render/step_pipeline.h): the states reach the drawing side in the order they
+// were solved, so a render that simulates ahead is the one that takes turns,
+// pixel for pixel and step for step.
+TEST_CASE("a render that simulates ahead on a second thread paints the same pixels, step for "
+          "step",
+          "[render][threads]") {
+  struct Run {
+    std::uint64_t pixels = 0;
+    StrokeResult result;
+    std::vector<std::pair<int, double>> steps;  // (planned step, t_s) as on_step saw them
+  };
+  auto run = [](int threads) {
+    Run r;
+    std::optional<PaintCanvas> canvas;
+    r.result = inkCurve(threads, makeIpoptSolver(),
+                        [&](const BrushState& st, int planned, int) {
+                          r.steps.emplace_back(planned, st.t_s);
+                        },
+                        &canvas);
+    const Image16 img = composeRgb16(*canvas, ComposeOptions{});
+    r.pixels = fnv1a64(std::string_view(reinterpret_cast<const char*>(img.pixels.data()),
+                                        img.pixels.size() * 2));
+    return r;
+  };
+  const Run turns = run(1);
+  const Run ahead = run(2);
+  REQUIRE(turns.result.touched);
+  CHECK(ahead.pixels == turns.pixels);
+  CHECK(ahead.steps == turns.steps);
+  CHECK(ahead.result.stats.steps == turns.result.stats.steps);
+  CHECK(ahead.result.stats.iterations == turns.result.stats.iterations);
+  // Bit for bit: the same transfers in the same order.
+  CHECK(ahead.result.deposited_mm3 == turns.result.deposited_mm3);
+  CHECK(ahead.result.picked_up_mm3 == turns.result.picked_up_mm3);
+  const int machine = defaultRenderThreads();
+  CHECK((machine == 1 || machine == 2));
+}
+
+// Either side of a render that simulates ahead may fail: the drawing side (here
+// its step callback) or the stepping side (here its solver). Both threads stop,
+// the error reaches the caller, and every step solved before a stepping error
+// is drawn, as when the two take turns. A hang here is a deadlock (the test's
+// timeout catches it).
+TEST_CASE("an error on either thread of a render that simulates ahead stops both and reaches "
+          "the caller",
+          "[render][threads]") {
+  // Drawn steps before the error, and the error's message.
+  auto run = [](int threads, int solver_breaks_at, int drawing_breaks_at) {
+    int drawn = 0;
+    std::string message;
+    std::optional<PaintCanvas> canvas;
+    try {
+      inkCurve(threads, std::make_unique<BreakingSolver>(makeSlsqpSolver(), solver_breaks_at),
+               [&](const BrushState&, int, int) {
+                 if (++drawn == drawing_breaks_at) throw std::runtime_error("the drawing broke");
+               },
+               &canvas);
+    } catch (const std::runtime_error& e) {
+      message = e.what();
+    }
+    return std::make_pair(drawn, message);
+  };
+  constexpr int kNever = -1;
+  for (int threads : {1, 2}) {
+    INFO("threads " << threads);
+    // The drawing side fails while the stepping side waits on a full ring.
+    CHECK(run(threads, kNever, 40) == std::make_pair(40, std::string("the drawing broke")));
+    CHECK(run(threads, kNever, 1) == std::make_pair(1, std::string("the drawing broke")));
+  }
+  const auto turns = run(1, 60, kNever);
+  const auto ahead = run(2, 60, kNever);
+  CHECK(turns.second == "the solver broke");
+  CHECK(turns.first > 1);
+  CHECK(ahead == turns);
 }

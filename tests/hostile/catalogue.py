@@ -599,6 +599,9 @@ case("scene-canvas-1e308", "a scene canvas 1e308 mm wide", ["validate", "s.json"
 case("render-offset-1e308", "`--offset-mm 1e308 0 0`", render("b.json", "t.csv", "o.png",
      "--offset-mm", "1e308", "0", "0"), 64, "--offset-mm: must be within +-100000 mm (the limit)",
      STROKE)
+case("render-threads-3", "`--threads 3`: a render uses one thread or two",
+     render("b.json", "t.csv", "o.png", "--threads", "3"), 64,
+     "--threads: Value 3 not in range 1 to 2 (see bristle --help)", STROKE)
 
 # -- outputs never overwrite inputs, never replace a device or a FIFO ---------
 OVER = "; an output must not overwrite an input"
