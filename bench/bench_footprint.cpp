@@ -94,13 +94,16 @@ BENCHMARK(BM_FootprintRender)
     ->Unit(benchmark::kMicrosecond);
 
 // A whole stroke: simulation + footprint + paint per step, the round brush along
-// s-curve.csv. Time: the stroke; counters: per step (between step callbacks,
-// so a step the renderer redoes in smaller pieces counts in the next one).
+// s-curve.csv, with range(0) threads (StrokeOptions::threads: 1 takes turns, 2
+// simulates ahead while drawing). Time: the stroke; counters: per step (between
+// step callbacks, so a step the renderer redoes in smaller pieces counts in the
+// next one; with 2 threads, the time between states drawn).
 void BM_StrokeRender(benchmark::State& state) {
   const std::string dir = BRISTLE_SOURCE_DIR;
   const Brush brush = loadBrush(dir + "/scenes/brushes/round.json");
   const Trajectory traj = loadTrajectory(dir + "/scenes/trajectories/s-curve.csv");
-  const StrokeOptions options;
+  StrokeOptions options;
+  options.threads = static_cast<int>(state.range(0));
   const CanvasGrid grid = canvasForStroke(brush, traj, options);
   StrokeRenderer renderer;
   std::vector<double> step_us;
@@ -140,6 +143,9 @@ void BM_StrokeRender(benchmark::State& state) {
   reportPercentiles(state, step_us, "step_");
 }
 BENCHMARK(BM_StrokeRender)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
     ->Iterations(3)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
