@@ -16,6 +16,7 @@
 
 #include "bench/bench_stats.h"
 #include "engine/brush.h"
+#include "engine/heap_policy.h"
 #include "engine/brush_geometry.h"
 #include "engine/simulation.h"
 #include "engine/trajectory.h"
@@ -284,6 +285,7 @@ BENCHMARK(BM_SweptFootprint)->ArgName("moved_px")->Arg(0)->Arg(2)->Arg(4)->UseMa
 int main(int argc, char** argv) {
   // An unknown GALLIUM_DRIVER makes OSMesa fail (or crash); llvmpipe is the default.
   unsetenv("GALLIUM_DRIVER");
+  bristle::keepFreedHeap();  // as the CLI does (engine/heap_policy.h)
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

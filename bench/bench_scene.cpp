@@ -10,6 +10,7 @@
 
 #include "bench_stats.h"
 #include "engine/scene.h"
+#include "engine/heap_policy.h"
 #include "render/compose.h"
 #include "render/scene_renderer.h"
 
@@ -58,4 +59,11 @@ BENCHMARK(BM_SceneRender)
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  bristle::keepFreedHeap();  // as the CLI does (engine/heap_policy.h)
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

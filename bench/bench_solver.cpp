@@ -19,6 +19,7 @@
 
 #include "bench/bench_stats.h"
 #include "engine/brush.h"
+#include "engine/heap_policy.h"
 #include "engine/simulation.h"
 #include "engine/spine_kinematics.h"
 #include "engine/trajectory.h"
@@ -326,4 +327,11 @@ BENCHMARK(BM_RoundSCurve)
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  bristle::keepFreedHeap();  // as the CLI does (engine/heap_policy.h)
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -14,6 +14,7 @@
 #include "cli/inputs.h"
 #include "cli/options.h"
 #include "engine/error.h"
+#include "engine/heap_policy.h"
 #include "engine/temp_files.h"
 
 namespace {
@@ -97,6 +98,9 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv) {
 
 int main(int argc, char** argv) {
   using namespace bristle::cli;
+  // Freed heap stays mapped between solves (engine/heap_policy.h): a tenth of
+  // a hair-volume brush's render went to growing and trimming the heap.
+  bristle::keepFreedHeap();
   // Brush names, on the command line and in the scenes, sheets and manifests it reads.
   bristle::setBrushLibraryDirs(cliBrushLibraryDirs());
   CLI::App app(kDescription, "bristle");
