@@ -32,6 +32,7 @@ void writeRunStats(const std::string& path, const RunStats& s) {
       {"steady_steps", s.sim.steady_steps},
       {"steady_merged_steps", s.sim.steady_merged},
       {"steady_rejected", s.sim.steady_rejected},
+      {"jump_split_steps", s.sim.jump_split_steps},
       {"failed_steps", s.sim.failed_steps},
       {"failed_spine_solves", s.sim.failed_spine_solves},
       {"fallback_solves", s.sim.fallback_solves},

@@ -78,6 +78,10 @@ struct SimStats {
   int steady_steps = 0;       // steps that each took several planned steps at once
   int steady_merged = 0;      // planned steps those covered
   int steady_rejected = 0;    // merged steps redone as planned (the brush was not steady)
+  // Steps redone in halves because the touching part jumped further than a
+  // step may move it (render/stroke_renderer.cpp); their first try's
+  // iterations stay in `iterations`.
+  int jump_split_steps = 0;
 
   // Sums another run's figures into these (a scene's strokes, a sheet's cells).
   void add(const SimStats& r) {
@@ -94,6 +98,7 @@ struct SimStats {
     steady_steps += r.steady_steps;
     steady_merged += r.steady_merged;
     steady_rejected += r.steady_rejected;
+    jump_split_steps += r.jump_split_steps;
   }
 };
 
@@ -142,6 +147,10 @@ class Simulation {
   // A merged step redone as planned: its solver work stays counted.
   void countRejectedSteady(long wasted_iterations) {
     ++stats_.steady_rejected;
+    stats_.iterations += wasted_iterations;
+  }
+  void countJumpSplit(long wasted_iterations) {
+    ++stats_.jump_split_steps;
     stats_.iterations += wasted_iterations;
   }
 

@@ -255,7 +255,10 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
     sim.step(trajectory.poseAt(t1), t1);
     if (depth < kMaxSplitDepth &&
         contactJumpMm(sim.brush(), before.state, sim.state(), options.contact_band_mm) > max_jump_mm) {
+      // The first try's solves were done: their iterations stay counted.
+      const long wasted = sim.stats().iterations - before.stats.iterations;
       sim.restore(before);
+      sim.countJumpSplit(wasted);
       const double tm = 0.5 * (t0 + t1);
       self(self, t0, tm, depth + 1);
       self(self, tm, t1, depth + 1);
