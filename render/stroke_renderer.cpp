@@ -179,10 +179,26 @@ bool steadyStep(const Simulation::Snapshot& before, const Simulation& sim, doubl
 // Splitting stops after this many halvings (a step split into at most 32).
 constexpr int kMaxSplitDepth = 5;
 
+// How far the part of the brush on the paper may move in one step: twice
+// --max-step-mm (the most a spine root moves in a planned step), or 2 px of
+// the canvas if that is further. A step that moved it further is redone in
+// halves. Between two kept states the sweep stamps the hair along straight
+// lines, one stamp per pixel, so the limit is the chord over which a tip's
+// path is drawn straight: at the defaults (0.25 mm, 8 px/mm) 0.5 mm, over
+// which a tip curling on a 2 mm radius strays from its arc by
+// c^2 / 8R = 0.016 mm, a tenth of a pixel. It was max(--max-step-mm, 2 px);
+// the first tries of the steps redone then held 45% of the round's
+// iterations on a tablet recording. Now the renders take 0.37-0.78 of the
+// time and stay at SSIM 0.976-0.998 of the old strokes on the S-curve
+// (docs/PERFORMANCE.md, "How far a step may move the hair"). A smaller
+// --max-step-mm still refines the steps' contact as before.
+constexpr double kJumpPerRootStep = 2;
+constexpr double kJumpFloorPx = 2;
+
 // At most this many stamps sweep one step: the split above keeps a step's
-// contact jump within max(--max-step-mm, 2 px), 2 px at the default 8 px/mm
-// and 0.25 mm, so a sweep at one stamp per pixel needs 2-3; 16 covers a
-// --max-step-mm of 2 at 8 px/mm.
+// contact jump within max(2 --max-step-mm, 2 px), 4 px at the default
+// 8 px/mm and 0.25 mm, so a sweep at one stamp per pixel needs 4-5; 16 covers
+// a --max-step-mm of 1 at 8 px/mm.
 constexpr int kMaxSweepStamps = 16;
 
 }  // namespace
@@ -215,7 +231,8 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
     if (std::find(spine.contact.begin(), spine.contact.end(), true) != spine.contact.end())
       result->touched = true;
   // One stamp per pixel of motion: a hair finer than a pixel, its tip dragged
-  // 2 px a step, otherwise leaves a dotted line where a real one draws a line.
+  // several pixels a step, otherwise leaves a dotted line where a real one
+  // draws a line.
   const double spacing_mm = 1.0 / grid.px_per_mm;
   const bool touched =
       from ? sweptFootprint(geometry, *from, state, grid, options.contact_band_mm, spacing_mm, &image_)
@@ -244,7 +261,8 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
                          const StepCallback& on_step, double stop_t_s) {
   const std::vector<double> times = planStepTimes(trajectory, sim.brush(), options.sim);
   const int steps = static_cast<int>(times.size());
-  const double max_jump_mm = std::max(options.sim.max_step_mm, 2.0 / px_per_mm);
+  const double max_jump_mm =
+      std::max(kJumpPerRootStep * options.sim.max_step_mm, kJumpFloorPx / px_per_mm);
   int planned = 0;
   bool stopped = false;
 

@@ -50,10 +50,11 @@ CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
 // The stepping of a render, without the paint: resets `sim` at the first
 // planned step time (planStepTimes with options.sim, which `sim` must have been
 // made with), then steps it through the planned steps, halving a step (down to
-// 1/32) while the part of the brush within options.contact_band_mm of the paper jumps
-// further than one stamp covers, max(options.sim.max_step_mm, 2 px at
-// px_per_mm, the canvas's resolution). With options.sim.steady_step_mm above
-// max_step_mm, runs of planned steps are solved as one where the brush is
+// 1/32) while the part of the brush within options.contact_band_mm of the
+// paper jumps further than max(2 options.sim.max_step_mm, 2 px at px_per_mm,
+// the canvas's resolution; kJumpPerRootStep in stroke_renderer.cpp). With
+// options.sim.steady_step_mm above max_step_mm, runs of planned steps are
+// solved as one where the brush is
 // steady (docs/dynamics.md, "Steady steps"); on_step's step is then the last
 // planned step the merged one covers. on_step sees the state after the reset
 // and after every step kept. Stops at the last step that ends at or before
