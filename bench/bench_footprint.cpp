@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "bench/bench_stats.h"
+#include "bench/bench_main.h"
 #include "engine/brush.h"
-#include "engine/heap_policy.h"
 #include "engine/brush_geometry.h"
 #include "engine/simulation.h"
 #include "engine/trajectory.h"
@@ -285,10 +285,5 @@ BENCHMARK(BM_SweptFootprint)->ArgName("moved_px")->Arg(0)->Arg(2)->Arg(4)->UseMa
 int main(int argc, char** argv) {
   // An unknown GALLIUM_DRIVER makes OSMesa fail (or crash); llvmpipe is the default.
   unsetenv("GALLIUM_DRIVER");
-  bristle::keepFreedHeap();  // as the CLI does (engine/heap_policy.h)
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return bristle::bench::runBenchmarks(argc, argv);
 }

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "bench_stats.h"
+#include "bench/bench_main.h"
 #include "engine/scene.h"
-#include "engine/heap_policy.h"
 #include "render/compose.h"
 #include "render/scene_renderer.h"
 
@@ -59,11 +59,4 @@ BENCHMARK(BM_SceneRender)
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  bristle::keepFreedHeap();  // as the CLI does (engine/heap_policy.h)
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return bristle::bench::runBenchmarks(argc, argv); }

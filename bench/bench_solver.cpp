@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "bench/bench_stats.h"
+#include "bench/bench_main.h"
 #include "engine/brush.h"
-#include "engine/heap_policy.h"
 #include "engine/simulation.h"
 #include "engine/spine_kinematics.h"
 #include "engine/trajectory.h"
@@ -327,11 +327,4 @@ BENCHMARK(BM_RoundSCurve)
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  bristle::keepFreedHeap();  // as the CLI does (engine/heap_policy.h)
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return bristle::bench::runBenchmarks(argc, argv); }
