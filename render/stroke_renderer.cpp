@@ -197,9 +197,9 @@ constexpr double kJumpFloorPx = 2;
 
 // At most this many stamps sweep one step: the split above keeps a step's
 // contact jump within max(2 --max-step-mm, 2 px), 4 px at the default
-// 8 px/mm and 0.25 mm, so a sweep at one stamp per pixel needs 4-5; 16 covers
-// a --max-step-mm of 1 at 8 px/mm.
-constexpr int kMaxSweepStamps = 16;
+// 8 px/mm and 0.25 mm, so a sweep at one stamp per pixel needs 4-5; 32 covers
+// a --max-step-mm of 2 at 8 px/mm, as 16 did while the limit was one step.
+constexpr int kMaxSweepStamps = 32;
 
 }  // namespace
 
