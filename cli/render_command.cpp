@@ -203,7 +203,9 @@ Subcommand registerRender(CLI::App& app) {
                      "linear_solver=dense (the default; =mumps for Ipopt's own)");
   addPxPerMm(render, r->px_per_mm, "Canvas resolution (pixels per mm)");
   render->add_option("--max-step-mm", r->max_step_mm,
-                     "Largest motion of a spine root per simulation step (mm)")
+                     "Largest motion of a spine root per simulation step (mm); a step in which "
+                     "the hair on the paper moves more than twice this (or 2 px) is redone in "
+                     "halves")
       ->capture_default_str()
       ->check(CLI::Range(0.01, 5.0));
   render->add_option("--steady-step-mm", r->steady_step_mm,
