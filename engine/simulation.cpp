@@ -105,6 +105,17 @@ Simulation::VolumeLimits Simulation::volumeLimits(const VolumePair& vp, int j) c
   return {v.min_separation * rest, v.max_separation * (rest + v.tip_spread * (widest - rest))};
 }
 
+namespace {
+// The direction a pair's push is held along for a step (VolumeLink): from the
+// other joint to this one where the solve starts. Two joints closer than this
+// have no direction to speak of; their push follows their own line.
+constexpr double kPushDirMinMm = 1e-6;
+Eigen::Vector3d heldPushDirection(const Eigen::Vector3d& offset) {
+  const double r = offset.norm();
+  return r > kPushDirMinMm ? Eigen::Vector3d(offset / r) : Eigen::Vector3d::Zero();
+}
+}  // namespace
+
 // Spine s's volume contacts with every neighbour not in `group`, each held
 // where `trial` puts it in this step (its solved, relaxed or carried pose).
 void Simulation::setVolumeContacts(int s, const std::vector<SpineSolution>& trial,
@@ -113,18 +124,29 @@ void Simulation::setVolumeContacts(int s, const std::vector<SpineSolution>& tria
   p.volume.clear();
   p.volume_stiffness_n_per_mm = brush_.volume.stiffness_n_per_mm;
   p.cohesion_n_per_mm = brush_.volume.max_separation > 0 ? brush_.volume.cohesion_n_per_mm : 0.0;
+  // Pushes are held along a direction for Newton's method (VolumeLink); SLSQP
+  // builds its own positive definite Hessian and keeps the joints' own line
+  // (docs/dynamics.md, "The push's direction is held for a step").
+  const bool hold = solver_->couplesSpines();
   for (const VolumePair& vp : volume_pairs_) {
     if (vp.s != s && vp.t != s) continue;
     const int other = vp.s == s ? vp.t : vp.s;
     if (!group.empty() && group[other]) continue;
-    const SpineProblem& po = problems_[other];
-    spineForwardKinematics(brush_.spines[other], po.handle, po.baseData(), trial[other].q.data(),
-                           0, &fk_);
+    const std::vector<Eigen::Vector3d> theirs = jointsAt(other, trial[other]);
     for (int j = 1; j <= static_cast<int>(vp.rest_mm.size()); ++j) {
       const VolumeLimits lim = volumeLimits(vp, j);
-      p.volume.push_back({j, fk_.x[j], lim.min_mm, lim.max_mm});
+      const Eigen::Vector3d held =
+          hold ? heldPushDirection(volume_start_[s][j] - volume_start_[other][j])
+               : Eigen::Vector3d::Zero();
+      p.volume.push_back({j, theirs[j], lim.min_mm, lim.max_mm, held});
     }
   }
+}
+
+std::vector<Eigen::Vector3d> Simulation::jointsAt(int s, const SpineSolution& sol) {
+  const SpineProblem& p = problems_[s];
+  spineForwardKinematics(brush_.spines[s], p.handle, p.baseData(), sol.q.data(), 0, &fk_);
+  return {fk_.x.begin(), fk_.x.end()};
 }
 
 void Simulation::reset(const Pose& handle, double t_s) {
@@ -206,7 +228,8 @@ void Simulation::setFriction(int s, const std::vector<bool>& sliding,
 
 // Hair volume couples the spines. A solver that takes the whole brush as one NLP
 // (Ipopt) gets every neighbour pair within `which` as links and solves them
-// together, exactly; a neighbour outside `which` is held where it is. A solver
+// together, each pair's push held along its direction where the solve starts
+// (VolumeLink); a neighbour outside `which` is held where it is. A solver
 // of one spine at a time (SLSQP) solves them in turn, each against its
 // neighbours as last solved (Gauss-Seidel), the order reversed every step so
 // that no side of the brush always goes first.
@@ -217,6 +240,11 @@ void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSol
   }
   const int ns = static_cast<int>(brush_.spines.size());
   if (solver_->couplesSpines()) {
+    // Where every spine's joints are as the solves start: the pushes' held
+    // directions (VolumeLink), for the links and for the neighbours held
+    // where they are alike.
+    volume_start_.resize(ns);
+    for (int s = 0; s < ns; ++s) volume_start_[s] = jointsAt(s, (*trial)[s]);
     std::vector<char> group(ns, 0);
     std::vector<int> index(ns, -1);
     for (size_t i = 0; i < which.size(); ++i) {
@@ -231,7 +259,8 @@ void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSol
       for (int j = 1; j <= static_cast<int>(vp.rest_mm.size()); ++j) {
         const VolumeLimits lim = volumeLimits(vp, j);
         links.push_back({index[vp.s], index[vp.t], j, lim.min_mm, lim.max_mm,
-                         v.stiffness_n_per_mm, v.max_separation > 0 ? v.cohesion_n_per_mm : 0.0});
+                         v.stiffness_n_per_mm, v.max_separation > 0 ? v.cohesion_n_per_mm : 0.0,
+                         heldPushDirection(volume_start_[vp.s][j] - volume_start_[vp.t][j])});
       }
     }
     solveGroup(which, trial, links);

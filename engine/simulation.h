@@ -188,11 +188,15 @@ class Simulation {
   SpineFk fk_;
   int failed_run_ = 0;
   std::vector<VolumePair> volume_pairs_;
+  // Every spine's joints where this step's solves start (solveSpines).
+  std::vector<std::vector<Eigen::Vector3d>> volume_start_;
   std::vector<std::vector<Eigen::Matrix3d>> rest_rot_;  // per spine, restRotations
   struct VolumeLimits {
     double min_mm, max_mm;
   };
   VolumeLimits volumeLimits(const VolumePair& pair, int joint) const;
+  // The joints of spine s with the angles of `sol` (x_0 .. x_n).
+  std::vector<Eigen::Vector3d> jointsAt(int s, const SpineSolution& sol);
   void setVolumeContacts(int s, const std::vector<SpineSolution>& trial,
                          const std::vector<char>& group);
 };

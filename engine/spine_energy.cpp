@@ -59,45 +59,82 @@ VolumePairEnergy volumePairEnergy(double r, double min_mm, double max_mm,
   return e;
 }
 
-// Both joints free: r = |x_a - x_b|, n = (x_a - x_b) / r, dr/dq_a = n . dx_a,
-// dr/dq_b = -n . dx_b; within a spine d2r = (dx . dx' - (dr)(dr')) / r +- n . d2x,
-// across the two d2r/dq_b dq_a = -(dx_b . dx_a + (dr/dq_b)(dr/dq_a)) / r.
+namespace {
+// One part of a pair's volume energy, f(g) with g a function of the joints'
+// offset delta = x_a - x_b: dg/ddelta = u, and d2g/ddelta2 = (I - u u^T) / r
+// for the distance g = r = |delta| (u = delta / r) or 0 for the push along a
+// held direction, g = u . delta (`curved` false).
+struct VolumePart {
+  double f = 0, df = 0, ddf = 0;
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  double r = 1;
+  bool curved = false;
+};
+
+// The push and the cohesion of one pair (spine_energy.h, VolumeLink): up to two
+// parts, written to out; returns how many.
+int volumeParts(const Eigen::Vector3d& delta, const Eigen::Vector3d& push_dir, double min_mm,
+                double max_mm, double stiffness_n_per_mm, double cohesion_n_per_mm,
+                VolumePart out[2]) {
+  const double r = std::sqrt(delta.squaredNorm() + 1e-18);
+  const Eigen::Vector3d along = delta / r;
+  int n = 0;
+  const bool held = push_dir.squaredNorm() > 0;
+  const double g = held ? push_dir.dot(delta) : r;
+  const VolumePairEnergy push = volumePairEnergy(g, min_mm, 0, stiffness_n_per_mm, 0);
+  if (push.f != 0 || push.df != 0)
+    out[n++] = {push.f, push.df, push.ddf, held ? push_dir : along, r, !held};
+  const VolumePairEnergy pull = volumePairEnergy(r, 0, max_mm, 0, cohesion_n_per_mm);
+  if (pull.f != 0 || pull.df != 0) out[n++] = {pull.f, pull.df, pull.ddf, along, r, true};
+  return n;
+}
+}  // namespace
+
+// Both joints free, each part f(g(x_a - x_b)) (volumeParts): dg/dq_a = u . dx_a,
+// dg/dq_b = -u . dx_b; within a spine d2g = (dx . dx' - (dg)(dg')) / r +- u . d2x,
+// across the two d2g/dq_b dq_a = -(dx_b . dx_a + (dg/dq_b)(dg/dq_a)) / r, where
+// the terms over r are those of the distance only (not of a held push).
 double volumeLinkEnergy(const VolumeLink& l, const SpineFk& fa, const SpineFk& fb,
                         double* grad_a, double* grad_b, double* hess_aa, double* hess_bb,
                         double* hess_ba) {
-  const Eigen::Vector3d delta = fa.x[l.joint] - fb.x[l.joint];
-  const double r = std::sqrt(delta.squaredNorm() + 1e-18);
-  const VolumePairEnergy pe =
-      volumePairEnergy(r, l.min_mm, l.max_mm, l.stiffness_n_per_mm, l.cohesion_n_per_mm);
-  if (pe.f == 0 && pe.df == 0 && pe.ddf == 0) return 0.0;
-  const Eigen::Vector3d nrm = delta / r;
+  VolumePart parts[2];
+  const int np = volumeParts(fa.x[l.joint] - fb.x[l.joint], l.push_dir, l.min_mm, l.max_mm,
+                             l.stiffness_n_per_mm, l.cohesion_n_per_mm, parts);
   const int nj = 2 * l.joint;  // only the joints before j move x_j
   const int nva = fa.vars(), nvb = fb.vars();
-  double ra[2 * kMaxJointsPerSpine], rb[2 * kMaxJointsPerSpine];  // dr/dq
-  for (int v = 0; v < nj; ++v) {
-    ra[v] = nrm.dot(fa.d(l.joint, v));
-    rb[v] = -nrm.dot(fb.d(l.joint, v));
-    if (grad_a) grad_a[v] += pe.df * ra[v];
-    if (grad_b) grad_b[v] += pe.df * rb[v];
-  }
-  for (int v = 0; v < nj; ++v)
-    for (int w = 0; w < nj; ++w) {
-      if (hess_aa) {
-        const double d2 = (fa.d(l.joint, v).dot(fa.d(l.joint, w)) - ra[v] * ra[w]) / r +
-                          nrm.dot(fa.dd(l.joint, v, w));
-        hess_aa[w * nva + v] += pe.ddf * ra[v] * ra[w] + pe.df * d2;
-      }
-      if (hess_bb) {
-        const double d2 = (fb.d(l.joint, v).dot(fb.d(l.joint, w)) - rb[v] * rb[w]) / r -
-                          nrm.dot(fb.dd(l.joint, v, w));
-        hess_bb[w * nvb + v] += pe.ddf * rb[v] * rb[w] + pe.df * d2;
-      }
-      if (hess_ba) {  // v: variable of b, w: variable of a
-        const double d2 = -(fb.d(l.joint, v).dot(fa.d(l.joint, w)) + rb[v] * ra[w]) / r;
-        hess_ba[w * nvb + v] += pe.ddf * rb[v] * ra[w] + pe.df * d2;
-      }
+  double energy = 0;
+  for (int i = 0; i < np; ++i) {
+    const VolumePart& pt = parts[i];
+    energy += pt.f;
+    double ra[2 * kMaxJointsPerSpine], rb[2 * kMaxJointsPerSpine];  // dg/dq
+    for (int v = 0; v < nj; ++v) {
+      ra[v] = pt.u.dot(fa.d(l.joint, v));
+      rb[v] = -pt.u.dot(fb.d(l.joint, v));
+      if (grad_a) grad_a[v] += pt.df * ra[v];
+      if (grad_b) grad_b[v] += pt.df * rb[v];
     }
-  return pe.f;
+    for (int v = 0; v < nj; ++v)
+      for (int w = 0; w < nj; ++w) {
+        if (hess_aa) {
+          const double across =
+              pt.curved ? (fa.d(l.joint, v).dot(fa.d(l.joint, w)) - ra[v] * ra[w]) / pt.r : 0.0;
+          const double d2 = across + pt.u.dot(fa.dd(l.joint, v, w));
+          hess_aa[w * nva + v] += pt.ddf * ra[v] * ra[w] + pt.df * d2;
+        }
+        if (hess_bb) {
+          const double across =
+              pt.curved ? (fb.d(l.joint, v).dot(fb.d(l.joint, w)) - rb[v] * rb[w]) / pt.r : 0.0;
+          const double d2 = across - pt.u.dot(fb.dd(l.joint, v, w));
+          hess_bb[w * nvb + v] += pt.ddf * rb[v] * rb[w] + pt.df * d2;
+        }
+        if (hess_ba) {  // v: variable of b, w: variable of a
+          const double d2 =
+              pt.curved ? -(fb.d(l.joint, v).dot(fa.d(l.joint, w)) + rb[v] * ra[w]) / pt.r : 0.0;
+          hess_ba[w * nvb + v] += pt.ddf * rb[v] * ra[w] + pt.df * d2;
+        }
+      }
+  }
+  return energy;
 }
 
 namespace {
@@ -182,27 +219,26 @@ void addVolumeTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
   // then continued as a parabola with psi'' = 1: a C2 barrier whose push grows
   // like k v beyond the width w; the cohesion part pulls back alike.
   for (const VolumeContact& c : p.volume) {
-    const Eigen::Vector3d delta = fk->x[c.joint] - c.other_mm;
-    const double r = std::sqrt(delta.squaredNorm() + 1e-18);
-    const VolumePairEnergy pe = volumePairEnergy(r, c.min_mm, c.max_mm,
-                                                 p.volume_stiffness_n_per_mm, p.cohesion_n_per_mm);
-    const double f = pe.f, df = pe.df, ddf = pe.ddf;  // f and its derivatives in r
-    if (f == 0 && df == 0) continue;
-    e.volume_nmm += f;
-    const Eigen::Vector3d nrm = delta / r;  // dr/dx
-    const int nvj = 2 * c.joint;             // only joints before it move x_j
-    if (grad)
-      for (int a = 0; a < nvj; ++a) grad[a] += df * nrm.dot(fk->d(c.joint, a));
-    if (hess) {
+    VolumePart parts[2];
+    const int np = volumeParts(fk->x[c.joint] - c.other_mm, c.push_dir, c.min_mm, c.max_mm,
+                               p.volume_stiffness_n_per_mm, p.cohesion_n_per_mm, parts);
+    const int nvj = 2 * c.joint;  // only joints before it move x_j
+    for (int i = 0; i < np; ++i) {
+      const VolumePart& pt = parts[i];
+      e.volume_nmm += pt.f;
+      if (grad)
+        for (int a = 0; a < nvj; ++a) grad[a] += pt.df * pt.u.dot(fk->d(c.joint, a));
+      if (!hess) continue;
       for (int a = 0; a < nvj; ++a) {
         const Eigen::Vector3d& da = fk->d(c.joint, a);
-        const double na = nrm.dot(da);
+        const double na = pt.u.dot(da);
         for (int b = 0; b <= a; ++b) {
           const Eigen::Vector3d& db = fk->d(c.joint, b);
-          const double nb = nrm.dot(db);
-          // d2r/dq2 = dx^T (I - n n^T) dx / r + n . d2x
-          const double d2r = (da.dot(db) - na * nb) / r + nrm.dot(fk->dd(c.joint, a, b));
-          const double val = ddf * na * nb + df * d2r;
+          const double nb = pt.u.dot(db);
+          // d2g/dq2 = dx^T (I - u u^T) dx / r (the distance only) + u . d2x
+          const double across = pt.curved ? (da.dot(db) - na * nb) / pt.r : 0.0;
+          const double d2g = across + pt.u.dot(fk->dd(c.joint, a, b));
+          const double val = pt.ddf * na * nb + pt.df * d2g;
           H(a, b) += val;
           if (a != b) H(b, a) += val;
         }

@@ -4,7 +4,9 @@
 //   E_s = sum_i K_i beta_i^2 / 2                            (eqs. 2, 12)
 //   E_f = sum_i (1 - eta_i) mu F_n,i |dx_c,i|               (eqs. 3, 13-14)
 //   E_d = sum_i D_i |d beta_i|                              (eq. 4)
-//   E_v = sum_c k psi(min_c - r_c) + k_t psi(r_c - max_c)   (hair volume, cohesion)
+//   E_v = sum_c k psi(min_c - s_c) + k_t psi(r_c - max_c)   (hair volume, cohesion)
+//     (r_c the distance of a pair of joints, s_c its offset along the direction
+//     held for the step; VolumeLink below)
 // with |d beta_i| taken as the joint's angular displacement in joint space,
 // |(theta_i, phi_i) - (theta_i, phi_i)_prev|: eq. 15's "constant resistance in
 // joint space". (With re-based angles, prev is 0 and this is the angle the
@@ -49,11 +51,13 @@ struct EnergyTerms {
 // a neighbouring spine's joint at `other_mm`, that spine's position at the
 // start of the step carried with the handle (held fixed during this solve).
 // Cohesion: beyond max_mm (0 = none) the pair pulls back together.
+// push_dir: see VolumeLink.
 struct VolumeContact {
   int joint = 1;
   Eigen::Vector3d other_mm = Eigen::Vector3d::Zero();
   double min_mm = 0;
   double max_mm = 0;
+  Eigen::Vector3d push_dir = Eigen::Vector3d::Zero();
 };
 
 // Smoothing width of the volume barrier (mm): within it the push grows from
@@ -74,10 +78,20 @@ VolumePairEnergy volumePairEnergy(double r, double min_mm, double max_mm,
 // the energy volumePairEnergy() of the distance between joint `joint` of
 // problems[a] and joint `joint` of problems[b] (indices into the span given to
 // SpineSolver::solve, engine/spine_solver.h), with both joints free.
+//
+// The push is measured along push_dir, the unit direction from b's joint to
+// a's where the step starts, held for the step: the push's r is
+// push_dir . (x_a - x_b), not |x_a - x_b| (docs/dynamics.md, "The push's
+// direction is held for a step"). The barrier of a linear function of the
+// positions is convex in them, where a push along the joints' own line has
+// curvature -f'(r) / r across it, and that made Ipopt's Newton systems
+// indefinite. Cohesion, a convex pull, keeps the true distance. A zero
+// push_dir measures the push along the joints' own line.
 struct VolumeLink {
   int a = 0, b = 0, joint = 1;
   double min_mm = 0, max_mm = 0;  // max_mm 0: no cohesion
   double stiffness_n_per_mm = 0, cohesion_n_per_mm = 0;
+  Eigen::Vector3d push_dir = Eigen::Vector3d::Zero();
 };
 
 // Adds one link's energy (returned) and its derivatives, given both spines'

@@ -1,6 +1,7 @@
 // Energy terms of the spine problem (paper eqs. 2-4, 12) against finite
 // differences and closed forms.
 
+#include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
@@ -111,6 +112,13 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
                 {3, Eigen::Vector3d(9.0, 18.0, -1.0), 8.0, 0},
                 {3, Eigen::Vector3d(11.0, 23.0, -4.0), 0.03, 2.0},
                 {2, Eigen::Vector3d(7.0, 22.0, -2.0), 0.5, 0.9}};
+    // The push held along a direction fixed for the step (spine_energy.h,
+    // VolumeLink), on some contacts, or along the joints' own line.
+    if (GENERATE(false, true)) {
+      p.volume[1].push_dir = Eigen::Vector3d(0.6, -0.8, 0.0);
+      p.volume[2].push_dir = Eigen::Vector3d(0.0, 0.6, 0.8);
+      p.volume[3].push_dir = Eigen::Vector3d(1.0, 2.0, -2.0) / 3.0;
+    }
   }
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> angle(-0.9, 0.9);
@@ -163,6 +171,10 @@ TEST_CASE("hair volume between two free spines matches finite differences", "[en
   // Limits chosen so that some trials squeeze, some pull apart (cohesion) and
   // some leave a link slack; within and beyond the barrier's smoothing width.
   std::vector<VolumeLink> links = {{0, 1, 1, 2.4, 2.9, 8, 0.7}, {0, 1, 2, 3.0, 5.0, 8, 0.7}};
+  if (GENERATE(false, true)) {  // pushes held along fixed directions (VolumeLink)
+    links[0].push_dir = Eigen::Vector3d(0.48, 0.6, 0.64);
+    links[1].push_dir = Eigen::Vector3d(-0.8, 0.0, 0.6);
+  }
   const int na = 6, nb = 4;
   auto energy = [&](const std::vector<double>& q, std::vector<double>* grad,
                     std::vector<double>* haa, std::vector<double>* hbb,
@@ -216,6 +228,58 @@ TEST_CASE("hair volume between two free spines matches finite differences", "[en
     }
   }
   CHECK(acting >= 4);
+}
+
+namespace {
+// Kinematics of a one-joint "spine" whose two variables are the x and y of its
+// joint: a link's Hessian in these is its Hessian in the positions.
+SpineFk planarJoint(const Eigen::Vector3d& x) {
+  SpineFk fk;
+  fk.n = 1;
+  fk.x = {Eigen::Vector3d::Zero(), x};
+  fk.dx = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(),
+           Eigen::Vector3d::UnitY()};
+  fk.ddx.assign(2 * 2 * 2, Eigen::Vector3d::Zero());
+  return fk;
+}
+
+// Smallest eigenvalue of a link's Hessian in both joints' x and y.
+double smallestCurvature(const VolumeLink& link, const Eigen::Vector3d& xa,
+                         const Eigen::Vector3d& xb) {
+  const SpineFk fa = planarJoint(xa), fb = planarJoint(xb);
+  double haa[4] = {}, hbb[4] = {}, hba[4] = {};
+  volumeLinkEnergy(link, fa, fb, nullptr, nullptr, haa, hbb, hba);
+  Eigen::Matrix4d h;
+  for (int v = 0; v < 2; ++v)
+    for (int w = 0; w < 2; ++w) {
+      h(v, w) = haa[w * 2 + v];
+      h(2 + v, 2 + w) = hbb[w * 2 + v];
+      h(2 + v, w) = h(w, 2 + v) = hba[w * 2 + v];  // v of b, w of a
+    }
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(h).eigenvalues().minCoeff();
+}
+}  // namespace
+
+TEST_CASE("a push held along one direction is convex in the joints' positions",
+          "[energy][volume]") {
+  // Two joints 0.5 mm apart that must keep 1 mm: the push along their own line
+  // curves down across it by -f'(r) / r = -k (min - r) / r (beyond the barrier's
+  // smoothing width), the indefinite Hessian Ipopt had to shift; held along a
+  // direction it has no negative curvature (spine_energy.h, VolumeLink).
+  const Eigen::Vector3d xa(0.5, 0, 0), xb(0, 0, 0);
+  VolumeLink link{0, 1, 1, 1.0, 0.0, 10.0, 0.0};
+  // -f'(r) = k psi'(min - r), with psi'(v) = v - w / 2 beyond the width w.
+  const double push_n = 10.0 * (1.0 - 0.5 - kVolumeSmoothMm / 2);
+  // The Hessian in (x_a, x_b) is [H, -H; -H, H] with H the one in x_a - x_b,
+  // so its eigenvalues are twice H's: across the line 2 f'(r) / r. The
+  // tolerance allows the eigen solver's round-off on entries of order 10.
+  constexpr double kEigTol = 1e-9;
+  CHECK(smallestCurvature(link, xa, xb) == Approx(-2 * push_n / 0.5).epsilon(1e-9));
+  link.push_dir = Eigen::Vector3d::UnitX();
+  CHECK(smallestCurvature(link, xa, xb) >= -kEigTol);
+  // Cohesion, a pull, keeps the joints' own line and is convex anyway.
+  VolumeLink pull{0, 1, 1, 0.0, 0.3, 0.0, 4.0};
+  CHECK(smallestCurvature(pull, xa, xb) >= -kEigTol);
 }
 
 TEST_CASE("smoothed friction approaches mu Fn |dx| away from the kink", "[energy]") {

@@ -563,7 +563,14 @@ TEST_CASE("hair volume solved as one NLP: each spine is optimal against the othe
   const SpineProblem pa = problem(sa), pb = problem(sb);
   // Tips at rest ~9.3 mm apart; cohesion beyond 4 mm. First joints ~5.4 mm apart
   // at rest, held at least 6 mm apart.
-  const std::vector<VolumeLink> links = {{0, 1, 2, 0.0, 4.0, 5, 2}, {0, 1, 1, 6.0, 0.0, 5, 2}};
+  std::vector<VolumeLink> links = {{0, 1, 2, 0.0, 4.0, 5, 2}, {0, 1, 1, 6.0, 0.0, 5, 2}};
+  // The push held along the first joints' line at rest, as the simulation
+  // holds it for a step (VolumeLink), or along their own line.
+  const bool held = GENERATE(false, true);
+  SpineSolution rest;
+  rest.q.assign(4, 0.0);
+  if (held) links[1].push_dir = (jointsMm(pa, rest)[1] - jointsMm(pb, rest)[1]).normalized();
+  INFO((held ? "held push" : "push along the joints' line"));
   std::vector<SpineSolution> sol(2);
   for (SpineSolution& x : sol) x.q.assign(4, 0.0);
   std::vector<const SpineProblem*> pp = {&pa, &pb};
@@ -584,7 +591,11 @@ TEST_CASE("hair volume solved as one NLP: each spine is optimal against the othe
   for (int s = 0; s < 2; ++s) {
     SpineProblem alone = s == 0 ? pa : pb;
     const std::vector<Eigen::Vector3d>& other = s == 0 ? xb : xa;
-    for (const VolumeLink& l : links) alone.volume.push_back({l.joint, other[l.joint], l.min_mm, l.max_mm});
+    for (const VolumeLink& l : links) {
+      // The other's side of a link: the held direction points towards this spine.
+      const Eigen::Vector3d towards_me = s == 0 ? l.push_dir : Eigen::Vector3d(-l.push_dir);
+      alone.volume.push_back({l.joint, other[l.joint], l.min_mm, l.max_mm, towards_me});
+    }
     SpineSolution one;
     one.q.assign(4, 0.0);
     const SpineProblem* p1 = &alone;
