@@ -32,8 +32,9 @@ using Ipopt::Number;
 // the same minimum (t = G there, as w > 0), but the bound t >= 0 is in
 // Newton's model, and the barrier handles the kink as it handles the canvas.
 // Damping (eq. 4) stays in the objective: in this form it took more iterations.
-// The form is an option (IpoptSolver::epigraph_ below says why it is not the
-// default), chosen with --ipopt-option friction_form=epigraph|objective.
+// The form is chosen with --ipopt-option friction_form=auto|epigraph|objective;
+// auto (the default) takes the epigraph form for NLPs with hair volume and the
+// objective form otherwise (IpoptSolver::friction_form_ below says why).
 // How far above its norm each t starts. On the constraint itself (0), the
 // slack starts at Ipopt's 1e-9 push, so the first Newton step, which also has
 // to lift joints that the carried warm start put into the paper, is cut to a
@@ -475,9 +476,10 @@ class IpoptSolver : public SpineSolver {
       }
       // bristle's own: friction as objective terms or in epigraph form (BrushNlp above).
       if (name == "friction_form") {
-        if (value != "epigraph" && value != "objective" && bad_option_.empty())
-          bad_option_ = name + "=" + value;
-        epigraph_ = value != "objective";
+        if (value == "auto") friction_form_ = FrictionForm::kAuto;
+        else if (value == "epigraph") friction_form_ = FrictionForm::kEpigraph;
+        else if (value == "objective") friction_form_ = FrictionForm::kObjective;
+        else if (bad_option_.empty()) bad_option_ = name + "=" + value;
         continue;
       }
       // bristle's own linear solver (the default): dense Bunch-Kaufman per
@@ -548,19 +550,21 @@ class IpoptSolver : public SpineSolver {
       o.SetStringValue("mu_strategy", warm ? "monotone" : "adaptive");
       o.SetNumericValue("mu_init", warm ? kWarmMuInit : 0.1);
     }
+    bool volume = !links.empty();
+    for (const SpineProblem* p : problems)
+      volume = volume || !p->volume.empty() || p->volume_stiffness_n_per_mm > 0 ||
+               p->cohesion_n_per_mm > 0;
     // Cold starts keep friction in the objective: from cold starts the
     // epigraph form sent solves into Ipopt's restoration phase.
-    Ipopt::SmartPtr<BrushNlp> nlp =
-        new BrushNlp(problems, solutions, links, warm, epigraph_ && warm);
+    const bool epigraph =
+        warm && (friction_form_ == FrictionForm::kEpigraph ||
+                 (friction_form_ == FrictionForm::kAuto && volume));
+    Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm, epigraph);
     // Brushes with hair volume stay with MUMPS, whatever their blocks' size:
     // their presses sit at buckling points where the branch the hair takes
     // follows round-off, and the dense solver's round-off moved the badger's
     // and calligraphy brush's press blots (docs/dynamics.md, "Ipopt's linear
     // solver").
-    bool volume = !links.empty();
-    for (const SpineProblem* p : problems)
-      volume = volume || !p->volume.empty() || p->volume_stiffness_n_per_mm > 0 ||
-               p->cohesion_n_per_mm > 0;
     if (dense_kkt_)
       o.SetStringValue("linear_solver",
                        !volume && nlp->largest_coupled_rows_ <= kDenseKktMaxRows ? "ma27" : "mumps");
@@ -590,11 +594,15 @@ class IpoptSolver : public SpineSolver {
   std::string bad_option_;  // the first extra option Ipopt refused
   bool user_mu_strategy_ = false;  // the user chose the barrier strategy
   bool timers_off_ = true;  // Ipopt's getrusage timers (engine/ipopt_timers.h)
-  // Friction in epigraph form on warm starts (BrushNlp): off unless asked for
-  // (--ipopt-option friction_form=epigraph). It halves the fan's iterations but
-  // costs the round and badger 16% more, and buckles a straight spine pressed
-  // straight down to the other side (docs/dynamics.md, "Friction in epigraph form").
-  bool epigraph_ = false;
+  // Friction in epigraph form on warm starts (BrushNlp). auto, the default,
+  // takes it where hair volume couples the NLP: with the push held for a step
+  // it takes the volume brushes 0.65-0.91 of the objective form's iterations
+  // on a tablet recording, and is even on the S-curve. Without hair volume the objective form stays: the epigraph
+  // form takes the flat half as many iterations again on the tablet, and the
+  // fan's gain on the S-curve vanishes there (docs/dynamics.md, "Friction in
+  // epigraph form").
+  enum class FrictionForm { kAuto, kObjective, kEpigraph };
+  FrictionForm friction_form_ = FrictionForm::kAuto;
   // The dense KKT solver for blocks of up to kDenseKktMaxRows rows, MUMPS
   // beyond (--ipopt-option linear_solver=dense, the default; any other value
   // is Ipopt's own choice for every solve).

@@ -426,11 +426,22 @@ TEST_CASE("ipopt: friction in epigraph form reaches the objective form's optima"
         REQUIRE(sb.usable());
         its_epigraph += sa.iterations;
         its_objective += sb.iterations;
-        // The default is the objective form, bit for bit.
+        // Without hair volume the default (friction_form=auto) is the
+        // objective form, bit for bit.
         REQUIRE(by_default->solve(pp, d.ptr).iterations == sb.iterations);
+        // With hair volume it is the epigraph form, bit for bit. The link
+        // pushes the first two spines' tips apart only within 1e-3 mm of
+        // each other: it makes the NLP one with hair volume.
+        const VolumeLink slack_link{0, 1, 3, 1e-3, 0.0, 5.0, 0.0};
+        Solves e(starts), f(starts);
+        const SolveSummary se = by_default->solve(pp, e.ptr, {&slack_link, 1});
+        const SolveSummary sf = epigraph->solve(pp, f.ptr, {&slack_link, 1});
+        REQUIRE(se.usable());
+        CHECK(se.iterations == sf.iterations);
         for (size_t s = 0; s < problems.size(); ++s) {
           INFO("spine " << s);
           CHECK(d.sol[s].q == b.sol[s].q);
+          CHECK(e.sol[s].q == f.sol[s].q);
           CHECK(maxDistanceMm(jointsMm(problems[s], a.sol[s]), jointsMm(problems[s], b.sol[s])) <
                 kIpoptAgreeMm);
           for (size_t j = 0; j < a.sol[s].normal_force_n.size(); ++j)
@@ -534,8 +545,8 @@ TEST_CASE("ipopt: linear_solver is dense or one of Ipopt's", "[solvers][ipopt][d
   checkIpoptOptionValues("linear_solver", {"dense", "mumps"}, "gauss");
 }
 
-TEST_CASE("ipopt: friction_form is epigraph or objective, nothing else", "[solvers][ipopt]") {
-  checkIpoptOptionValues("friction_form", {"epigraph", "objective"}, "kink");
+TEST_CASE("ipopt: friction_form is auto, epigraph or objective, nothing else", "[solvers][ipopt]") {
+  checkIpoptOptionValues("friction_form", {"auto", "epigraph", "objective"}, "kink");
 }
 
 TEST_CASE("hair volume solved as one NLP: each spine is optimal against the other",
