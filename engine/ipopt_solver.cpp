@@ -597,10 +597,10 @@ class IpoptSolver : public SpineSolver {
   // Friction in epigraph form on warm starts (BrushNlp). auto, the default,
   // takes it where hair volume couples the NLP: with the push held for a step
   // it takes the volume brushes 0.65-0.91 of the objective form's iterations
-  // on a tablet recording, and is even on the S-curve. Without hair volume the objective form stays: the epigraph
-  // form takes the flat half as many iterations again on the tablet, and the
-  // fan's gain on the S-curve vanishes there (docs/dynamics.md, "Friction in
-  // epigraph form").
+  // on a tablet recording, and is even on the S-curve. Without hair volume the
+  // objective form stays: the epigraph form takes the flat a quarter more
+  // iterations on the tablet, and only the fan would gain (docs/dynamics.md,
+  // "Friction in epigraph form").
   enum class FrictionForm { kAuto, kObjective, kEpigraph };
   FrictionForm friction_form_ = FrictionForm::kAuto;
   // The dense KKT solver for blocks of up to kDenseKktMaxRows rows, MUMPS
