@@ -33,6 +33,8 @@ void writeRunStats(const std::string& path, const RunStats& s) {
       {"steady_merged_steps", s.sim.steady_merged},
       {"steady_rejected", s.sim.steady_rejected},
       {"jump_split_steps", s.sim.jump_split_steps},
+      {"recentred_solves", s.sim.recentred_solves},
+      {"isolated_solves", s.sim.isolated_solves},
       {"failed_steps", s.sim.failed_steps},
       {"failed_spine_solves", s.sim.failed_spine_solves},
       {"fallback_solves", s.sim.fallback_solves},

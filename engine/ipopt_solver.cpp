@@ -436,6 +436,18 @@ const char* ipoptStatusName(Ipopt::ApplicationReturnStatus s) {
 // docs/PERFORMANCE.md, "Ipopt's warm starts, damping width and timers off".
 constexpr double kWarmMuInit = 1e-9;
 
+// How far a warm start's iterate and multipliers are pushed into the interior:
+// the first try (the previous step's solution is nearly optimal), and the
+// re-centred retry of a failed one. On the round, calligraphy and badger on a
+// tablet recording (docs/PERFORMANCE.md, "A failed warm start, solved again
+// re-centred"), 1e-3 and 1e-5 took the same iterations within 1%, 1e-2 2%
+// more; the retry's adaptive barrier picks its own mu whatever mu_init says.
+constexpr double kWarmPush = 1e-9;
+constexpr double kRetryWarmPush = 1e-3;
+
+// Ipopt's own default for max_resto_iter, restored for cold starts.
+constexpr int kIpoptDefaultMaxRestoIter = 3000000;
+
 // The largest KKT block the dense solver takes; a larger one goes to MUMPS.
 // A dense factorisation costs s^3 / 3 flops, MUMPS a fixed cost per call plus
 // its sparse work. On the depth S-curve (docs/PERFORMANCE.md, "A dense KKT
@@ -461,10 +473,7 @@ class IpoptSolver : public SpineSolver {
     o.SetIntegerValue("min_refinement_steps", 0);
     o.SetIntegerValue("max_soc", 0);
     // Small warm-start pushes: the previous step's solution is nearly optimal.
-    for (const char* opt : {"warm_start_bound_push", "warm_start_bound_frac",
-                            "warm_start_slack_bound_frac", "warm_start_slack_bound_push",
-                            "warm_start_mult_bound_push"})
-      o.SetNumericValue(opt, 1e-9);
+    setWarmStartPush(o, kWarmPush);
     bool timers_needed = false;
     for (const auto& [name, value] : settings.extra_options) {
       // Ipopt 3.14's switch for its timers, which 3.11 does not know: bristle
@@ -480,6 +489,13 @@ class IpoptSolver : public SpineSolver {
         else if (value == "epigraph") friction_form_ = FrictionForm::kEpigraph;
         else if (value == "objective") friction_form_ = FrictionForm::kObjective;
         else if (bad_option_.empty()) bad_option_ = name + "=" + value;
+        continue;
+      }
+      // bristle's own: a failed warm start solved once more from a re-centred
+      // start before the caller gives up on it (IpoptSolver::solve).
+      if (name == "warm_retry") {
+        if (value != "yes" && value != "no" && bad_option_.empty()) bad_option_ = name + "=" + value;
+        warm_retry_ = value == "yes";
         continue;
       }
       // bristle's own linear solver (the default): dense Bunch-Kaufman per
@@ -510,6 +526,7 @@ class IpoptSolver : public SpineSolver {
       }
       if (!ok && bad_option_.empty()) bad_option_ = name + "=" + value;
       if (name == "mu_strategy" || name == "mu_init") user_mu_strategy_ = true;
+      if (name == "max_resto_iter") user_resto_ = true;
     }
     timers_off_ = timers_off_ && !timers_needed;
     if (dense_kkt_) {
@@ -568,17 +585,32 @@ class IpoptSolver : public SpineSolver {
     if (dense_kkt_)
       o.SetStringValue("linear_solver",
                        !volume && nlp->largest_coupled_rows_ <= kDenseKktMaxRows ? "ma27" : "mumps");
-    Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
-    try {
-      const IpoptTimersOff timers_off(timers_off_);
-      st = app_->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
-    } catch (...) {
-      st = Ipopt::NonIpopt_Exception_Thrown;
+    // A warm start that falls into Ipopt's restoration phase has lost its
+    // footing: on the round brush's tablet strokes none came back from it in
+    // 200 iterations. It stops there, and is solved again re-centred below.
+    const bool retry = warm && warm_retry_;
+    if (!user_resto_) o.SetIntegerValue("max_resto_iter", retry ? 0 : kIpoptDefaultMaxRestoIter);
+    Ipopt::ApplicationReturnStatus st = optimize(nlp, &summary.iterations);
+    if (retry && !solvedOk(st)) {
+      // The same warm start once more, pushed 1e-3 into the interior with the
+      // adaptive barrier, which can raise mu to re-centre the iterate: where
+      // the step's solution lies far from the last one (a tip breaking free,
+      // a bundle buckling), the warm start's mu = 1e-9 pins the iterate to
+      // the bounds it holds. Cheaper than the caller's spine-by-spine cold
+      // redo, and it keeps the spines coupled (docs/dynamics.md, "A warm
+      // start that fails").
+      if (!user_mu_strategy_) o.SetStringValue("mu_strategy", "adaptive");
+      if (!user_resto_) o.SetIntegerValue("max_resto_iter", kIpoptDefaultMaxRestoIter);
+      setWarmStartPush(o, kRetryWarmPush);
+      nlp = new BrushNlp(problems, solutions, links, warm, epigraph);
+      int more = 0;
+      st = optimize(nlp, &more);
+      setWarmStartPush(o, kWarmPush);
+      summary.iterations += more;
+      summary.recentred = 1;
     }
     summary.message = ipoptStatusName(st);
-    if (Ipopt::SmartPtr<Ipopt::SolveStatistics> stats = app_->Statistics(); Ipopt::IsValid(stats))
-      summary.iterations = stats->IterationCount();
-    const bool ok = st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
+    const bool ok = solvedOk(st);
     if (!ok || !nlp->finalized || nlp->result_.size() != solutions.size()) {
       summary.status = SolveStatus::kFailed;
       return summary;
@@ -589,10 +621,39 @@ class IpoptSolver : public SpineSolver {
   }
 
  private:
+  static bool solvedOk(Ipopt::ApplicationReturnStatus st) {
+    return st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
+  }
+
+  static void setWarmStartPush(Ipopt::OptionsList& o, double push) {
+    for (const char* opt : {"warm_start_bound_push", "warm_start_bound_frac",
+                            "warm_start_slack_bound_frac", "warm_start_slack_bound_push",
+                            "warm_start_mult_bound_push"})
+      o.SetNumericValue(opt, push);
+  }
+
+  // One OptimizeTNLP call; *iterations gets Ipopt's count.
+  Ipopt::ApplicationReturnStatus optimize(const Ipopt::SmartPtr<BrushNlp>& nlp, int* iterations) {
+    Ipopt::ApplicationReturnStatus st = Ipopt::Internal_Error;
+    try {
+      const IpoptTimersOff timers_off(timers_off_);
+      st = app_->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
+    } catch (...) {
+      st = Ipopt::NonIpopt_Exception_Thrown;
+    }
+    if (Ipopt::SmartPtr<Ipopt::SolveStatistics> stats = app_->Statistics(); Ipopt::IsValid(stats))
+      *iterations = stats->IterationCount();
+    return st;
+  }
+
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
   bool initialized_ = false;
   std::string bad_option_;  // the first extra option Ipopt refused
   bool user_mu_strategy_ = false;  // the user chose the barrier strategy
+  bool user_resto_ = false;        // the user set max_resto_iter
+  // A failed warm start solved once more from a re-centred start
+  // (--ipopt-option warm_retry=yes, the default).
+  bool warm_retry_ = true;
   bool timers_off_ = true;  // Ipopt's getrusage timers (engine/ipopt_timers.h)
   // Friction in epigraph form on warm starts (BrushNlp). auto, the default,
   // takes it where hair volume couples the NLP: with the push held for a step

@@ -284,6 +284,7 @@ void Simulation::solveGroup(const std::vector<int>& which, std::vector<SpineSolu
   }
   SolveSummary summary = solver_->solve(problems, solutions, links);
   stats_.iterations += summary.iterations;
+  stats_.recentred_solves += summary.recentred;
   if (summary.usable()) {
     for (int s : which) state_.spines[s].summary = summary;
     return;
@@ -291,6 +292,7 @@ void Simulation::solveGroup(const std::vector<int>& which, std::vector<SpineSolu
   // Isolate the failure: each spine on its own from a cold start, then with the
   // fallback solver; a spine that still fails keeps its last good state. Alone,
   // a spine sees all its neighbours held where they were before this solve.
+  ++stats_.isolated_solves;
   if (!links.empty())
     for (int s : which) setVolumeContacts(s, *trial, {});
   for (int s : which) {
@@ -338,7 +340,7 @@ const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int 
   if (stats_.failed_steps == before.stats.failed_steps || depth >= kMaxSplitDepth ||
       (depth == 0 && run_before > 0))
     return state_;
-  const long wasted_iterations = stats_.iterations - before.stats.iterations;
+  const SimStats tried = stats_;
   restore(before);
   failed_run_ = run_before;
   const Pose from = state_.handle;
@@ -351,7 +353,7 @@ const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int 
   stats_.failed_steps = before.stats.failed_steps + (failed ? 1 : 0);
   failed_run_ = failed ? run_before + 1 : 0;
   stats_.longest_failed_run = std::max(before.stats.longest_failed_run, failed_run_);
-  stats_.iterations += wasted_iterations;  // the failed attempt's work stays counted
+  keepWork(before.stats, tried);  // the failed attempt's work stays counted
   ++stats_.split_steps;
   return state_;
 }

@@ -82,6 +82,11 @@ struct SimStats {
   // step may move it (render/stroke_renderer.cpp); their first try's
   // iterations stay in `iterations`.
   int jump_split_steps = 0;
+  // Solves of a group of spines (or of one) that failed from a warm start and
+  // were solved again from a re-centred one (Ipopt), and solves that failed
+  // outright and were redone spine by spine from cold starts.
+  int recentred_solves = 0;
+  int isolated_solves = 0;
 
   // Sums another run's figures into these (a scene's strokes, a sheet's cells).
   void add(const SimStats& r) {
@@ -99,6 +104,8 @@ struct SimStats {
     steady_merged += r.steady_merged;
     steady_rejected += r.steady_rejected;
     jump_split_steps += r.jump_split_steps;
+    recentred_solves += r.recentred_solves;
+    isolated_solves += r.isolated_solves;
   }
 };
 
@@ -145,16 +152,24 @@ class Simulation {
     stats_.steady_merged += merged;
   }
   // A merged step redone as planned: its solver work stays counted.
-  void countRejectedSteady(long wasted_iterations) {
+  // A try from `before` to `tried` was undone (restore): its work stays counted.
+  void countRejectedSteady(const SimStats& before, const SimStats& tried) {
     ++stats_.steady_rejected;
-    stats_.iterations += wasted_iterations;
+    keepWork(before, tried);
   }
-  void countJumpSplit(long wasted_iterations) {
+  void countJumpSplit(const SimStats& before, const SimStats& tried) {
     ++stats_.jump_split_steps;
-    stats_.iterations += wasted_iterations;
+    keepWork(before, tried);
   }
 
  private:
+  // The solver work done between `before` and `tried`, added to stats_: a try
+  // that was undone still cost its iterations.
+  void keepWork(const SimStats& before, const SimStats& tried) {
+    stats_.iterations += tried.iterations - before.iterations;
+    stats_.recentred_solves += tried.recentred_solves - before.recentred_solves;
+    stats_.isolated_solves += tried.isolated_solves - before.isolated_solves;
+  }
   void buildProblem(int s, const Pose& handle);
   void setFriction(int s, const std::vector<bool>& sliding, const std::vector<bool>& lifted);
   void solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial);

@@ -26,6 +26,9 @@ struct SolveSummary {
   SolveStatus status = SolveStatus::kOk;
   int iterations = 0;
   std::string message;  // the backend's own status name (e.g. Ipopt's)
+  // 1 when a failed warm start was solved again from a re-centred start
+  // (Ipopt; the iterations count both tries).
+  int recentred = 0;
   bool usable() const { return status != SolveStatus::kFailed; }
 };
 

@@ -274,9 +274,9 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
     if (depth < kMaxSplitDepth &&
         contactJumpMm(sim.brush(), before.state, sim.state(), options.contact_band_mm) > max_jump_mm) {
       // The first try's solves were done: their iterations stay counted.
-      const long wasted = sim.stats().iterations - before.stats.iterations;
+      const SimStats tried = sim.stats();
       sim.restore(before);
-      sim.countJumpSplit(wasted);
+      sim.countJumpSplit(before.stats, tried);
       const double tm = 0.5 * (t0 + t1);
       self(self, t0, tm, depth + 1);
       self(self, tm, t1, depth + 1);
@@ -319,9 +319,9 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
     const Simulation::Snapshot before = sim.snapshot();
     sim.step(trajectory.poseAt(t1), t1);
     if (!steadyStep(before, sim, steady_jump_mm, options.contact_band_mm)) {
-      const long wasted = sim.stats().iterations - before.stats.iterations;
+      const SimStats tried = sim.stats();
       sim.restore(before);
-      sim.countRejectedSteady(wasted);
+      sim.countRejectedSteady(before.stats, tried);
       group = 2;
       hold = backoff;
       backoff = std::min(2 * backoff, kMaxSteadyBackoff);

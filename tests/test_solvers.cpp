@@ -549,6 +549,10 @@ TEST_CASE("ipopt: friction_form is auto, epigraph or objective, nothing else", "
   checkIpoptOptionValues("friction_form", {"auto", "epigraph", "objective"}, "kink");
 }
 
+TEST_CASE("ipopt: warm_retry is yes or no, nothing else", "[solvers][ipopt]") {
+  checkIpoptOptionValues("warm_retry", {"yes", "no"}, "twice");
+}
+
 TEST_CASE("hair volume solved as one NLP: each spine is optimal against the other",
           "[solvers][ipopt][volume]") {
   // Two spines splayed apart at rest, in the air, held by cohesion at their tips
