@@ -2,7 +2,11 @@
 
 #include <HSLLoader.h>
 
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <numeric>
 #include <type_traits>
@@ -29,10 +33,29 @@ static_assert(std::is_same_v<ipfint, int>, "Ipopt's Fortran integer is int");
 //     first position in block order, then n pivot indices (dsytrf's, 1-based
 //     within the block), then the n rows in block order (for ma27c, which
 //     does not get IKEEP).
-//   A (written by ma27b): block after block, each its dense s x s factor,
-//     column-major, L and D in the lower triangle.
+//   A (written by ma27b): block after block, s x s reals each: a dense
+//     block's factor, column-major, L and D in the lower triangle; a sparse
+//     block's D (s) and then the values of its L (below).
+//   IW past those: for each sparse block, in block order, its permutation
+//     (s), the column starts of its L (s + 1) and L's row indices (at most
+//     s (s - 1) / 2), each block given that worst case.
 // Blocks are the connected components of the matrix's graph: rows i and j are
 // in one block when an entry (i, j) is given, whatever its value.
+//
+// A block of kSparseMinRows rows or more (the spines that hair volume couples
+// into one NLP: the round brush's 7 make about 200 rows) is factored as a
+// sparse LDL^T with 1 x 1 pivots in a fixed order: first the rows whose
+// diagonal is positive (the variables and slacks, whose block of Ipopt's KKT
+// matrix is W + Sigma + delta), then the others (the constraints, zero on
+// the diagonal). With the variables' block positive definite and the
+// constraints' Jacobian of full rank, such a quasi-definite matrix has an
+// LDL^T in any order with that split, whose D has n_x positive and n_c
+// negative entries: the inertia Ipopt asks for. Where the variables' block is
+// not positive definite, D shows it by its signs (Sylvester's law of inertia),
+// and Ipopt shifts the Hessian as it does for any solver. A zero or
+// non-finite pivot reports the matrix singular, and Ipopt regularises it.
+// Without pivoting for size, a tiny positive pivot could lose accuracy; Ipopt
+// checks each solve's residual and refines it.
 
 namespace {
 
@@ -65,7 +88,28 @@ long long realsNeeded(const std::vector<int>& size) {
   return total;
 }
 
-int intsNeeded(int n, int blocks) { return 3 + blocks + 2 * n; }
+// At and above this block size a block is factored sparsely. Below it, the
+// dense Bunch-Kaufman factor costs a few microseconds; the blocks of brushes
+// without hair volume (one spine, 16-28 rows) all stay dense, with their
+// pixels as before. On the tablet recording the round, calligraphy and
+// badger brushes took 0.67-0.70 of MUMPS's CPU time with their coupled
+// blocks factored sparsely (docs/PERFORMANCE.md, "Hair-volume groups
+// factored sparsely").
+constexpr int kSparseMinRows = 32;
+
+bool sparseBlock(int s) { return s >= kSparseMinRows; }
+
+// The integers a sparse block of s rows keeps in IW, at most.
+long long sparseInts(int s) {
+  return static_cast<long long>(s) + (s + 1) + static_cast<long long>(s) * (s - 1) / 2;
+}
+
+long long intsNeeded(int n, int blocks, const std::vector<int>& size) {
+  long long total = 3 + blocks + 2LL * n;
+  for (int s : size)
+    if (sparseBlock(s)) total += sparseInts(s);
+  return total;
+}
 
 }  // namespace
 
@@ -112,7 +156,8 @@ extern "C" void bristleDenseMa27a(int* n, int* nz, const int* irn, const int* ic
   *nsteps = blocks;
   const long long reals = std::max<long long>(realsNeeded(size), *nz);
   info[kInfoRealsNeeded] = static_cast<int>(std::min<long long>(reals, 2147483647));
-  info[kInfoIntsNeeded] = intsNeeded(N, blocks);
+  info[kInfoIntsNeeded] =
+      static_cast<int>(std::min<long long>(intsNeeded(N, blocks, size), 2147483647));
   double flops = 0;
   for (int s : size) flops += double(s) * s * s / 3;
   *ops = flops;
@@ -145,6 +190,80 @@ void countInertia(int s, const double* f, const int* ipiv, int* negative, int* z
   }
 }
 
+// Factors one sparse block, given densely in f (s x s, column-major, lower
+// triangle), into f (D, then L's values) and ints (the permutation, L's
+// column starts and row indices). Adds D's negative and zero entries to the
+// counts; a failed factorisation counts every row as zero.
+void factorSparseBlock(int s, double* f, int* ints, int* negative, int* zero) {
+  int* perm = ints;  // position k of the factor holds row perm[k] of the block
+  int n_first = 0;
+  for (int k = 0; k < s; ++k)
+    if (f[k * s + k] > 0) perm[n_first++] = k;
+  for (int k = 0, m = n_first; k < s; ++k)
+    if (!(f[k * s + k] > 0)) perm[m++] = k;
+  thread_local std::vector<int> pos;
+  pos.resize(s);
+  for (int k = 0; k < s; ++k) pos[perm[k]] = k;
+  thread_local std::vector<Eigen::Triplet<double>> entries;
+  entries.clear();
+  for (int c = 0; c < s; ++c)
+    for (int r = c; r < s; ++r) {
+      const double v = f[c * s + r];
+      if (v == 0 && r != c) continue;
+      entries.emplace_back(std::max(pos[r], pos[c]), std::min(pos[r], pos[c]), v);
+    }
+  Eigen::SparseMatrix<double> m(s, s);
+  m.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
+      ldlt(m);
+  bool ok = ldlt.info() == Eigen::Success;
+  const Eigen::VectorXd d = ok ? Eigen::VectorXd(ldlt.vectorD()) : Eigen::VectorXd();
+  for (int k = 0; ok && k < s; ++k) ok = std::isfinite(d(k)) && d(k) != 0;
+  if (!ok) {
+    *zero += s;
+    std::fill(f, f + s, 0.0);
+    std::fill(perm + s, perm + 2 * s + 1, 0);  // an empty L: a solve reads nothing stale
+    return;
+  }
+  // L is unit lower triangular; its strict lower part, column by column.
+  const Eigen::SparseMatrix<double>& l = ldlt.matrixL().nestedExpression();
+  int* start = perm + s;
+  int* row = start + s + 1;
+  double* value = f + s;
+  int count = 0;
+  for (int c = 0; c < s; ++c) {
+    start[c] = count;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(l, c); it; ++it) {
+      if (it.row() <= c) continue;
+      row[count] = static_cast<int>(it.row());
+      value[count] = it.value();
+      ++count;
+    }
+  }
+  start[s] = count;
+  for (int k = 0; k < s; ++k) {
+    f[k] = d(k);
+    *negative += d(k) < 0;
+  }
+}
+
+// Solves with a block factored by factorSparseBlock, in place on w (block order).
+void solveSparseBlock(int s, const double* f, const int* ints, double* w) {
+  const int* perm = ints;
+  const int* start = perm + s;
+  const int* row = start + s + 1;
+  const double* value = f + s;
+  thread_local std::vector<double> x;
+  x.resize(s);
+  for (int k = 0; k < s; ++k) x[k] = w[perm[k]];
+  for (int c = 0; c < s; ++c)
+    for (int p = start[c]; p < start[c + 1]; ++p) x[row[p]] -= value[p] * x[c];
+  for (int k = 0; k < s; ++k) x[k] /= f[k];
+  for (int c = s - 1; c >= 0; --c)
+    for (int p = start[c]; p < start[c + 1]; ++p) x[c] -= value[p] * x[row[p]];
+  for (int k = 0; k < s; ++k) w[perm[k]] = x[k];
+}
+
 }  // namespace
 
 extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* icn, double* a,
@@ -161,10 +280,10 @@ extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* ic
     info[kInfoError] = static_cast<int>(std::min<long long>(reals, 2147483647));
     return;
   }
-  const int ints = intsNeeded(N, blocks);
+  const long long ints = intsNeeded(N, blocks, size);
   if (ints > *liw) {
     info[kInfoFlag] = kIwSmall;
-    info[kInfoError] = ints;
+    info[kInfoError] = static_cast<int>(std::min<long long>(ints, 2147483647));
     return;
   }
   std::vector<long long> offset(blocks + 1, 0);
@@ -189,9 +308,15 @@ extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* ic
   std::copy(ikeep, ikeep + N, order);
   int negative = 0, zero = 0, largest = 0;
   thread_local std::vector<double> work;
+  int* sparse_ints = order + N;
   for (int b = 0; b < blocks; ++b) {
     const int s = size[b];
     largest = std::max(largest, s);
+    if (sparseBlock(s)) {
+      factorSparseBlock(s, a + offset[b], sparse_ints, &negative, &zero);
+      sparse_ints += sparseInts(s);
+      continue;
+    }
     const int lwork = std::max(1, 64 * s);
     work.resize(lwork);
     int lapack_info = 0;
@@ -201,7 +326,7 @@ extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* ic
   *maxfrt = largest;
   info[kInfoNegative] = negative;
   info[kInfoRealsUsed] = static_cast<int>(std::min<long long>(offset[blocks], 2147483647));
-  info[kInfoIntsUsed] = ints;
+  info[kInfoIntsUsed] = static_cast<int>(std::min<long long>(ints, 2147483647));
   if (zero > 0) {
     info[kInfoFlag] = kSingular;
     info[kInfoError] = N - zero;  // the rank
@@ -216,13 +341,19 @@ extern "C" void bristleDenseMa27c(int*, double* a, int*, int* iw, int*, double* 
   const int* first = iw + 2;
   const int* ipiv = first + blocks + 1;
   const int* order = ipiv + N;
+  const int* sparse_ints = order + N;
   long long offset = 0;
   const int one = 1;
   for (int b = 0; b < blocks; ++b) {
     const int s = first[b + 1] - first[b];
     for (int k = 0; k < s; ++k) w[k] = rhs[order[first[b] + k]];
-    int lapack_info = 0;
-    dsytrs_("L", &s, &one, a + offset, &s, ipiv + first[b], w, &s, &lapack_info, 1);
+    if (sparseBlock(s)) {
+      solveSparseBlock(s, a + offset, sparse_ints, w);
+      sparse_ints += sparseInts(s);
+    } else {
+      int lapack_info = 0;
+      dsytrs_("L", &s, &one, a + offset, &s, ipiv + first[b], w, &s, &lapack_info, 1);
+    }
     for (int k = 0; k < s; ++k) rhs[order[first[b] + k]] = w[k];
     offset += static_cast<long long>(s) * s;
   }

@@ -81,7 +81,6 @@ class BrushNlp : public Ipopt::TNLP {
       for (int j : terms_[s]) nnz_jac_ += 2 * j + 1;  // the angles before x_j, and t
       nnz_hess_ += (2 * n) * (2 * n + 1) / 2;
     }
-    largest_coupled_rows_ = largestCoupledRows();
     fk_.resize(problems_.size());
     grad_.resize(nvars_);
     hess_.resize(problems_.size());
@@ -294,29 +293,6 @@ class BrushNlp : public Ipopt::TNLP {
     return allFinite(values, nele_hess);
   }
 
-  // Rows of the largest block of the KKT matrix Ipopt factors: spines that
-  // hair volume links solve as one block. A spine of n joints with m friction
-  // variables has 2n + m variables and n + m constraints, and each constraint
-  // brings a slack and a multiplier: 4n + 3m rows.
-  int largestCoupledRows() const {
-    const int ns = static_cast<int>(problems_.size());
-    std::vector<int> group(ns);
-    for (int s = 0; s < ns; ++s) group[s] = s;
-    auto root = [&](int s) {
-      while (group[s] != s) s = group[s] = group[group[s]];
-      return s;
-    };
-    for (const VolumeLink& l : links_) group[std::max(root(l.a), root(l.b))] = std::min(root(l.a), root(l.b));
-    std::vector<int> rows(ns, 0);
-    int largest = 0;
-    for (int s = 0; s < ns; ++s) {
-      const int n = problems_[s]->spine->jointCount(), m = termCount(s);
-      largest = std::max(largest, rows[root(s)] += 4 * n + 3 * m);
-    }
-    return largest;
-  }
-  int largest_coupled_rows_ = 0;
-
   void finalize_solution(Ipopt::SolverReturn, Index, const Number* x, const Number* z_L,
                          const Number* z_U, Index, const Number*, const Number* lambda, Number,
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
@@ -448,15 +424,6 @@ constexpr double kRetryWarmPush = 1e-3;
 // Ipopt's own default for max_resto_iter, restored for cold starts.
 constexpr int kIpoptDefaultMaxRestoIter = 3000000;
 
-// The largest KKT block the dense solver takes; a larger one goes to MUMPS.
-// A dense factorisation costs s^3 / 3 flops, MUMPS a fixed cost per call plus
-// its sparse work. On the depth S-curve (docs/PERFORMANCE.md, "A dense KKT
-// solver for Ipopt"), with linked spines solved densely too: the round's 7
-// (112 rows) took 0.80 of MUMPS's time, the calligraphy brush's (140 rows)
-// 1.04, the badger's 15 (240 rows) 2.1. (Linked spines now stay with MUMPS
-// for another reason; see IpoptSolver::solve.)
-constexpr int kDenseKktMaxRows = 128;
-
 class IpoptSolver : public SpineSolver {
  public:
   explicit IpoptSolver(const IpoptSettings& settings) : app_(IpoptApplicationFactory()) {
@@ -577,14 +544,9 @@ class IpoptSolver : public SpineSolver {
         warm && (friction_form_ == FrictionForm::kEpigraph ||
                  (friction_form_ == FrictionForm::kAuto && volume));
     Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm, epigraph);
-    // Brushes with hair volume stay with MUMPS, whatever their blocks' size:
-    // their presses sit at buckling points where the branch the hair takes
-    // follows round-off, and the dense solver's round-off moved the badger's
-    // and calligraphy brush's press blots (docs/dynamics.md, "Ipopt's linear
-    // solver").
-    if (dense_kkt_)
-      o.SetStringValue("linear_solver",
-                       !volume && nlp->largest_coupled_rows_ <= kDenseKktMaxRows ? "ma27" : "mumps");
+    // bristle's own KKT solver, in MA27's place (engine/dense_kkt.h): each
+    // spine's block densely, the blocks that hair volume couples sparsely.
+    if (dense_kkt_) o.SetStringValue("linear_solver", "ma27");
     // A warm start that falls into Ipopt's restoration phase has lost its
     // footing: on the round brush's tablet strokes none came back from it in
     // 200 iterations. It stops there, and is solved again re-centred below.
@@ -664,9 +626,8 @@ class IpoptSolver : public SpineSolver {
   // "Friction in epigraph form").
   enum class FrictionForm { kAuto, kObjective, kEpigraph };
   FrictionForm friction_form_ = FrictionForm::kAuto;
-  // The dense KKT solver for blocks of up to kDenseKktMaxRows rows, MUMPS
-  // beyond (--ipopt-option linear_solver=dense, the default; any other value
-  // is Ipopt's own choice for every solve).
+  // bristle's KKT solver for every solve (--ipopt-option linear_solver=dense,
+  // the default; any other value is Ipopt's own choice for every solve).
   bool dense_kkt_ = true;
 };
 
