@@ -1,9 +1,10 @@
 #pragma once
 // A linear solver for Ipopt's KKT systems that factors each independent block
-// of the matrix densely with LAPACK's Bunch-Kaufman LDL^T (dsytrf), behind
-// the calling convention of HSL's MA27, which Debian's Ipopt 3.11 accepts
-// through its HSL loader (LSL_setMA27; docs/dynamics.md, "Ipopt's linear
-// solver").
+// of the matrix: a small one densely with LAPACK's Bunch-Kaufman LDL^T
+// (dsytrf), a large one (the spines hair volume couples) as a sparse LDL^T
+// in a fixed quasi-definite order (dense_kkt.cpp). It sits behind the calling
+// convention of HSL's MA27, which Debian's Ipopt 3.11 accepts through its HSL
+// loader (LSL_setMA27; docs/dynamics.md, "Ipopt's linear solver").
 //
 // Why: bristle's KKT systems are small (a spine of J joints gives 4J rows)
 // and, without hair volume, block diagonal, one block per spine. MUMPS 5.5
