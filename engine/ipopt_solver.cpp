@@ -465,8 +465,9 @@ class IpoptSolver : public SpineSolver {
         warm_retry_ = value == "yes";
         continue;
       }
-      // bristle's own linear solver (the default): dense Bunch-Kaufman per
-      // block of the KKT matrix, in MA27's place, where the blocks are small
+      // bristle's own linear solver (the default), in MA27's place: each
+      // block of the KKT matrix densely (Bunch-Kaufman) where it is small,
+      // as a sparse LDL^T where hair volume makes it large
       // (engine/dense_kkt.h). Any other value is Ipopt's, for every solve.
       if (name == "linear_solver") {
         dense_kkt_ = value == "dense";
@@ -494,6 +495,8 @@ class IpoptSolver : public SpineSolver {
       if (!ok && bad_option_.empty()) bad_option_ = name + "=" + value;
       if (name == "mu_strategy" || name == "mu_init") user_mu_strategy_ = true;
       if (name == "max_resto_iter") user_resto_ = true;
+      if (name.rfind("warm_start_", 0) == 0 && name != "warm_start_init_point")
+        user_warm_push_ = true;
     }
     timers_off_ = timers_off_ && !timers_needed;
     if (dense_kkt_) {
@@ -563,11 +566,11 @@ class IpoptSolver : public SpineSolver {
       // start that fails").
       if (!user_mu_strategy_) o.SetStringValue("mu_strategy", "adaptive");
       if (!user_resto_) o.SetIntegerValue("max_resto_iter", kIpoptDefaultMaxRestoIter);
-      setWarmStartPush(o, kRetryWarmPush);
+      if (!user_warm_push_) setWarmStartPush(o, kRetryWarmPush);
       nlp = new BrushNlp(problems, solutions, links, warm, epigraph);
       int more = 0;
       st = optimize(nlp, &more);
-      setWarmStartPush(o, kWarmPush);
+      if (!user_warm_push_) setWarmStartPush(o, kWarmPush);
       summary.iterations += more;
       summary.recentred = 1;
     }
@@ -613,6 +616,7 @@ class IpoptSolver : public SpineSolver {
   std::string bad_option_;  // the first extra option Ipopt refused
   bool user_mu_strategy_ = false;  // the user chose the barrier strategy
   bool user_resto_ = false;        // the user set max_resto_iter
+  bool user_warm_push_ = false;    // the user set a warm_start_*_push or _frac
   // A failed warm start solved once more from a re-centred start
   // (--ipopt-option warm_retry=yes, the default).
   bool warm_retry_ = true;
