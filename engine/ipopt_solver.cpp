@@ -81,6 +81,7 @@ class BrushNlp : public Ipopt::TNLP {
       for (int j : terms_[s]) nnz_jac_ += 2 * j + 1;  // the angles before x_j, and t
       nnz_hess_ += (2 * n) * (2 * n + 1) / 2;
     }
+    largest_coupled_rows_ = largestCoupledRows();
     fk_.resize(problems_.size());
     grad_.resize(nvars_);
     hess_.resize(problems_.size());
@@ -293,6 +294,29 @@ class BrushNlp : public Ipopt::TNLP {
     return allFinite(values, nele_hess);
   }
 
+  // Rows of the largest block of the KKT matrix Ipopt factors: spines that
+  // hair volume links solve as one block. A spine of n joints with m friction
+  // variables has 2n + m variables and n + m constraints, and each constraint
+  // brings a slack and a multiplier: 4n + 3m rows.
+  int largestCoupledRows() const {
+    const int ns = static_cast<int>(problems_.size());
+    std::vector<int> group(ns);
+    for (int s = 0; s < ns; ++s) group[s] = s;
+    auto root = [&](int s) {
+      while (group[s] != s) s = group[s] = group[group[s]];
+      return s;
+    };
+    for (const VolumeLink& l : links_) group[std::max(root(l.a), root(l.b))] = std::min(root(l.a), root(l.b));
+    std::vector<int> rows(ns, 0);
+    int largest = 0;
+    for (int s = 0; s < ns; ++s) {
+      const int n = problems_[s]->spine->jointCount(), m = termCount(s);
+      largest = std::max(largest, rows[root(s)] += 4 * n + 3 * m);
+    }
+    return largest;
+  }
+  int largest_coupled_rows_ = 0;
+
   void finalize_solution(Ipopt::SolverReturn, Index, const Number* x, const Number* z_L,
                          const Number* z_U, Index, const Number*, const Number* lambda, Number,
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
@@ -420,6 +444,13 @@ constexpr double kWarmMuInit = 1e-9;
 // more; the retry's adaptive barrier picks its own mu whatever mu_init says.
 constexpr double kWarmPush = 1e-9;
 constexpr double kRetryWarmPush = 1e-3;
+
+// The largest KKT block bristle's solver takes; an NLP with a larger one goes
+// to MUMPS. Ipopt's MA27 interface sizes the real work array from the
+// solver's advice, s^2 reals per block, times its own margin of 5: 40 MB at
+// 1,000 rows (about 35 spines of 4 joints linked by hair volume; the
+// library's largest, the badger, makes about 420).
+constexpr int kOwnKktMaxRows = 1000;
 
 // Ipopt's own default for max_resto_iter, restored for cold starts.
 constexpr int kIpoptDefaultMaxRestoIter = 3000000;
@@ -549,7 +580,9 @@ class IpoptSolver : public SpineSolver {
     Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm, epigraph);
     // bristle's own KKT solver, in MA27's place (engine/dense_kkt.h): each
     // spine's block densely, the blocks that hair volume couples sparsely.
-    if (dense_kkt_) o.SetStringValue("linear_solver", "ma27");
+    if (dense_kkt_)
+      o.SetStringValue("linear_solver",
+                       nlp->largest_coupled_rows_ <= kOwnKktMaxRows ? "ma27" : "mumps");
     // A warm start that falls into Ipopt's restoration phase has lost its
     // footing: on the round brush's tablet strokes none came back from it in
     // 200 iterations. It stops there, and is solved again re-centred below.
@@ -630,8 +663,9 @@ class IpoptSolver : public SpineSolver {
   // "Friction in epigraph form").
   enum class FrictionForm { kAuto, kObjective, kEpigraph };
   FrictionForm friction_form_ = FrictionForm::kAuto;
-  // bristle's KKT solver for every solve (--ipopt-option linear_solver=dense,
-  // the default; any other value is Ipopt's own choice for every solve).
+  // bristle's KKT solver for every solve whose blocks are within
+  // kOwnKktMaxRows (--ipopt-option linear_solver=dense, the default; any
+  // other value is Ipopt's own choice for every solve).
   bool dense_kkt_ = true;
 };
 

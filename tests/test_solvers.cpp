@@ -529,6 +529,57 @@ TEST_CASE("ipopt: bristle's KKT solver reaches MUMPS's optima, with and without 
   CHECK(moved > 0.01);  // the links did bend the spines (rad)
 }
 
+TEST_CASE("ipopt: a KKT block past bristle's solver's limit goes to MUMPS",
+          "[solvers][ipopt][dense_kkt]") {
+  // 64 spines of 4 joints in a row, 2 mm apart, each pushing its neighbours
+  // to 2.5 mm at its second joint (the row's ends splay out):
+  // one KKT block of 64 x 16 = 1,024 rows, past kOwnKktMaxRows (1,000), whose
+  // MA27-style work array would take 5 x 1,024^2 reals. Such an NLP goes to
+  // MUMPS: bit for bit what linear_solver=mumps gives.
+  constexpr int kSpines = 64;
+  std::vector<SpineSpec> specs;
+  for (int s = 0; s < kSpines; ++s) {
+    specs.push_back(makeSpine({5.0, 5.0, 4.0, 3.0}, {3, 2, 1.5, 1}, 0.0,
+                              Eigen::Vector3d(2.0 * s, 0, 0)));
+  }
+  std::vector<SpineProblem> problems(kSpines);
+  std::vector<VolumeLink> links;
+  for (int s = 0; s < kSpines; ++s) {
+    SpineProblem& p = problems[s];
+    p.spine = &specs[s];
+    p.handle = poseAt(0, 0, 50);
+    p.friction_n.assign(4, 0.0);
+    p.anchor_xy_mm.assign(4, Eigen::Vector2d::Zero());
+    p.prev_q.assign(8, 0.0);
+    // Held along the row, as the simulation holds a push for a step.
+    if (s > 0) links.push_back({s - 1, s, 2, 2.5, 0.0, 5, 0, Eigen::Vector3d(-1, 0, 0)});
+  }
+  IpoptSettings mumps_settings;
+  mumps_settings.extra_options = {{"linear_solver", "mumps"}};
+  std::unique_ptr<SpineSolver> own = makeIpoptSolver();
+  std::unique_ptr<SpineSolver> mumps = makeIpoptSolver(mumps_settings);
+  std::vector<SpineSolution> a(kSpines), b(kSpines);
+  std::vector<const SpineProblem*> pp;
+  std::vector<SpineSolution*> pa, pb;
+  for (int s = 0; s < kSpines; ++s) {
+    a[s].q.assign(8, 0.0);
+    b[s].q.assign(8, 0.0);
+    pp.push_back(&problems[s]);
+    pa.push_back(&a[s]);
+    pb.push_back(&b[s]);
+  }
+  const SolveSummary sa = own->solve(pp, pa, links), sb = mumps->solve(pp, pb, links);
+  INFO(sa.message << " " << sa.iterations << "; " << sb.message << " " << sb.iterations);
+  REQUIRE(sa.usable());
+  REQUIRE(sb.usable());
+  double moved = 0;
+  for (int s = 0; s < kSpines; ++s) {
+    CHECK(a[s].q == b[s].q);
+    for (double q : a[s].q) moved = std::max(moved, std::fabs(q));
+  }
+  CHECK(moved > 0.01);  // the pushes bent the row's ends apart (rad)
+}
+
 namespace {
 // An --ipopt-option NAME takes each of `good`, and `bad` is a usage error
 // (exit 64) that names it.
