@@ -151,8 +151,9 @@ class Simulation {
     ++stats_.steady_steps;
     stats_.steady_merged += merged;
   }
-  // A merged step redone as planned: its solver work stays counted.
-  // A try from `before` to `tried` was undone (restore): its work stays counted.
+  // A try that ran from stats `before` to `tried` and was then undone
+  // (restore): a merged step redone as planned, or a step redone in halves
+  // because the hair on the paper jumped. Its solver work stays counted.
   void countRejectedSteady(const SimStats& before, const SimStats& tried) {
     ++stats_.steady_rejected;
     keepWork(before, tried);
