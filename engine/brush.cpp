@@ -319,6 +319,14 @@ Brush parseBrush(const std::string& text, const std::string& path,
     if (spines_ok) requireRootSpread(top, b.spines);
   });
   if (top.has("volume")) part([&] { parseVolume(top.object("volume"), &b.volume); });
+  if (top.has("solver")) part([&] {
+    const JsonObject h = top.object("solver");
+    b.solver.friction_form = h.string("friction_form", "");
+    const std::string& f = b.solver.friction_form;
+    h.require(f.empty() || f == "auto" || f == "objective" || f == "epigraph", "friction_form",
+              "must be \"auto\", \"objective\" or \"epigraph\"");
+    h.rejectUnknownKeys();
+  });
   if (top.has("paint")) part([&] {
     const JsonObject p = top.object("paint");
     b.paint_capacity = p.number("capacity", 1.0);

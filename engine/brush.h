@@ -116,6 +116,16 @@ struct VolumeSpec {
   bool present() const { return min_separation > 0; }
 };
 
+// Hints to the solvers (docs/brush-format.md, "solver"): numerical choices
+// that leave the brush's equilibria where they are and change only how fast a
+// solver reaches them. Like a MuJoCo model's <option>, they travel with the
+// model they were tuned on; a run's own options override them.
+struct SolverHints {
+  // Ipopt's friction form (docs/dynamics.md, "Friction in epigraph form"):
+  // "auto", "objective" or "epigraph"; empty leaves the run's default.
+  std::string friction_form;
+};
+
 struct Brush {
   std::string path;  // for messages
   std::string name;
@@ -125,6 +135,7 @@ struct Brush {
   SurfaceSpec surface;
   StripSpec strips;
   VolumeSpec volume;
+  SolverHints solver;
   double paint_capacity = 1.0;  // relative amount of paint the brush holds
 
   // Largest distance from the ferrule centre any hair can reach (mm).

@@ -23,4 +23,13 @@ SolverPair makeSolverPair(const SolverSettings& settings) {
   return pair;
 }
 
+SolverPair makeSolverPair(const SolverSettings& settings, const Brush& brush) {
+  if (brush.solver.friction_form.empty()) return makeSolverPair(settings);
+  SolverSettings with_hints = settings;
+  with_hints.ipopt_options.clear();
+  with_hints.ipopt_options.emplace_back("friction_form", brush.solver.friction_form);
+  for (const auto& option : settings.ipopt_options) with_hints.ipopt_options.push_back(option);
+  return makeSolverPair(with_hints);
+}
+
 }  // namespace bristle

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/brush.h"
 #include "engine/spine_solver.h"
 
 namespace bristle {
@@ -42,5 +43,9 @@ struct SolverPair {
 // settings.max_iterations. Throws bristle::Error(kUsage) when Ipopt refuses an
 // extra option or the limit is out of range (as makeIpoptSolver, makeSlsqpSolver).
 SolverPair makeSolverPair(const SolverSettings& settings = {});
+// The same for one brush: its solver hints (Brush::solver) go before the run's
+// own Ipopt options, so that a run that names an option itself overrides the
+// brush's (docs/brush-format.md, "solver").
+SolverPair makeSolverPair(const SolverSettings& settings, const Brush& brush);
 
 }  // namespace bristle

@@ -28,7 +28,8 @@ class SimThread {
  public:
   SimThread(const Brush& brush, const LiveOptions& options, ServoLoop* servo)
       : brush_(brush), options_(options), servo_(servo) {
-    SolverPair solvers = makeSolverPair({options.solver, kDefaultSolverMaxIterations, {}});
+    SolverPair solvers =
+        makeSolverPair({options.solver, kDefaultSolverMaxIterations, {}}, brush);
     sim_ = std::make_unique<Simulation>(brush, options.sim, std::move(solvers.primary),
                                         std::move(solvers.fallback));
     for (const SpineSpec& s : brush.spines) root_radius_ = std::max(root_radius_, s.root_mm.norm());

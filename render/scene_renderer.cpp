@@ -43,7 +43,8 @@ SceneResult renderScene(const Scene& scene, const SceneRenderOptions& options,
     BrushPaint& paint = paints[size_t(st.brush)];
     paint.load(st.paint, scene.mix, scene.path + ": " + st.pointer + "/paint");
     // The scene's solver is the primary; a spine it fails on is tried with the other.
-    SolverPair solvers = makeSolverPair({scene.solver, options.solver_max_iterations, {}});
+    SolverPair solvers =
+        makeSolverPair({scene.solver, options.solver_max_iterations, {}}, brush);
     StepCallback step_cb;
     if (on_step)
       step_cb = [&](const BrushState& state, int step, int) {

@@ -16,7 +16,7 @@ PaintedStroke paintStroke(StrokeRenderer& renderer, const Brush& brush,
   BrushPaint paint(brush);
   paint.load(setup.load, setup.mix, setup.load_where);
   out.loaded_mm3 = paint.capacityMm3() * setup.load.amount;
-  SolverPair solvers = makeSolverPair(setup.solvers);
+  SolverPair solvers = makeSolverPair(setup.solvers, brush);
   out.stroke = renderer.render(brush, trajectory, std::move(solvers.primary), setup.stroke,
                                &out.canvas, &paint, on_step, std::move(solvers.fallback));
   out.left_on_brush_mm3 = paint.totalVolumeMm3();
@@ -26,7 +26,7 @@ PaintedStroke paintStroke(StrokeRenderer& renderer, const Brush& brush,
 BrushState strokeStateAt(const Brush& brush, const Trajectory* trajectory,
                          const StrokeOptions& options, double at_s,
                          const SolverSettings& settings) {
-  SolverPair solvers = makeSolverPair(settings);
+  SolverPair solvers = makeSolverPair(settings, brush);
   Simulation sim(brush, options.sim, std::move(solvers.primary), std::move(solvers.fallback));
   if (!trajectory) {
     Pose rest;

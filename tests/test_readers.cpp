@@ -511,6 +511,23 @@ TEST_CASE("friction out of range is 65 naming the field", "[readers]") {
   CHECK(hi.friction.anisotropy_strength == 1);
 }
 
+TEST_CASE("solver hints: friction_form is auto, objective or epigraph, and optional",
+          "[readers]") {
+  CHECK(parseBrush(kBrush, "brush.json").solver.friction_form.empty());
+  for (const char* form : {"auto", "objective", "epigraph"})
+    CHECK(parseBrush(brushWith("/solver/friction_form", form), "brush.json")
+              .solver.friction_form == form);
+  CHECK(parseBrush(brushWith("/solver", nlohmann::json::object()), "brush.json")
+            .solver.friction_form.empty());
+  CHECK_BRUSH_ERROR(brushWith("/solver/friction_form", "kink"), "/solver/friction_form",
+                    "must be \"auto\", \"objective\" or \"epigraph\"");
+  CHECK_BRUSH_ERROR(brushWith("/solver/friction_form", 1), "/solver/friction_form", "string");
+  CHECK_BRUSH_ERROR(brushWith("/solver/max_iter", 10), "/solver", "unknown key 'max_iter'");
+  // The library's fan carries the epigraph form (docs/brush-format.md, "solver").
+  CHECK(loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/fan.json")
+            .solver.friction_form == "epigraph");
+}
+
 // ---------------------------------------------------------------- trajectory: good input
 
 TEST_CASE("every trajectory in scenes/trajectories parses", "[readers]") {

@@ -823,6 +823,50 @@ TEST_CASE("makeSolverPair: the chosen solver first, the other as fallback, both 
   CHECK_THROWS_AS(makeSolverPair({SolverKind::kSlsqp, 200, {{"no_such_option", "1"}}}), Error);
 }
 
+TEST_CASE("makeSolverPair: a brush's friction_form hint reaches Ipopt, and a run's own option "
+          "overrides it", "[solvers][ipopt]") {
+  // docs/brush-format.md, "solver": the library's fan asks for the epigraph
+  // form. Same problems, same starts: the pair built for a brush with the hint
+  // solves bit for bit as an Ipopt told friction_form=epigraph, and with the
+  // run's friction_form=objective as one told that.
+  Brush hinted = threeSpineBrush();
+  hinted.solver.friction_form = "epigraph";
+  Simulation sim(hinted, SimOptions{}, makeIpoptSolver());
+  const SolverPair by_brush = makeSolverPair({SolverKind::kIpopt, kDefaultSolverMaxIterations, {}},
+                                             hinted);
+  const SolverPair overridden = makeSolverPair(
+      {SolverKind::kIpopt, kDefaultSolverMaxIterations, {{"friction_form", "objective"}}}, hinted);
+  IpoptSettings epigraph_form, objective_form;
+  epigraph_form.extra_options = {{"friction_form", "epigraph"}};
+  objective_form.extra_options = {{"friction_form", "objective"}};
+  std::unique_ptr<SpineSolver> epigraph = makeIpoptSolver(epigraph_form);
+  std::unique_ptr<SpineSolver> objective = makeIpoptSolver(objective_form);
+  int steps_apart = 0;  // steps where the two forms took different iterations
+  const int compared = forEachContactStep(
+      sim, tiltedPressAndDrag(),
+      [&](const std::vector<SpineProblem>& problems, const std::vector<SpineSolution>& starts) {
+        const std::vector<const SpineProblem*> pp = pointersTo(problems);
+        Solves a(starts), b(starts), c(starts), d(starts);
+        const SolveSummary sa = by_brush.primary->solve(pp, a.ptr);
+        const SolveSummary sb = epigraph->solve(pp, b.ptr);
+        const SolveSummary sc = overridden.primary->solve(pp, c.ptr);
+        const SolveSummary sd = objective->solve(pp, d.ptr);
+        REQUIRE(sa.usable());
+        REQUIRE(sc.usable());
+        CHECK(sa.iterations == sb.iterations);
+        CHECK(sc.iterations == sd.iterations);
+        steps_apart += sa.iterations != sc.iterations;
+        for (size_t s = 0; s < problems.size(); ++s) {
+          CHECK(a.sol[s].q == b.sol[s].q);
+          CHECK(c.sol[s].q == d.sol[s].q);
+        }
+      });
+  CHECK(compared >= 20);
+  // The two forms really differ on this path, so the checks above can tell
+  // which one ran.
+  CHECK(steps_apart >= 5);
+}
+
 // Ipopt 3.11 reads getrusage ~290 times per iteration; bristle answers those
 // reads with zeros inside a solve (engine/ipopt_timers.h). Nothing of Ipopt's
 // algorithm depends on them, so the same problems give bit-identical
