@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <numeric>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 // LAPACK (reference LAPACK 3.11 on Debian), with gfortran's hidden lengths of
@@ -190,32 +191,118 @@ void countInertia(int s, const double* f, const int* ipiv, int* negative, int* z
   }
 }
 
-// Factors one sparse block, given densely in f (s x s, column-major, lower
-// triangle), into f (D, then L's values) and ints (the permutation, L's
-// column starts and row indices). Adds D's negative and zero entries to the
-// counts; a failed factorisation counts every row as zero.
-void factorSparseBlock(int s, double* f, int* ints, int* negative, int* zero) {
-  int* perm = ints;  // position k of the factor holds row perm[k] of the block
+// A sparse block's matrix. Its indices are Eigen::Index because Eigen 3.4
+// skips the copy into its own ordering only for NaturalOrdering<Eigen::Index>
+// (SimplicialCholeskyBase::ordering); with int indices every factorisation
+// copied the matrix twice.
+using SparseBlock = Eigen::SparseMatrix<double, Eigen::ColMajor, Eigen::Index>;
+
+// One sparse block's entries: the triplets (1-based irn, icn) whose rows lie
+// in it, `mine` indexing them in the caller's order, and each row's position
+// in the block (IKEEP's second third).
+struct SparseEntries {
+  const int* irn;
+  const int* icn;
+  const double* values;
+  const int* local;
+  const int* mine;
+  int count;
+};
+
+// Assembles one sparse block, in the factor's order, as the upper triangle of
+// a compressed-column matrix: each column's rows ascending, duplicates summed
+// in the triplets' order, off-diagonal zeros left out and every diagonal
+// present. The order (perm, position k holding block row perm[k]) puts the
+// rows with a positive diagonal first.
+void assembleSparseBlock(int s, const SparseEntries& e, int* perm,
+                         SparseBlock* m) {
+  thread_local std::vector<double> diag;
+  thread_local std::vector<int> pos, count, next;
+  thread_local std::vector<Eigen::Index> col_next;
+  thread_local std::vector<std::pair<int, double>> by_row;  // (column, value), grouped by row
+  diag.assign(s, 0.0);
+  for (int k = 0; k < e.count; ++k) {
+    const int t = e.mine[k];
+    if (e.irn[t] == e.icn[t]) diag[e.local[e.irn[t] - 1]] += e.values[t];
+  }
   int n_first = 0;
   for (int k = 0; k < s; ++k)
-    if (f[k * s + k] > 0) perm[n_first++] = k;
-  for (int k = 0, m = n_first; k < s; ++k)
-    if (!(f[k * s + k] > 0)) perm[m++] = k;
-  thread_local std::vector<int> pos;
+    if (diag[k] > 0) perm[n_first++] = k;
+  for (int k = 0, j = n_first; k < s; ++k)
+    if (!(diag[k] > 0)) perm[j++] = k;
   pos.resize(s);
   for (int k = 0; k < s; ++k) pos[perm[k]] = k;
-  thread_local std::vector<Eigen::Triplet<double>> entries;
-  entries.clear();
-  for (int c = 0; c < s; ++c)
-    for (int r = c; r < s; ++r) {
-      const double v = f[c * s + r];
-      if (v == 0 && r != c) continue;
-      entries.emplace_back(std::max(pos[r], pos[c]), std::min(pos[r], pos[c]), v);
+  // Off-diagonal entries bucketed by row (stable), then dealt to their
+  // columns row by row, which leaves each column's rows ascending and the
+  // duplicates of an entry next to each other in the triplets' order.
+  count.assign(s + 1, 0);
+  for (int k = 0; k < e.count; ++k) {
+    const int t = e.mine[k];
+    if (e.irn[t] != e.icn[t])
+      ++count[1 + std::min(pos[e.local[e.irn[t] - 1]], pos[e.local[e.icn[t] - 1]])];
+  }
+  for (int r = 0; r < s; ++r) count[r + 1] += count[r];
+  by_row.resize(count[s]);
+  next.assign(count.begin(), count.end() - 1);
+  for (int k = 0; k < e.count; ++k) {
+    const int t = e.mine[k];
+    if (e.irn[t] == e.icn[t]) continue;
+    const int a = pos[e.local[e.irn[t] - 1]], b = pos[e.local[e.icn[t] - 1]];
+    by_row[next[std::min(a, b)]++] = {std::max(a, b), e.values[t]};
+  }
+  // Column sizes, each with room for its diagonal.
+  m->resize(s, s);
+  m->resizeNonZeros(count[s] + s);
+  Eigen::Index* start = m->outerIndexPtr();
+  Eigen::Index* row = m->innerIndexPtr();
+  double* value = m->valuePtr();
+  std::fill(start, start + s + 1, 0);
+  for (const auto& [c, v] : by_row) ++start[c + 1];
+  for (int c = 0; c < s; ++c) start[c + 1] += start[c] + 1;
+  col_next.assign(start, start + s);
+  for (int r = 0; r < s; ++r)
+    for (int k = count[r]; k < count[r + 1]; ++k) {
+      const int c = by_row[k].first;
+      row[col_next[c]] = r;
+      value[col_next[c]++] = by_row[k].second;
     }
-  Eigen::SparseMatrix<double> m(s, s);
-  m.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
-      ldlt(m);
+  // Sum duplicates from 0 (as a dense sum of the triplets would), drop
+  // off-diagonal zeros, and close each column with its diagonal.
+  Eigen::Index out = 0;
+  for (Eigen::Index c = 0, in = 0; c < s; ++c) {
+    const Eigen::Index end = col_next[c];
+    start[c] = out;
+    while (in < end) {
+      const Eigen::Index r = row[in];
+      double sum = 0.0;
+      for (; in < end && row[in] == r; ++in) sum += value[in];
+      if (sum == 0) continue;
+      row[out] = r;
+      value[out++] = sum;
+    }
+    row[out] = c;
+    value[out++] = diag[perm[c]];
+    in = end + 1;  // past the room kept for the diagonal
+  }
+  start[s] = out;
+  m->resizeNonZeros(out);
+}
+
+// Factors one sparse block from its entries into f (D, then L's values) and
+// ints (the permutation, L's column starts and row indices). Adds D's
+// negative and zero entries to the counts; a failed factorisation counts every
+// row as zero.
+void factorSparseBlock(int s, const SparseEntries& entries, double* f, int* ints, int* negative,
+                       int* zero) {
+  int* perm = ints;  // position k of the factor holds row perm[k] of the block
+  thread_local SparseBlock m;
+  assembleSparseBlock(s, entries, perm, &m);
+  // The upper triangle with the natural order: Eigen factors it in place,
+  // without a copy.
+  thread_local Eigen::SimplicialLDLT<SparseBlock, Eigen::Upper,
+                                     Eigen::NaturalOrdering<Eigen::Index>>
+      ldlt;
+  ldlt.compute(m);
   bool ok = ldlt.info() == Eigen::Success;
   const Eigen::VectorXd d = ok ? Eigen::VectorXd(ldlt.vectorD()) : Eigen::VectorXd();
   for (int k = 0; ok && k < s; ++k) ok = std::isfinite(d(k)) && d(k) != 0;
@@ -226,14 +313,14 @@ void factorSparseBlock(int s, double* f, int* ints, int* negative, int* zero) {
     return;
   }
   // L is unit lower triangular; its strict lower part, column by column.
-  const Eigen::SparseMatrix<double>& l = ldlt.matrixL().nestedExpression();
+  const SparseBlock& l = ldlt.matrixL().nestedExpression();
   int* start = perm + s;
   int* row = start + s + 1;
   double* value = f + s;
   int count = 0;
   for (int c = 0; c < s; ++c) {
     start[c] = count;
-    for (Eigen::SparseMatrix<double>::InnerIterator it(l, c); it; ++it) {
+    for (SparseBlock::InnerIterator it(l, c); it; ++it) {
       if (it.row() <= c) continue;
       row[count] = static_cast<int>(it.row());
       value[count] = it.value();
@@ -291,12 +378,32 @@ extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* ic
   // The values arrive in a[0, nz), where the factors go: copy them out first.
   thread_local std::vector<double> values;
   values.assign(a, a + *nz);
-  std::fill(a, a + offset[blocks], 0.0);
+  // Dense blocks are summed into place, s x s each; the entries of sparse
+  // blocks are listed per block (in the triplets' order) for assembleSparseBlock.
+  thread_local std::vector<int> sparse_start, sparse_entries;
+  sparse_start.assign(blocks + 1, 0);
+  for (int b = 0; b < blocks; ++b)
+    if (!sparseBlock(size[b])) std::fill(a + offset[b], a + offset[b + 1], 0.0);
   for (int k = 0; k < *nz; ++k) {
     const int i = irn[k] - 1, j = icn[k] - 1;
     const int b = ikeep[2 * N + i];
-    const int li = ikeep[N + i], lj = ikeep[N + j], s = size[b];
+    const int s = size[b];
+    if (sparseBlock(s)) {
+      ++sparse_start[b + 1];
+      continue;
+    }
+    const int li = ikeep[N + i], lj = ikeep[N + j];
     a[offset[b] + static_cast<long long>(std::min(li, lj)) * s + std::max(li, lj)] += values[k];
+  }
+  for (int b = 0; b < blocks; ++b) sparse_start[b + 1] += sparse_start[b];
+  sparse_entries.resize(sparse_start[blocks]);
+  {
+    thread_local std::vector<int> fill;
+    fill.assign(sparse_start.begin(), sparse_start.end() - 1);
+    for (int k = 0; k < *nz; ++k) {
+      const int b = ikeep[2 * N + irn[k] - 1];
+      if (sparseBlock(size[b])) sparse_entries[fill[b]++] = k;
+    }
   }
   iw[0] = N;
   iw[1] = blocks;
@@ -313,7 +420,10 @@ extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* ic
     const int s = size[b];
     largest = std::max(largest, s);
     if (sparseBlock(s)) {
-      factorSparseBlock(s, a + offset[b], sparse_ints, &negative, &zero);
+      const SparseEntries entries{irn, icn, values.data(), ikeep + N,
+                                  sparse_entries.data() + sparse_start[b],
+                                  sparse_start[b + 1] - sparse_start[b]};
+      factorSparseBlock(s, entries, a + offset[b], sparse_ints, &negative, &zero);
       sparse_ints += sparseInts(s);
       continue;
     }
