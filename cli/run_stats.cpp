@@ -35,6 +35,7 @@ void writeRunStats(const std::string& path, const RunStats& s) {
       {"jump_split_steps", s.sim.jump_split_steps},
       {"recentred_solves", s.sim.recentred_solves},
       {"isolated_solves", s.sim.isolated_solves},
+      {"rescue_iterations", s.sim.rescue_iterations},
       {"failed_steps", s.sim.failed_steps},
       {"failed_spine_solves", s.sim.failed_spine_solves},
       {"fallback_solves", s.sim.fallback_solves},

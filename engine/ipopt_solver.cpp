@@ -606,6 +606,7 @@ class IpoptSolver : public SpineSolver {
       if (!user_warm_push_) setWarmStartPush(o, kWarmPush);
       summary.iterations += more;
       summary.recentred = 1;
+      summary.recentred_iterations = more;
     }
     summary.message = ipoptStatusName(st);
     const bool ok = solvedOk(st);

@@ -195,7 +195,11 @@ void Simulation::buildProblem(int s, const Pose& handle) {
   p.anchor_xy_mm.resize(n);
   p.pull_dir.assign(n, Eigen::Vector2d::Zero());
   for (int j = 0; j < n; ++j) {
-    p.anchor_xy_mm[j] = prev.joints_mm[j + 1].head<2>();
+    // A sticking joint is held at the point where it stuck; a sliding one's
+    // friction is the work of this step's slide (eq. 3).
+    const bool stuck = j < static_cast<int>(prev.contact.size()) && prev.contact[j] &&
+                       !prev.sliding[j] && j < static_cast<int>(prev.stuck_xy_mm.size());
+    p.anchor_xy_mm[j] = stuck ? prev.stuck_xy_mm[j] : Eigen::Vector2d(prev.joints_mm[j + 1].head<2>());
     // eq. 14's d_p: from the joint towards the projection of its parent joint,
     // the way a trailing hair is dragged.
     const Eigen::Vector2d towards_parent = (prev.joints_mm[j] - prev.joints_mm[j + 1]).head<2>();
@@ -285,6 +289,7 @@ void Simulation::solveGroup(const std::vector<int>& which, std::vector<SpineSolu
   SolveSummary summary = solver_->solve(problems, solutions, links);
   stats_.iterations += summary.iterations;
   stats_.recentred_solves += summary.recentred;
+  stats_.rescue_iterations += summary.recentred_iterations;
   if (summary.usable()) {
     for (int s : which) state_.spines[s].summary = summary;
     return;
@@ -302,12 +307,14 @@ void Simulation::solveGroup(const std::vector<int>& which, std::vector<SpineSolu
     const SpineProblem* pone = &problems_[s];
     SolveSummary si = solver_->solve({&pone, 1}, {&one, 1});
     stats_.iterations += si.iterations;
+    stats_.rescue_iterations += si.iterations;
     if (!si.usable() && fallback_) {
       SpineSolution again = state_.spines[s].solution;
       again.lambda.clear();
       SpineSolution* two = &again;
       SolveSummary sf = fallback_->solve({&pone, 1}, {&two, 1});
       stats_.iterations += sf.iterations;
+      stats_.rescue_iterations += sf.iterations;
       if (sf.usable()) {
         ++stats_.fallback_solves;
         sf.message = std::string(fallback_->name()) + " after " + solver_->name() + " " + si.message;
@@ -594,17 +601,25 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
   const std::vector<bool> was_contact = st.contact;
   st.contact.assign(n, false);
   st.sliding.assign(n, false);
+  st.stuck_xy_mm.resize(n);
   st.solution.normal_force_n.resize(n, 0.0);
   for (int j = 0; j < n; ++j) {
+    const Eigen::Vector2d here = st.joints_mm[j + 1].head<2>();
+    st.stuck_xy_mm[j] = here;
     st.contact[j] = st.solution.normal_force_n[j] > options_.contact_threshold_n;
     if (!st.contact[j]) {
       st.solution.normal_force_n[j] = 0.0;
-      continue;  // a fresh contact starts out sticking
+      continue;  // a fresh contact starts out sticking, where it touched down
     }
     if (!solved || j >= static_cast<int>(was_contact.size()) || !was_contact[j]) continue;
-    // Hysteresis: a sliding joint keeps sliding until it nearly stops.
-    const double moved = (st.joints_mm[j + 1].head<2>() - problem.anchor_xy_mm[j]).norm();
+    // Hysteresis: a sliding joint keeps sliding until it nearly stops; a
+    // sticking one slips once it has crept slip_mm from where it stuck.
+    const double moved = (here - problem.anchor_xy_mm[j]).norm();
     st.sliding[j] = sliding_before[j] ? moved >= options_.stick_mm : moved > options_.slip_mm;
+    // Still sticking: held where it stuck, so that the creep smoothed friction
+    // allows adds up over steps to a slip instead of going unseen one step at a
+    // time.
+    if (!sliding_before[j] && !st.sliding[j]) st.stuck_xy_mm[j] = problem.anchor_xy_mm[j];
   }
 }
 

@@ -46,6 +46,10 @@ struct SpineState {
   std::vector<Eigen::Vector3d> joints_mm;  // n + 1 world positions, root first
   std::vector<bool> contact;               // n: joint 1..n touches the canvas
   std::vector<bool> sliding;               // n: stiction state (false = sticks)
+  // n: where each sticking contact joint stuck to the paper (x, y). Its
+  // friction is measured from this point until it slips, not from where the
+  // last step left it (docs/dynamics.md, "Where a stuck joint is held").
+  std::vector<Eigen::Vector2d> stuck_xy_mm;
   EnergyTerms energy;
   SolveSummary summary;
   // Canvas force on this spine (normal + friction, N); BrushState::force_n is
@@ -87,6 +91,9 @@ struct SimStats {
   // outright and were redone spine by spine from cold starts.
   int recentred_solves = 0;
   int isolated_solves = 0;
+  // Of `iterations`, those the rescues above took: the re-centred tries and
+  // the spine-by-spine redos (with their fallback solves).
+  long rescue_iterations = 0;
 
   // Sums another run's figures into these (a scene's strokes, a sheet's cells).
   void add(const SimStats& r) {
@@ -105,6 +112,7 @@ struct SimStats {
     steady_rejected += r.steady_rejected;
     jump_split_steps += r.jump_split_steps;
     recentred_solves += r.recentred_solves;
+    rescue_iterations += r.rescue_iterations;
     isolated_solves += r.isolated_solves;
   }
 };
@@ -169,6 +177,7 @@ class Simulation {
   void keepWork(const SimStats& before, const SimStats& tried) {
     stats_.iterations += tried.iterations - before.iterations;
     stats_.recentred_solves += tried.recentred_solves - before.recentred_solves;
+    stats_.rescue_iterations += tried.rescue_iterations - before.rescue_iterations;
     stats_.isolated_solves += tried.isolated_solves - before.isolated_solves;
   }
   void buildProblem(int s, const Pose& handle);

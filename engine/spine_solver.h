@@ -29,6 +29,7 @@ struct SolveSummary {
   // 1 when a failed warm start was solved again from a re-centred start
   // (Ipopt; the iterations count both tries).
   int recentred = 0;
+  int recentred_iterations = 0;  // of `iterations`, the re-centred try's
   bool usable() const { return status != SolveStatus::kFailed; }
 };
 

@@ -124,6 +124,7 @@ void blendStates(const BrushState& a, const BrushState& b, double t, BrushState*
                      .toRotationMatrix();
     o.contact = sb.contact;
     o.sliding = sb.sliding;
+    o.stuck_xy_mm = sb.stuck_xy_mm;
     // The canvas loads too: they set how far each bundle is pressed into the
     // paper (engine/spine_bundles.h, kBundleFlatLoadN).
     const std::vector<double>& fa = sa.solution.normal_force_n;

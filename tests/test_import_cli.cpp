@@ -474,9 +474,17 @@ TEST_CASE("import cli: a warm start that fails is solved again re-centred, not s
   // left to the spine-by-spine redo.
   CHECK(retry["recentred_solves"].get<int>() >= 1);
   CHECK(retry["isolated_solves"].get<int>() < redo["isolated_solves"].get<int>());
-  // A retry costs a few dozen iterations; a redo about 130 (seven cold
-  // solves). With this build: 2,468 against 4,084.
-  CHECK(retry["solver_iterations"].get<long>() < redo["solver_iterations"].get<long>());
+  // The rescues' iterations are counted, and are part of the total. Which
+  // costs less is not asserted here: the two runs part ways after their
+  // first rescue, so one render's totals also differ by every step after it,
+  // and a single rescue's cost varies (here 85 iterations per retry against
+  // 54 for the one redo). Over the four-press ensemble of the first 1.2 s,
+  // warm_retry=no takes 1.0-1.21 times the iterations (docs/PERFORMANCE.md,
+  // "Stuck joints held where they stuck").
+  for (const nlohmann::json* run : {&redo, &retry}) {
+    CHECK((*run)["rescue_iterations"].get<long>() > 0);
+    CHECK((*run)["rescue_iterations"].get<long>() < (*run)["solver_iterations"].get<long>());
+  }
   CHECK(retry["failed_steps"].get<int>() == 0);
   // The same mark: the landing's blot covers the same area within 10% (the
   // two differ by 5%: a redone group's spines were solved apart, each
