@@ -6,6 +6,7 @@
 
 #include "engine/error.h"
 #include "engine/json_reader.h"
+#include "engine/spine_solver.h"
 #include "engine/text_file.h"
 
 namespace bristle {
@@ -323,8 +324,8 @@ Brush parseBrush(const std::string& text, const std::string& path,
     const JsonObject h = top.object("solver");
     b.solver.friction_form = h.string("friction_form", "");
     const std::string& f = b.solver.friction_form;
-    h.require(f.empty() || f == "auto" || f == "objective" || f == "epigraph", "friction_form",
-              "must be \"auto\", \"objective\" or \"epigraph\"");
+    h.require(f.empty() || parseFrictionForm(f).has_value(), "friction_form",
+              std::string("must be ") + kFrictionFormNames);
     h.rejectUnknownKeys();
   });
   if (top.has("paint")) part([&] {

@@ -483,9 +483,8 @@ class IpoptSolver : public SpineSolver {
       }
       // bristle's own: friction as objective terms or in epigraph form (BrushNlp above).
       if (name == "friction_form") {
-        if (value == "auto") friction_form_ = FrictionForm::kAuto;
-        else if (value == "epigraph") friction_form_ = FrictionForm::kEpigraph;
-        else if (value == "objective") friction_form_ = FrictionForm::kObjective;
+        const std::optional<FrictionForm> form = parseFrictionForm(value);
+        if (form) friction_form_ = *form;
         else if (bad_option_.empty()) bad_option_ = name + "=" + value;
         continue;
       }
@@ -662,7 +661,6 @@ class IpoptSolver : public SpineSolver {
   // objective form stays: the epigraph form takes the flat a quarter more
   // iterations on the tablet, and only the fan would gain (docs/dynamics.md,
   // "Friction in epigraph form").
-  enum class FrictionForm { kAuto, kObjective, kEpigraph };
   FrictionForm friction_form_ = FrictionForm::kAuto;
   // bristle's KKT solver for every solve whose blocks are within
   // kOwnKktMaxRows (--ipopt-option linear_solver=dense, the default; any
@@ -671,6 +669,13 @@ class IpoptSolver : public SpineSolver {
 };
 
 }  // namespace
+
+std::optional<FrictionForm> parseFrictionForm(const std::string& name) {
+  if (name == "auto") return FrictionForm::kAuto;
+  if (name == "objective") return FrictionForm::kObjective;
+  if (name == "epigraph") return FrictionForm::kEpigraph;
+  return std::nullopt;
+}
 
 const char* toString(SolveStatus s) {
   switch (s) {

@@ -5,6 +5,7 @@
 // state.
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -21,6 +22,12 @@ enum class SolveStatus {
   kFailed,      // no usable solution; the caller keeps the previous state
 };
 const char* toString(SolveStatus s);
+
+// Ipopt's form for friction (docs/dynamics.md, "Friction in epigraph form"),
+// as a brush file's "solver" block and --ipopt-option friction_form spell it.
+enum class FrictionForm { kAuto, kObjective, kEpigraph };
+inline constexpr const char* kFrictionFormNames = "\"auto\", \"objective\" or \"epigraph\"";
+std::optional<FrictionForm> parseFrictionForm(const std::string& name);
 
 struct SolveSummary {
   SolveStatus status = SolveStatus::kOk;
