@@ -28,11 +28,12 @@ struct SimOptions {
   // Canvas multipliers below this are grazing contact, not contact
   // (docs/design.md, "Solver notes": grazing joints show 1e-6..3e-4 N).
   double contact_threshold_n = 1e-3;
-  // Stiction with hysteresis (§3.4.1): a sticking joint that moves further than
-  // slip_mm in a step has slipped and the step is solved again with mu_kinetic;
-  // a sliding joint that moves less than stick_mm sticks again. Smoothed
-  // friction (engine/friction.h) reaches 99.5% of mu Fn at 10x its width and 98%
-  // at 5x: a joint creeping slower than that is held, not dragged.
+  // Stiction with hysteresis (§3.4.1): a sticking joint that has moved further
+  // than slip_mm from where it stuck (SpineState::stuck_xy_mm) has slipped, and
+  // the step is solved again with mu_kinetic; a sliding joint that moves less
+  // than stick_mm in a step sticks again. Smoothed friction (engine/friction.h)
+  // reaches 99.5% of mu Fn at 10x its width and 98% at 5x: a joint creeping
+  // less than that is held, not dragged.
   double slip_mm = 10 * kSmoothMm;
   double stick_mm = 5 * kSmoothMm;
 };
