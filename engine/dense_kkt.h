@@ -15,7 +15,9 @@
 //
 // MA27 keeps no state between calls: its caller holds the arrays. So the
 // block structure and the factors live in the caller's IW and A arrays, laid
-// out as dense_kkt.cpp describes.
+// out as dense_kkt.cpp describes. The one thing kept besides, per thread, is
+// each sparse block's symbolic analysis: the next factorisation of a block
+// with the same structure reuses it and gives the same bits as a fresh one.
 
 namespace bristle {
 
@@ -37,5 +39,10 @@ void bristleDenseMa27c(int* n, double* a, int* la, int* iw, int* liw, double* w,
 // Hands the functions above to Ipopt's HSL loader as its MA27. After this, an
 // Ipopt whose option linear_solver is "ma27" uses them. Idempotent.
 void installDenseKktSolver();
+
+// How many symbolic analyses of sparse blocks this thread has made (each
+// factorisation of a block whose structure, row order or zero entries
+// changed since its last one). For the tests.
+long long sparseKktAnalyses();
 
 }  // namespace bristle
