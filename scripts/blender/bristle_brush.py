@@ -93,8 +93,19 @@ OBJECT_PROPS = {
     "strips_clumps": (int, lambda v: v >= 0, ">= 0"),
     "strips_clumping": (float, lambda v: 0 <= v <= 1, "in [0, 1]"),
     "paint_capacity": (float, lambda v: v > 0, "> 0"),
+    # Hair volume (docs/brush-format.md): the ranges bristle's reader enforces.
+    "volume_min_separation": (float, lambda v: 0 < v < 1, "in (0, 1)"),
+    "volume_stiffness_n_per_mm": (float, lambda v: 0 < v <= 1000, "in (0, 1000]"),
+    "volume_max_separation": (float, lambda v: 1 < v <= 100, "in (1, 100]"),
+    "volume_cohesion_n_per_mm": (float, lambda v: 0 < v <= 1000, "in (0, 1000]"),
+    "volume_tip_spread": (float, lambda v: 0 <= v <= 1, "in [0, 1]"),
+    "solver_friction_form": (str, lambda v: v in ("auto", "epigraph", "objective"),
+                             "auto, epigraph or objective"),
 }
-OBJECT_PROP_PREFIXES = ("mu_", "anisotropy_", "strips_", "paint_")
+OBJECT_PROP_PREFIXES = ("mu_", "anisotropy_", "strips_", "paint_", "volume_", "solver_")
+# The volume block's keys after volume_, in the library files' order.
+VOLUME_KEYS = ("min_separation", "stiffness_n_per_mm", "max_separation", "cohesion_n_per_mm",
+               "tip_spread")
 
 
 class BrushError(Exception):
@@ -503,8 +514,15 @@ class _Export:
             out["strips"] = strips
         elif any(k in props for k in strip_keys):
             self.warn("%s: strips_* properties without 'strips_count': no strips" % self.where)
+        if "volume_min_separation" in props:
+            out["volume"] = {k: props["volume_" + k] for k in VOLUME_KEYS if "volume_" + k in props}
+        elif any("volume_" + k in props for k in VOLUME_KEYS):
+            self.warn("%s: volume_* properties without 'volume_min_separation': no hair volume"
+                      % self.where)
         if "paint_capacity" in props:
             out["paint"] = {"capacity": props["paint_capacity"]}
+        if "solver_friction_form" in props:
+            out["solver"] = {"friction_form": props["solver_friction_form"]}
         return out
 
 
@@ -719,9 +737,17 @@ def import_brush(context, brush, set_units=True):
                           ("clumping", float)):
             if key in strips:
                 arm["strips_" + key] = kind(strips[key])
+    volume = brush.get("volume")
+    if volume is not None:
+        for key in VOLUME_KEYS:
+            if key in volume:
+                arm["volume_" + key] = float(volume[key])
     paint = brush.get("paint")
     if paint is not None and "capacity" in paint:
         arm["paint_capacity"] = float(paint["capacity"])
+    solver = brush.get("solver")
+    if solver is not None and "friction_form" in solver:
+        arm["solver_friction_form"] = str(solver["friction_form"])
 
     surface = brush.get("surface")
     if surface is not None:

@@ -102,7 +102,10 @@ def differences(got, want, cage_tol=LENGTH_TOL_MM):
         elif not abs(a - b) <= tol:
             out.append("%s: %r vs %r (tolerance %g)" % (path, a, b, tol))
 
-    for key in ("format", "name", "description", "friction", "strips", "paint"):
+    # Every block the file has comes back: a block the exporter does not know
+    # would otherwise be dropped without a word.
+    close("/ (keys)", sorted(got), sorted(want), None)
+    for key in ("format", "name", "description", "friction", "strips", "volume", "paint", "solver"):
         close("/" + key, got.get(key), want.get(key), None)  # 2 == 2.0: numbers by value
     close("/spines", len(got["spines"]), len(want["spines"]), None)
     for i, (g, w) in enumerate(zip(got["spines"], want["spines"])):
@@ -370,6 +373,13 @@ class LibraryRoundTrip(unittest.TestCase):
         diffs = differences(got, want)
         self.assertEqual(len(diffs), 2, diffs)
         self.assertTrue(diffs[0].startswith("/spines/1/rest_angles_rad/2/1"), diffs)
+        # A block the export lost is reported too (the round has hair volume).
+        with open(os.path.join(ROOT, "scenes", "brushes", "round.json")) as f:
+            round_brush = json.load(f)
+        lost = {k: v for k, v in round_brush.items() if k != "volume"}
+        diffs = differences(lost, round_brush)
+        self.assertTrue(any(d.startswith("/ (keys)") for d in diffs), diffs)
+        self.assertTrue(any(d.startswith("/volume") for d in diffs), diffs)
 
 
 class AddOn(unittest.TestCase):
