@@ -34,6 +34,15 @@ std::string traceLine(const BrushState& st) {
     js["contact"] = s.contact;
     js["normal_force_n"] = s.solution.normal_force_n;
     js["sliding"] = s.sliding;
+    // Where each sticking contact joint is held (SpineState::stuck_xy_mm);
+    // null for a joint off the paper or sliding.
+    nlohmann::json stuck = nlohmann::json::array();
+    for (size_t k = 0; k < s.contact.size(); ++k) {
+      const bool held = s.contact[k] && !s.sliding[k] && k < s.stuck_xy_mm.size();
+      stuck.push_back(held ? nlohmann::json{s.stuck_xy_mm[k].x(), s.stuck_xy_mm[k].y()}
+                           : nlohmann::json(nullptr));
+    }
+    js["stuck_xy_mm"] = std::move(stuck);
     js["energy_nmm"] = {{"spring", s.energy.spring_nmm},
                         {"friction", s.energy.friction_nmm},
                         {"damping", s.energy.damping_nmm},

@@ -102,6 +102,7 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
   double last_t = -1;
   Touchable touchable;
   std::vector<Eigen::Vector2d> contacts;
+  int stuck_joints = 0;
   const double contact_band_mm = 0.1;
   while (std::getline(lines, line)) {
     const nlohmann::json j = nlohmann::json::parse(line);
@@ -120,6 +121,20 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
       REQUIRE(sp.at("contact").size() == n);
       REQUIRE(sp.at("normal_force_n").size() == n);
       REQUIRE(sp.at("sliding").size() == n);
+      // A sticking contact joint is held within slip_mm of where it stuck
+      // (else it would have slipped); the others have no such point.
+      REQUIRE(sp.at("stuck_xy_mm").size() == n);
+      for (size_t k = 0; k < n; ++k) {
+        const nlohmann::json& held = sp["stuck_xy_mm"][k];
+        const bool sticking = sp["contact"][k].get<bool>() && !sp["sliding"][k].get<bool>();
+        REQUIRE(held.is_null() == !sticking);
+        if (!sticking) continue;
+        const Eigen::Vector2d at(sp["joints_mm"][k + 1][0].get<double>(),
+                                 sp["joints_mm"][k + 1][1].get<double>());
+        ++stuck_joints;
+        CHECK((at - Eigen::Vector2d(held[0].get<double>(), held[1].get<double>())).norm() <=
+              SimOptions{}.slip_mm);
+      }
       for (const char* k : {"spring", "friction", "damping"})
         REQUIRE(sp.at("energy_nmm").contains(k));
       REQUIRE(sp.at("solver").at("status").is_string());
@@ -150,6 +165,7 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
   CHECK(count >= static_cast<int>(planStepTimes(traj, brush, SimOptions{}).size()));
   CHECK(last_t == Approx(traj.endTime()));
   REQUIRE(!contacts.empty());
+  CHECK(stuck_joints > 0);  // the S-curve's turns hold some joints still
 
   // Every painted pixel lies under brush geometry that could reach the canvas
   // (slack: 1.5 px for the pixel's extent and rasterisation).
