@@ -371,8 +371,10 @@ SparseAnalysis* patternFor(int s, const SparseEntries& e, const std::vector<int>
 // a compressed-column matrix: duplicates summed from 0 in the triplets'
 // order, off-diagonal zeros left out and every diagonal present. The order
 // puts the rows with a positive diagonal first. Returns the analysis whose
-// matrix m holds it, ready to factorize.
-SparseAnalysis* assembleSparseBlock(int s, const SparseEntries& e, SparseBlockCache* c) {
+// matrix m holds it, ready to factorize. `same_structure`: the caller's whole
+// matrix has the structure of its last call.
+SparseAnalysis* assembleSparseBlock(int s, const SparseEntries& e, bool same_structure,
+                                    SparseBlockCache* c) {
   thread_local std::vector<double> diag, sums;
   thread_local std::vector<int> perm;
   diag.assign(s, 0.0);
@@ -381,8 +383,10 @@ SparseAnalysis* assembleSparseBlock(int s, const SparseEntries& e, SparseBlockCa
     if (e.irn[t] == e.icn[t]) diag[e.local[e.irn[t] - 1]] += e.values[t];
   }
   positiveFirst(diag, &perm);
-  bool same = static_cast<int>(c->irn.size()) == e.count;
-  for (int k = 0; same && k < e.count; ++k)
+  // The whole matrix's structure as at the last call (which therefore left
+  // this block's cache on it), or else this block's compared.
+  bool same = same_structure || static_cast<int>(c->irn.size()) == e.count;
+  for (int k = 0; same && !same_structure && k < e.count; ++k)
     same = c->irn[k] == e.irn[e.mine[k]] && c->icn[k] == e.icn[e.mine[k]];
   if (!same) {
     c->recent.clear();
@@ -421,9 +425,9 @@ SparseAnalysis* assembleSparseBlock(int s, const SparseEntries& e, SparseBlockCa
 // ints (the permutation, L's column starts and row indices). Adds D's
 // negative and zero entries to the counts; a failed factorisation counts every
 // row as zero. `cache` is the block's cache from the last factorisation.
-void factorSparseBlock(int s, const SparseEntries& entries, SparseBlockCache* cache, double* f,
-                       int* ints, int* negative, int* zero) {
-  SparseAnalysis* a = assembleSparseBlock(s, entries, cache);
+void factorSparseBlock(int s, const SparseEntries& entries, bool same_structure,
+                       SparseBlockCache* cache, double* f, int* ints, int* negative, int* zero) {
+  SparseAnalysis* a = assembleSparseBlock(s, entries, same_structure, cache);
   int* perm = ints;  // position k of the factor holds row perm[k] of the block
   std::copy(a->perm.begin(), a->perm.end(), perm);
   auto& ldlt = a->ldlt;
@@ -503,33 +507,48 @@ extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* ic
   // The values arrive in a[0, nz), where the factors go: copy them out first.
   thread_local std::vector<double> values;
   values.assign(a, a + *nz);
-  // Dense blocks are summed into place, s x s each; the entries of sparse
-  // blocks are listed per block (in the triplets' order) for assembleSparseBlock.
-  thread_local std::vector<int> sparse_start, sparse_entries;
-  sparse_start.assign(blocks + 1, 0);
-  for (int b = 0; b < blocks; ++b)
-    if (!sparseBlock(size[b])) std::fill(a + offset[b], a + offset[b + 1], 0.0);
-  for (int k = 0; k < *nz; ++k) {
-    const int i = irn[k] - 1, j = icn[k] - 1;
-    const int b = ikeep[2 * N + i];
-    const int s = size[b];
-    if (sparseBlock(s)) {
-      ++sparse_start[b + 1];
-      continue;
+  // Where each triplet goes: for a dense block, its place in the block's
+  // s x s factor (summed there in the triplets' order); for a sparse block,
+  // -1, and the block's triplets are listed (in their order) for
+  // assembleSparseBlock. Both follow the structure alone, so they are kept
+  // while Ipopt hands over the same structure as the last call.
+  thread_local std::vector<int> last_irn, last_icn, sparse_start, sparse_entries;
+  thread_local std::vector<long long> dest;
+  thread_local int last_n = -1;
+  const bool same_structure =
+      last_n == N && static_cast<int>(last_irn.size()) == *nz &&
+      std::equal(irn, irn + *nz, last_irn.begin()) && std::equal(icn, icn + *nz, last_icn.begin());
+  if (!same_structure) {
+    last_n = -1;  // until the lists below are made
+    dest.assign(*nz, -1);
+    sparse_start.assign(blocks + 1, 0);
+    for (int k = 0; k < *nz; ++k) {
+      const int i = irn[k] - 1, j = icn[k] - 1;
+      const int b = ikeep[2 * N + i];
+      const int s = size[b];
+      if (sparseBlock(s)) {
+        ++sparse_start[b + 1];
+        continue;
+      }
+      const int li = ikeep[N + i], lj = ikeep[N + j];
+      dest[k] = offset[b] + static_cast<long long>(std::min(li, lj)) * s + std::max(li, lj);
     }
-    const int li = ikeep[N + i], lj = ikeep[N + j];
-    a[offset[b] + static_cast<long long>(std::min(li, lj)) * s + std::max(li, lj)] += values[k];
-  }
-  for (int b = 0; b < blocks; ++b) sparse_start[b + 1] += sparse_start[b];
-  sparse_entries.resize(sparse_start[blocks]);
-  {
+    for (int b = 0; b < blocks; ++b) sparse_start[b + 1] += sparse_start[b];
+    sparse_entries.resize(sparse_start[blocks]);
     thread_local std::vector<int> fill;
     fill.assign(sparse_start.begin(), sparse_start.end() - 1);
     for (int k = 0; k < *nz; ++k) {
       const int b = ikeep[2 * N + irn[k] - 1];
       if (sparseBlock(size[b])) sparse_entries[fill[b]++] = k;
     }
+    last_irn.assign(irn, irn + *nz);
+    last_icn.assign(icn, icn + *nz);
+    last_n = N;
   }
+  for (int b = 0; b < blocks; ++b)
+    if (!sparseBlock(size[b])) std::fill(a + offset[b], a + offset[b + 1], 0.0);
+  for (int k = 0; k < *nz; ++k)
+    if (dest[k] >= 0) a[dest[k]] += values[k];
   iw[0] = N;
   iw[1] = blocks;
   int* first = iw + 2;
@@ -553,7 +572,8 @@ extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* ic
                                   sparse_start[b + 1] - sparse_start[b]};
       if (static_cast<int>(caches.size()) <= b) caches.resize(b + 1);
       if (!caches[b]) caches[b] = std::make_unique<SparseBlockCache>();
-      factorSparseBlock(s, entries, caches[b].get(), a + offset[b], sparse_ints, &negative, &zero);
+      factorSparseBlock(s, entries, same_structure, caches[b].get(), a + offset[b], sparse_ints,
+                        &negative, &zero);
       sparse_ints += sparseInts(s);
       continue;
     }

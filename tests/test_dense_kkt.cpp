@@ -154,6 +154,20 @@ TEST_CASE("dense KKT solver: solutions and inertia of block matrices, as MA27 gi
   const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(run.x.data(), n);
   const double scale = (m.cwiseAbs() * x.cwiseAbs()).maxCoeff();
   CHECK((m * x - b).cwiseAbs().maxCoeff() <= kResidualTol * scale);
+
+  // The same structure again with other values, as Ipopt's next iteration
+  // hands it over: the places of the triplets, kept from the last call, must
+  // take the new values (dense_kkt.cpp keeps them while the structure holds).
+  Triplets again = t;
+  for (size_t k = 0; k < again.val.size(); ++k) again.val[k] *= 1.5;
+  const Eigen::MatrixXd m2 = again.dense();
+  const Ma27Run run2 = runMa27(again, b);
+  REQUIRE(run2.iflag_b == 0);
+  CHECK(run2.negative == negativeEigenvalues(m2));
+  const Eigen::VectorXd x2 = Eigen::Map<const Eigen::VectorXd>(run2.x.data(), n);
+  CHECK((m2 * x2 - b).cwiseAbs().maxCoeff() <=
+        kResidualTol * (m2.cwiseAbs() * x2.cwiseAbs()).maxCoeff());
+  CHECK((x2 - x / 1.5).cwiseAbs().maxCoeff() <= kResidualTol * x.cwiseAbs().maxCoeff());
 }
 
 namespace {
