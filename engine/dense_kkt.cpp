@@ -480,6 +480,59 @@ void solveSparseBlock(int s, const double* f, const int* ints, double* w) {
   for (int k = 0; k < s; ++k) w[perm[k]] = x[k];
 }
 
+// Where each triplet goes: for a dense block, its place in the block's s x s
+// factor (summed there in the triplets' order); for a sparse block, -1, and
+// the block's triplets are listed (in their order) for assembleSparseBlock.
+// Both follow the structure alone, so they are kept while Ipopt hands over
+// the same structure as the last call.
+struct TripletPlaces {
+  std::vector<int> last_irn, last_icn;
+  int last_n = -1;
+  std::vector<long long> dest;
+  std::vector<int> sparse_start;    // block b's triplets: [sparse_start[b], sparse_start[b + 1])
+  std::vector<int> sparse_entries;  // of sparse_entries, by index k
+  // Brings the places up to this call's structure; true if it is the last
+  // call's (nothing to do).
+  bool follow(int n, int nz, const int* irn, const int* icn, const int* ikeep,
+              const std::vector<int>& size, const std::vector<long long>& offset) {
+    if (last_n == n && static_cast<int>(last_irn.size()) == nz &&
+        std::equal(irn, irn + nz, last_irn.begin()) && std::equal(icn, icn + nz, last_icn.begin()))
+      return true;
+    const int blocks = static_cast<int>(size.size());
+    last_n = -1;  // until the lists below are made
+    dest.assign(nz, -1);
+    sparse_start.assign(blocks + 1, 0);
+    for (int k = 0; k < nz; ++k) {
+      const int i = irn[k] - 1, j = icn[k] - 1;
+      const int b = ikeep[2 * n + i];
+      const int s = size[b];
+      if (sparseBlock(s)) {
+        ++sparse_start[b + 1];
+        continue;
+      }
+      const int li = ikeep[n + i], lj = ikeep[n + j];
+      dest[k] = offset[b] + static_cast<long long>(std::min(li, lj)) * s + std::max(li, lj);
+    }
+    for (int b = 0; b < blocks; ++b) sparse_start[b + 1] += sparse_start[b];
+    sparse_entries.resize(sparse_start[blocks]);
+    std::vector<int> fill(sparse_start.begin(), sparse_start.end() - 1);
+    for (int k = 0; k < nz; ++k) {
+      const int b = ikeep[2 * n + irn[k] - 1];
+      if (sparseBlock(size[b])) sparse_entries[fill[b]++] = k;
+    }
+    last_irn.assign(irn, irn + nz);
+    last_icn.assign(icn, icn + nz);
+    last_n = n;
+    return false;
+  }
+};
+
+// This thread's places (each simulation thread runs its own solves).
+TripletPlaces& tripletPlaces() {
+  thread_local TripletPlaces places;
+  return places;
+}
+
 }  // namespace
 
 extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* icn, double* a,
@@ -507,44 +560,11 @@ extern "C" void bristleDenseMa27b(int* n, int* nz, const int* irn, const int* ic
   // The values arrive in a[0, nz), where the factors go: copy them out first.
   thread_local std::vector<double> values;
   values.assign(a, a + *nz);
-  // Where each triplet goes: for a dense block, its place in the block's
-  // s x s factor (summed there in the triplets' order); for a sparse block,
-  // -1, and the block's triplets are listed (in their order) for
-  // assembleSparseBlock. Both follow the structure alone, so they are kept
-  // while Ipopt hands over the same structure as the last call.
-  thread_local std::vector<int> last_irn, last_icn, sparse_start, sparse_entries;
-  thread_local std::vector<long long> dest;
-  thread_local int last_n = -1;
-  const bool same_structure =
-      last_n == N && static_cast<int>(last_irn.size()) == *nz &&
-      std::equal(irn, irn + *nz, last_irn.begin()) && std::equal(icn, icn + *nz, last_icn.begin());
-  if (!same_structure) {
-    last_n = -1;  // until the lists below are made
-    dest.assign(*nz, -1);
-    sparse_start.assign(blocks + 1, 0);
-    for (int k = 0; k < *nz; ++k) {
-      const int i = irn[k] - 1, j = icn[k] - 1;
-      const int b = ikeep[2 * N + i];
-      const int s = size[b];
-      if (sparseBlock(s)) {
-        ++sparse_start[b + 1];
-        continue;
-      }
-      const int li = ikeep[N + i], lj = ikeep[N + j];
-      dest[k] = offset[b] + static_cast<long long>(std::min(li, lj)) * s + std::max(li, lj);
-    }
-    for (int b = 0; b < blocks; ++b) sparse_start[b + 1] += sparse_start[b];
-    sparse_entries.resize(sparse_start[blocks]);
-    thread_local std::vector<int> fill;
-    fill.assign(sparse_start.begin(), sparse_start.end() - 1);
-    for (int k = 0; k < *nz; ++k) {
-      const int b = ikeep[2 * N + irn[k] - 1];
-      if (sparseBlock(size[b])) sparse_entries[fill[b]++] = k;
-    }
-    last_irn.assign(irn, irn + *nz);
-    last_icn.assign(icn, icn + *nz);
-    last_n = N;
-  }
+  TripletPlaces& places = tripletPlaces();
+  const bool same_structure = places.follow(N, *nz, irn, icn, ikeep, size, offset);
+  const std::vector<long long>& dest = places.dest;
+  const std::vector<int>& sparse_start = places.sparse_start;
+  const std::vector<int>& sparse_entries = places.sparse_entries;
   for (int b = 0; b < blocks; ++b)
     if (!sparseBlock(size[b])) std::fill(a + offset[b], a + offset[b + 1], 0.0);
   for (int k = 0; k < *nz; ++k)
