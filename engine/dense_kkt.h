@@ -15,9 +15,10 @@
 //
 // MA27 keeps no state between calls: its caller holds the arrays. So the
 // block structure and the factors live in the caller's IW and A arrays, laid
-// out as dense_kkt.cpp describes. The one thing kept besides, per thread, is
-// each sparse block's symbolic analysis: the next factorisation of a block
-// with the same structure reuses it and gives the same bits as a fresh one.
+// out as dense_kkt.cpp describes. Kept besides, per thread, are what follows
+// from the structure alone (where each triplet goes) and each sparse block's
+// last few symbolic analyses: the next factorisation of the same structure
+// reuses them and gives the same bits as a fresh one.
 
 namespace bristle {
 
