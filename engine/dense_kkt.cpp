@@ -384,11 +384,14 @@ SparseAnalysis* assembleSparseBlock(int s, const SparseEntries& e, bool same_str
   }
   positiveFirst(diag, &perm);
   // The whole matrix's structure as at the last call (which therefore left
-  // this block's cache on it), or else this block's compared.
-  bool same = same_structure || static_cast<int>(c->irn.size()) == e.count;
-  for (int k = 0; same && !same_structure && k < e.count; ++k)
-    same = c->irn[k] == e.irn[e.mine[k]] && c->icn[k] == e.icn[e.mine[k]];
-  if (!same) {
+  // this block's cache on it), or else this block's triplets compared.
+  auto block_unchanged = [&] {
+    if (static_cast<int>(c->irn.size()) != e.count) return false;
+    for (int k = 0; k < e.count; ++k)
+      if (c->irn[k] != e.irn[e.mine[k]] || c->icn[k] != e.icn[e.mine[k]]) return false;
+    return true;
+  };
+  if (!same_structure && !block_unchanged()) {
     c->recent.clear();
     c->irn.resize(e.count);
     c->icn.resize(e.count);
@@ -490,7 +493,7 @@ struct TripletPlaces {
   int last_n = -1;
   std::vector<long long> dest;
   std::vector<int> sparse_start;    // block b's triplets: [sparse_start[b], sparse_start[b + 1])
-  std::vector<int> sparse_entries;  // of sparse_entries, by index k
+  std::vector<int> sparse_entries;  // the sparse blocks' triplet indices k, block by block
   // Brings the places up to this call's structure; true if it is the last
   // call's (nothing to do).
   bool follow(int n, int nz, const int* irn, const int* icn, const int* ikeep,
