@@ -83,21 +83,28 @@ void spineForwardKinematics(const SpineSpec& spine, const Pose& handle,
   if (order >= 1) fk.dx.assign((n + 1) * nv, Eigen::Vector3d::Zero());
   if (order >= 2) fk.ddx.assign((n + 1) * nv * nv, Eigen::Vector3d::Zero());
 
-  // Fixed-size scratch for the common case; spines have at most kMaxJointsPerSpine joints.
-  JointRotation rot[kMaxJointsPerSpine];
-  Eigen::Matrix3d prefix[kMaxJointsPerSpine + 1];  // prefix[k] = R_h R_0 ... R_{k-1}
+  // prefix[k] = R_h R_0 ... R_{k-1}, the frame segment k hangs from (eq. 11).
+  // Fixed-size scratch: spines have at most kMaxJointsPerSpine joints.
+  Eigen::Matrix3d prefix[kMaxJointsPerSpine + 1];
+  // Each angle's axis in the world frame. Variable v = 2k is theta_k, 2k + 1
+  // phi_k; R_k = B_k Ry(phi) Rx(theta) turns about B_k's y axis by phi, then
+  // about the x axis that turn carried along by theta.
+  Eigen::Vector3d axis[2 * kMaxJointsPerSpine];
   prefix[0] = handle.rotation.toRotationMatrix();
   for (int k = 0; k < n; ++k) {
-    rot[k] = jointRotation(q[2 * k], q[2 * k + 1]);
-    if (base) {
-      // R_k = B_k J(q_k): B_k is constant, so it multiplies every partial.
-      rot[k].r = base[k] * rot[k].r;
-      for (int a = 0; a < 2; ++a) {
-        rot[k].d[a] = base[k] * rot[k].d[a];
-        for (int b = 0; b < 2; ++b) rot[k].dd[a][b] = base[k] * rot[k].dd[a][b];
-      }
-    }
-    prefix[k + 1] = prefix[k] * rot[k].r;
+    const double theta = q[2 * k], phi = q[2 * k + 1];
+    const double ct = std::cos(theta), st = std::sin(theta);
+    const double cp = std::cos(phi), sp = std::sin(phi);
+    Eigen::Matrix3d rx, ry;
+    rx << 1, 0, 0, 0, ct, -st, 0, st, ct;
+    ry << cp, 0, sp, 0, 1, 0, -sp, 0, cp;
+    Eigen::Matrix3d r = ry * rx;  // eq. 10, as jointRotation computes it
+    if (base) r = base[k] * r;
+    prefix[k + 1] = prefix[k] * r;
+    if (order < 1) continue;
+    const Eigen::Matrix3d frame = base ? Eigen::Matrix3d(prefix[k] * base[k]) : prefix[k];
+    axis[2 * k + 1] = frame.col(1);
+    axis[2 * k] = frame * Eigen::Vector3d(cp, 0, -sp);  // Ry(phi) e_x
   }
 
   fk.x[0] = handle.apply(spine.root_mm);
@@ -105,31 +112,30 @@ void spineForwardKinematics(const SpineSpec& spine, const Pose& handle,
     fk.x[k + 1] = fk.x[k] + prefix[k + 1] * Eigen::Vector3d(0, 0, -spine.segment_lengths_mm[k]);
   if (order < 1) return;
 
-  // For end joint j: x_j = x_m + prefix[m] R_m tail[m], where
-  // tail[m] = l_m + R_{m+1} tail[m+1] and tail[j-1] = l_{j-1}; so joint m's angles
-  // enter x_j only through R_m, and derivatives replace R_m by its partials.
-  Eigen::Vector3d tail[kMaxJointsPerSpine];
+  // The angles as a chain of single-axis turns, outermost first: phi_0,
+  // theta_0, phi_1, theta_1, ... A turn about a unit axis w through point o
+  // moves a point p at rate w x (p - o); every later axis and pivot turns
+  // with it. Both angles of joint m pivot about x_m, so
+  //   d x_j / d q_v = w_v x (x_j - x_m)                      (j > m)
+  // and, for turns e no later than i in that chain (differentiating
+  // w_i x (x_j - x_m) once more, with d w_i / d q_e = w_e x w_i, and the
+  // Jacobi identity),
+  //   d2 x_j / d q_e d q_i = w_e x (d x_j / d q_i).
+  // The same derivatives as differentiating eq. 10's matrices (tested
+  // against central differences), with cross products in place of
+  // the products of 3 x 3 matrices along the chain.
+  const auto chainPos = [](int v) { return v % 2 == 0 ? v + 1 : v - 1; };  // phi before theta
   for (int j = 1; j <= n; ++j) {
-    tail[j - 1] = Eigen::Vector3d(0, 0, -spine.segment_lengths_mm[j - 1]);
-    for (int m = j - 2; m >= 0; --m)
-      tail[m] = Eigen::Vector3d(0, 0, -spine.segment_lengths_mm[m]) + rot[m + 1].r * tail[m + 1];
-    for (int m = 0; m < j; ++m) {
-      for (int a = 0; a < 2; ++a) {
-        fk.dx[j * nv + 2 * m + a] = prefix[m] * (rot[m].d[a] * tail[m]);
-        if (order < 2) continue;
-        // Same joint: second derivative of R_m.
-        for (int b = 0; b < 2; ++b)
-          fk.ddx[(j * nv + 2 * m + a) * nv + 2 * m + b] = prefix[m] * (rot[m].dd[a][b] * tail[m]);
-        // Later joint p > m: dR_m ... dR_p.
-        Eigen::Matrix3d chain = prefix[m] * rot[m].d[a];  // R_h R_0..R_{m-1} dR_m
-        for (int p = m + 1; p < j; ++p) {
-          for (int b = 0; b < 2; ++b) {
-            const Eigen::Vector3d v = chain * (rot[p].d[b] * tail[p]);
-            fk.ddx[(j * nv + 2 * m + a) * nv + 2 * p + b] = v;
-            fk.ddx[(j * nv + 2 * p + b) * nv + 2 * m + a] = v;
-          }
-          chain = chain * rot[p].r;
-        }
+    const int used = 2 * j;  // the angles of joints 0 .. j-1 move x_j
+    for (int v = 0; v < used; ++v) fk.dx[j * nv + v] = axis[v].cross(fk.x[j] - fk.x[v / 2]);
+    if (order < 2) continue;
+    for (int v = 0; v < used; ++v) {
+      for (int w = v; w < used; ++w) {
+        const bool v_first = chainPos(v) <= chainPos(w);
+        const int e = v_first ? v : w, i = v_first ? w : v;
+        const Eigen::Vector3d dd = axis[e].cross(fk.dx[j * nv + i]);
+        fk.ddx[(j * nv + v) * nv + w] = dd;
+        fk.ddx[(j * nv + w) * nv + v] = dd;
       }
     }
   }
