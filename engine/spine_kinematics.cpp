@@ -80,8 +80,13 @@ void spineForwardKinematics(const SpineSpec& spine, const Pose& handle,
   SpineFk& fk = *out;
   fk.n = n;
   fk.x.resize(n + 1);
-  if (order >= 1) fk.dx.assign((n + 1) * nv, Eigen::Vector3d::Zero());
-  if (order >= 2) fk.ddx.assign((n + 1) * nv * nv, Eigen::Vector3d::Zero());
+  // Below, every call writes the same entries: those of the angles that move
+  // each point. The rest are zero, so they are zeroed only when sized.
+  const auto sized = [](std::vector<Eigen::Vector3d>* v, size_t count) {
+    if (v->size() != count) v->assign(count, Eigen::Vector3d::Zero());
+  };
+  if (order >= 1) sized(&fk.dx, static_cast<size_t>(n + 1) * nv);
+  if (order >= 2) sized(&fk.ddx, static_cast<size_t>(n + 1) * nv * nv);
 
   // prefix[k] = R_h R_0 ... R_{k-1}, the frame segment k hangs from (eq. 11).
   // Fixed-size scratch: spines have at most kMaxJointsPerSpine joints.
