@@ -41,14 +41,18 @@ trap 'rm -rf "$out"' EXIT
 # cache, keyed by the CPU it sees; Valgrind's CPU is not the host's, so the
 # first render under Valgrind also counts the compiling (about 0.57 G of the
 # round's 13 G on Tc). A private cache, filled by one render of the gesture
-# under Valgrind (without instrumentation, which is faster) before the counted
-# ones, keeps that out of every count. (A warm-up with long steps missed a
-# shader that the full render needs: 0.05 G in every count.)
+# per brush under Valgrind (without instrumentation, which is faster) before
+# the counted ones, keeps that out of every count. (A warm-up with long steps
+# missed a shader that the full render needs: 0.05 G in every count; so did
+# warming up with the first brush only, for the brushes after it, in
+# whichever build met the shader first.)
 export MESA_SHADER_CACHE_DIR=$out/mesa
 unset MESA_SHADER_CACHE_DISABLE
-LP_NUM_THREADS=0 valgrind --tool=none --log-file="$out/warm.log" "${bins[0]}" render -q \
-  --brush "${brushes[0]}" --trajectory "$gesture" --threads 1 -o "$out/warm.png" ||
-  { echo "bench/instructions.sh: the warm-up render failed (see above)" >&2; exit 70; }
+for brush in "${brushes[@]}"; do
+  LP_NUM_THREADS=0 valgrind --tool=none --log-file="$out/warm.log" "${bins[0]}" render -q \
+    --brush "$brush" --trajectory "$gesture" --threads 1 -o "$out/warm.png" ||
+    { echo "bench/instructions.sh: the warm-up render of $brush failed (see above)" >&2; exit 70; }
+done
 
 # One render: "<build index> <brush> <iterations> <instructions>".
 cat > "$out/one.sh" <<'EOF'
