@@ -94,6 +94,33 @@ BENCHMARK(BM_FootprintRender)
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 
+// The floor under any footprint of a window range(0) pixels square: clearing
+// the float colour and depth targets and reading them back, with nothing
+// drawn. Issue 21's 2 ms for 1,000 strips at 512^2 includes this.
+void BM_FootprintFloor(benchmark::State& state) {
+  FootprintWindow window;
+  window.width_px = window.height_px = static_cast<int>(state.range(0));
+  window.px_per_mm = kPxPerMm;
+  FootprintRenderer renderer(static_cast<int>(state.range(0)));
+  FootprintImage image;
+  renderer.render({}, window, kClipMm, &image);  // first use allocates the FBO
+  std::vector<double> us;
+  for (auto _ : state) {
+    const Clock::time_point t0 = Clock::now();
+    renderer.render({}, window, kClipMm, &image);
+    const double dt = seconds(t0, Clock::now());
+    benchmark::DoNotOptimize(image.texels.data());
+    state.SetIterationTime(dt);
+    us.push_back(1e6 * dt);
+  }
+  reportPercentiles(state, us, "");
+}
+BENCHMARK(BM_FootprintFloor)
+    ->ArgName("px")
+    ->Arg(256)->Arg(512)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
+
 // A whole stroke: simulation + footprint + paint per step, the round brush along
 // s-curve.csv, with range(0) threads (StrokeOptions::threads: 1 takes turns, 2
 // simulates ahead while drawing). Time: the stroke; counters: per step (between
