@@ -56,7 +56,8 @@ struct SpineFk {
 
 // order 0: positions only; 1: + first derivatives; 2: + second derivatives.
 // `out` is resized on first use and reused without allocation afterwards.
-// `base` holds the n base rotations B_k, or is null for B_k = I.
+// `base` holds the n base rotations B_k, or is null for B_k = I. They must be
+// rotations (orthonormal, to rounding): the derivatives turn about their axes.
 void spineForwardKinematics(const SpineSpec& spine, const Pose& handle,
                             const Eigen::Matrix3d* base, const double* q, int order,
                             SpineFk* out);
