@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -64,29 +65,42 @@ std::vector<FootprintVertex> wavySurface(const FootprintWindow& w) {
   return tris;
 }
 
-// One footprint render + readback; range(0) is the window side in pixels.
-void BM_FootprintRender(benchmark::State& state) {
-  FootprintWindow window;
-  window.width_px = window.height_px = static_cast<int>(state.range(0));
-  window.px_per_mm = kPxPerMm;
-  const std::vector<FootprintVertex> tris = wavySurface(window);
-  FootprintRenderer renderer(static_cast<int>(state.range(0)));
-  FootprintImage image;
-  renderer.render(tris, window, kClipMm, &image);  // first use allocates the FBO
+// Times FootprintRenderer::render of `tris` in `window`, with its readback;
+// the first call, which allocates the FBO, is left out.
+void timeWindowRender(benchmark::State& state, std::span<const FootprintVertex> tris,
+                      const FootprintWindow& window, FootprintImage* image) {
+  FootprintRenderer renderer(std::max(window.width_px, window.height_px));
+  renderer.render(tris, window, kClipMm, image);
   std::vector<double> us;
   for (auto _ : state) {
     const Clock::time_point t0 = Clock::now();
-    renderer.render(tris, window, kClipMm, &image);
+    renderer.render(tris, window, kClipMm, image);
     const double dt = seconds(t0, Clock::now());
-    benchmark::DoNotOptimize(image.texels.data());
+    benchmark::DoNotOptimize(image->texels.data());
     state.SetIterationTime(dt);
     us.push_back(1e6 * dt);
   }
+  reportPercentiles(state, us, "");
+}
+
+// A window range(0) pixels square at the CLI's resolution.
+FootprintWindow squareWindow(const benchmark::State& state) {
+  FootprintWindow window;
+  window.width_px = window.height_px = static_cast<int>(state.range(0));
+  window.px_per_mm = kPxPerMm;
+  return window;
+}
+
+// One footprint render + readback; range(0) is the window side in pixels.
+void BM_FootprintRender(benchmark::State& state) {
+  const FootprintWindow window = squareWindow(state);
+  const std::vector<FootprintVertex> tris = wavySurface(window);
+  FootprintImage image;
+  timeWindowRender(state, tris, window, &image);
   double covered = 0;
   for (size_t i = 3; i < image.texels.size(); i += 4) covered += image.texels[i];
   state.counters["triangles"] = double(tris.size() / 3);
   state.counters["covered_frac"] = covered / (double(window.width_px) * window.height_px);
-  reportPercentiles(state, us, "");
 }
 BENCHMARK(BM_FootprintRender)
     ->ArgName("px")
@@ -98,22 +112,8 @@ BENCHMARK(BM_FootprintRender)
 // the float colour and depth targets and reading them back, with nothing
 // drawn. Issue 21's 2 ms for 1,000 strips at 512^2 includes this.
 void BM_FootprintFloor(benchmark::State& state) {
-  FootprintWindow window;
-  window.width_px = window.height_px = static_cast<int>(state.range(0));
-  window.px_per_mm = kPxPerMm;
-  FootprintRenderer renderer(static_cast<int>(state.range(0)));
   FootprintImage image;
-  renderer.render({}, window, kClipMm, &image);  // first use allocates the FBO
-  std::vector<double> us;
-  for (auto _ : state) {
-    const Clock::time_point t0 = Clock::now();
-    renderer.render({}, window, kClipMm, &image);
-    const double dt = seconds(t0, Clock::now());
-    benchmark::DoNotOptimize(image.texels.data());
-    state.SetIterationTime(dt);
-    us.push_back(1e6 * dt);
-  }
-  reportPercentiles(state, us, "");
+  timeWindowRender(state, {}, squareWindow(state), &image);
 }
 BENCHMARK(BM_FootprintFloor)
     ->ArgName("px")
