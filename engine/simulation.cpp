@@ -597,7 +597,7 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
   st.joints_mm = fk_.x;
   st.rot.resize(n);
   for (int k = 0; k < n; ++k)
-    st.rot[k] = problem.base[k] * jointRotation(st.solution.q[2 * k], st.solution.q[2 * k + 1]).r;
+    st.rot[k] = problem.base[k] * jointRotation(st.solution.q[2 * k], st.solution.q[2 * k + 1]);
   const std::vector<bool> was_contact = st.contact;
   st.contact.assign(n, false);
   st.sliding.assign(n, false);

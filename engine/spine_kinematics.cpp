@@ -6,25 +6,13 @@
 
 namespace bristle {
 
-JointRotation jointRotation(double theta, double phi) {
+Eigen::Matrix3d jointRotation(double theta, double phi) {
   const double ct = std::cos(theta), st = std::sin(theta);
   const double cp = std::cos(phi), sp = std::sin(phi);
-  // R = Ry(phi) Rx(theta); derivatives act on one factor at a time.
-  Eigen::Matrix3d rx, rxd, rxdd, ry, ryd, rydd;
+  Eigen::Matrix3d rx, ry;
   rx << 1, 0, 0, 0, ct, -st, 0, st, ct;
-  rxd << 0, 0, 0, 0, -st, -ct, 0, ct, -st;
-  rxdd << 0, 0, 0, 0, -ct, st, 0, -st, -ct;
   ry << cp, 0, sp, 0, 1, 0, -sp, 0, cp;
-  ryd << -sp, 0, cp, 0, 0, 0, -cp, 0, -sp;
-  rydd << -cp, 0, -sp, 0, 0, 0, sp, 0, -cp;
-  JointRotation j;
-  j.r = ry * rx;                 // eq. 10
-  j.d[0] = ry * rxd;
-  j.d[1] = ryd * rx;
-  j.dd[0][0] = ry * rxdd;
-  j.dd[0][1] = j.dd[1][0] = ryd * rxd;
-  j.dd[1][1] = rydd * rx;
-  return j;
+  return ry * rx;  // eq. 10
 }
 
 JointAxis jointAxis(double theta, double phi) {
@@ -43,7 +31,7 @@ JointAxis jointAxis(double theta, double phi) {
 std::vector<Eigen::Matrix3d> restRotations(const SpineSpec& spine) {
   std::vector<Eigen::Matrix3d> r;
   r.reserve(spine.rest_angles_rad.size());
-  for (const Eigen::Vector2d& a : spine.rest_angles_rad) r.push_back(jointRotation(a[0], a[1]).r);
+  for (const Eigen::Vector2d& a : spine.rest_angles_rad) r.push_back(jointRotation(a[0], a[1]));
   return r;
 }
 
@@ -97,19 +85,12 @@ void spineForwardKinematics(const SpineSpec& spine, const Pose& handle,
   Eigen::Vector3d axis[2 * kMaxJointsPerSpine];
   prefix[0] = handle.rotation.toRotationMatrix();
   for (int k = 0; k < n; ++k) {
-    const double theta = q[2 * k], phi = q[2 * k + 1];
-    const double ct = std::cos(theta), st = std::sin(theta);
-    const double cp = std::cos(phi), sp = std::sin(phi);
-    Eigen::Matrix3d rx, ry;
-    rx << 1, 0, 0, 0, ct, -st, 0, st, ct;
-    ry << cp, 0, sp, 0, 1, 0, -sp, 0, cp;
-    Eigen::Matrix3d r = ry * rx;  // eq. 10, as jointRotation computes it
-    if (base) r = base[k] * r;
-    prefix[k + 1] = prefix[k] * r;
+    const Eigen::Matrix3d j = jointRotation(q[2 * k], q[2 * k + 1]);
+    prefix[k + 1] = prefix[k] * (base ? Eigen::Matrix3d(base[k] * j) : j);
     if (order < 1) continue;
     const Eigen::Matrix3d frame = base ? Eigen::Matrix3d(prefix[k] * base[k]) : prefix[k];
     axis[2 * k + 1] = frame.col(1);
-    axis[2 * k] = frame * Eigen::Vector3d(cp, 0, -sp);  // Ry(phi) e_x
+    axis[2 * k] = frame * j.col(0);  // Ry(phi) Rx(theta) e_x = Ry(phi) e_x
   }
 
   fk.x[0] = handle.apply(spine.root_mm);

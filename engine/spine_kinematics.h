@@ -23,13 +23,9 @@
 
 namespace bristle {
 
-// Rotation of eq. 10 and its partial derivatives.
-struct JointRotation {
-  Eigen::Matrix3d r;                  // R(theta, phi)
-  Eigen::Matrix3d d[2];               // dR/dtheta, dR/dphi
-  Eigen::Matrix3d dd[2][2];           // second partials (symmetric)
-};
-JointRotation jointRotation(double theta, double phi);
+// Rotation of eq. 10, R(theta, phi) = Ry(phi) Rx(theta). Its derivatives
+// are those of turns about two axes (spineForwardKinematics).
+Eigen::Matrix3d jointRotation(double theta, double phi);
 
 // Axis of a segment in its parent frame: R(theta, phi) (0, 0, 1), with derivatives.
 struct JointAxis {

@@ -23,12 +23,12 @@ constexpr double kFdTol = 1e-6;
 }  // namespace
 
 TEST_CASE("eq. 10 rotation is Ry(phi) Rx(theta) and orthonormal", "[kinematics]") {
-  const JointRotation r = jointRotation(0.3, -0.7);
+  const Eigen::Matrix3d r = jointRotation(0.3, -0.7);
   const double ct = std::cos(0.3), st = std::sin(0.3), cp = std::cos(-0.7), sp = std::sin(-0.7);
   Eigen::Matrix3d expected;
   expected << cp, sp * st, sp * ct, 0, ct, -st, -sp, cp * st, cp * ct;  // eq. 10 as printed
-  CHECK((r.r - expected).norm() < kExactTolMm);
-  CHECK((r.r * r.r.transpose() - Eigen::Matrix3d::Identity()).norm() < kExactTolMm);
+  CHECK((r - expected).norm() < kExactTolMm);
+  CHECK((r * r.transpose() - Eigen::Matrix3d::Identity()).norm() < kExactTolMm);
 }
 
 TEST_CASE("forward kinematics matches hand-computed poses", "[kinematics]") {

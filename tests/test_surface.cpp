@@ -54,7 +54,7 @@ BrushState stateAt(const Brush& b, const Pose& handle, std::vector<std::vector<d
     spineForwardKinematics(b.spines[s], handle, qs.data(), 0, &fk);
     st.spines[s].joints_mm = fk.x;
     for (size_t k = 0; k < qs.size() / 2; ++k)
-      st.spines[s].rot.push_back(jointRotation(qs[2 * k], qs[2 * k + 1]).r);
+      st.spines[s].rot.push_back(jointRotation(qs[2 * k], qs[2 * k + 1]));
   }
   return st;
 }
