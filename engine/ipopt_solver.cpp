@@ -43,6 +43,11 @@ using Ipopt::Number;
 // 8,155 at 1e-3, 8,583 at 1e-2 (docs/PERFORMANCE.md).
 constexpr double kEpigraphSlackMm = 1e-4;
 
+// How far above the paper a joint must stay, whatever the angles, for its
+// canvas constraint to be left out (BrushNlp::reachingJoints). Only rounding
+// needs a margin: the bound is exact geometry, so a micrometre is plenty.
+constexpr double kCanvasClearanceMm = 1e-3;
+
 // Every eval_* below answers false on a NaN or infinity, which Ipopt takes as
 // a failed evaluation (it cuts the step, or stops with a failed solve). Left to
 // itself, Ipopt 3.11 passes a non-finite derivative into the linear solver
@@ -72,12 +77,13 @@ class BrushNlp : public Ipopt::TNLP {
       if (epigraph_)
         for (int j = 1; j <= n; ++j)
           if (p.friction_n[j - 1] > 0) terms_[s].push_back(j);
+      canvas_.push_back(reachingJoints(p));
       const int m = static_cast<int>(terms_[s].size());
       var_offset_.push_back(nvars_);
       con_offset_.push_back(ncons_);
       nvars_ += 2 * n + m;
-      ncons_ += n + m;
-      nnz_jac_ += n * (n + 1);  // canvas constraint j depends on the 2j angles before it
+      ncons_ += canvasCount(s) + m;
+      for (int j : canvas_[s]) nnz_jac_ += 2 * j;  // canvas constraint j: the 2j angles before it
       for (int j : terms_[s]) nnz_jac_ += 2 * j + 1;  // the angles before x_j, and t
       nnz_hess_ += (2 * n) * (2 * n + 1) / 2;
     }
@@ -119,7 +125,7 @@ class BrushNlp : public Ipopt::TNLP {
   bool get_bounds_info(Index, Number* x_l, Number* x_u, Index, Number* g_l,
                        Number* g_u) override {
     for (size_t s = 0; s < problems_.size(); ++s) {
-      const int nq = problems_[s]->vars(), nc = nq / 2, m = termCount(s);
+      const int nq = problems_[s]->vars(), nc = canvasCount(s), m = termCount(s);
       for (int i = 0; i < nq; ++i) {
         const double lim = (i % 2 == 0) ? kThetaLimitRad : kPhiLimitRad;
         x_l[var_offset_[s] + i] = -lim;
@@ -155,7 +161,8 @@ class BrushNlp : public Ipopt::TNLP {
         }
       }
       if (init_lambda)
-        for (int j = 0; j < nc; ++j) lambda[co + j] = have ? sol.lambda[j] : 0.0;
+        for (int c = 0; c < canvasCount(s); ++c)
+          lambda[co + c] = have ? sol.lambda[canvas_[s][c] - 1] : 0.0;
       if (m == 0) continue;
       if (init_x) {
         SpineFk fk;
@@ -175,7 +182,7 @@ class BrushNlp : public Ipopt::TNLP {
           z_L[vo + nv + i] = kept ? sol.friction_z[j - 1] : 0.0;
           z_U[vo + nv + i] = 0.0;
         }
-        if (init_lambda) lambda[co + nc + i] = -p.friction_n[terms_[s][i] - 1];
+        if (init_lambda) lambda[co + canvasCount(s) + i] = -p.friction_n[terms_[s][i] - 1];
       }
     }
     return true;
@@ -196,10 +203,10 @@ class BrushNlp : public Ipopt::TNLP {
   bool eval_g(Index, const Number* x, bool new_x, Index m, Number* g) override {
     update(x, new_x);
     for (size_t s = 0; s < problems_.size(); ++s) {
-      const int n = fk_[s].n, nq = 2 * n;
-      for (int j = 1; j <= n; ++j) g[con_offset_[s] + j - 1] = fk_[s].x[j].z();
+      const int nq = fk_[s].vars(), nc = canvasCount(s);
+      for (int c = 0; c < nc; ++c) g[con_offset_[s] + c] = fk_[s].x[canvas_[s][c]].z();
       for (int i = 0; i < termCount(s); ++i)
-        g[con_offset_[s] + n + i] = x[var_offset_[s] + nq + i] - friction_[s][i].g;
+        g[con_offset_[s] + nc + i] = x[var_offset_[s] + nq + i] - friction_[s][i].g;
     }
     return allFinite(g, m);
   }
@@ -209,22 +216,22 @@ class BrushNlp : public Ipopt::TNLP {
     Index k = 0;
     if (values == nullptr) {
       for (size_t s = 0; s < problems_.size(); ++s) {
-        const int n = problems_[s]->spine->jointCount(), nq = 2 * n;
+        const int nq = problems_[s]->vars(), nc = canvasCount(s);
         const int vo = var_offset_[s], co = con_offset_[s];
-        for (int j = 1; j <= n; ++j)
-          for (int v = 0; v < 2 * j; ++v) {
-            rows[k] = co + j - 1;
+        for (int c = 0; c < nc; ++c)
+          for (int v = 0; v < 2 * canvas_[s][c]; ++v) {
+            rows[k] = co + c;
             cols[k] = vo + v;
             ++k;
           }
         for (int i = 0; i < termCount(s); ++i) {
           // Joint j's friction depends on the 2j angles before it, and on t.
           for (int v = 0; v < 2 * terms_[s][i]; ++v) {
-            rows[k] = co + n + i;
+            rows[k] = co + nc + i;
             cols[k] = vo + v;
             ++k;
           }
-          rows[k] = co + n + i;
+          rows[k] = co + nc + i;
           cols[k] = vo + nq + i;
           ++k;
         }
@@ -233,7 +240,7 @@ class BrushNlp : public Ipopt::TNLP {
     }
     update(x, new_x);
     for (size_t s = 0; s < problems_.size(); ++s) {
-      for (int j = 1; j <= fk_[s].n; ++j)
+      for (int j : canvas_[s])
         for (int v = 0; v < 2 * j; ++v) values[k++] = fk_[s].d(j, v).z();
       for (const FrictionJointTerm& t : friction_[s]) {
         for (int v = 0; v < t.var_count; ++v) values[k++] = -t.grad[v];
@@ -275,7 +282,7 @@ class BrushNlp : public Ipopt::TNLP {
       for (int i = 0; i < nv * nv; ++i) lagrangian_[i] = obj_factor * hess_[s][i];
       for (int i = 0; i < termCount(s); ++i) {
         const FrictionJointTerm& t = friction_[s][i];
-        const double l = -lambda[con_offset_[s] + fk.n + i];
+        const double l = -lambda[con_offset_[s] + canvasCount(s) + i];
         for (int c = 0; c < t.var_count; ++c)
           for (int r = 0; r < t.var_count; ++r)
             lagrangian_[c * nv + r] += l * t.hess[c * t.var_count + r];
@@ -284,8 +291,10 @@ class BrushNlp : public Ipopt::TNLP {
         for (int c = 0; c <= r; ++c) {
           double v = lagrangian_[c * nv + r];
           // Constraint j involves angles of joints < j only.
-          for (int j = std::max(r, c) / 2 + 1; j <= fk.n; ++j)
-            v += lambda[con_offset_[s] + j - 1] * fk.dd(j, r, c).z();
+          for (int i = 0; i < canvasCount(s); ++i) {
+            const int j = canvas_[s][i];
+            if (j > std::max(r, c) / 2) v += lambda[con_offset_[s] + i] * fk.dd(j, r, c).z();
+          }
           values[k++] = v;
         }
     }
@@ -296,8 +305,9 @@ class BrushNlp : public Ipopt::TNLP {
 
   // Rows of the largest block of the KKT matrix Ipopt factors: spines that
   // hair volume links solve as one block. A spine of n joints with m friction
-  // variables has 2n + m variables and n + m constraints, and each constraint
-  // brings a slack and a multiplier: 4n + 3m rows.
+  // variables and c canvas constraints has 2n + m variables and c + m
+  // constraints, and each constraint brings a slack and a multiplier:
+  // 2n + 2c + 3m rows.
   int largestCoupledRows() const {
     const int ns = static_cast<int>(problems_.size());
     std::vector<int> group(ns);
@@ -311,7 +321,7 @@ class BrushNlp : public Ipopt::TNLP {
     int largest = 0;
     for (int s = 0; s < ns; ++s) {
       const int n = problems_[s]->spine->jointCount(), m = termCount(s);
-      largest = std::max(largest, rows[root(s)] += 4 * n + 3 * m);
+      largest = std::max(largest, rows[root(s)] += 2 * n + 2 * canvasCount(s) + 3 * m);
     }
     return largest;
   }
@@ -328,7 +338,9 @@ class BrushNlp : public Ipopt::TNLP {
       sol.q.assign(x + vo, x + vo + nv);
       sol.z_lower.assign(z_L + vo, z_L + vo + nv);
       sol.z_upper.assign(z_U + vo, z_U + vo + nv);
-      sol.lambda.assign(lambda + co, lambda + co + nc);
+      // A joint without a canvas constraint cannot reach the paper: no force.
+      sol.lambda.assign(nc, 0.0);
+      for (int c = 0; c < canvasCount(s); ++c) sol.lambda[canvas_[s][c] - 1] = lambda[co + c];
       sol.normal_force_n.resize(nc);
       // Ipopt's Lagrangian is f + lambda^T g: an active g >= 0 has lambda <= 0,
       // and -lambda is the canvas's force on the joint in newtons (E in N mm, g in mm).
@@ -342,6 +354,26 @@ class BrushNlp : public Ipopt::TNLP {
 
  private:
   int termCount(size_t s) const { return static_cast<int>(terms_[s].size()); }
+  int canvasCount(size_t s) const { return static_cast<int>(canvas_[s].size()); }
+
+  // The joints (1..n) that eq. 5's canvas constraint must hold: those that
+  // some angles could put on the paper. Joint j is never nearer the root than
+  // the segments before it are long, so a root higher above the paper than
+  // that keeps the joint off it whatever the angles, and its constraint could
+  // never be active. Leaving it out takes two rows out of the KKT matrix
+  // (its slack and its multiplier) and only the far barrier term
+  // -mu log(z_j) out of the problem.
+  static std::vector<int> reachingJoints(const SpineProblem& p) {
+    const SpineSpec& spine = *p.spine;
+    const double root_z = p.handle.apply(spine.root_mm).z();
+    std::vector<int> joints;
+    double reach = 0;
+    for (int j = 1; j <= spine.jointCount(); ++j) {
+      reach += spine.segment_lengths_mm[j - 1];
+      if (root_z - reach <= kCanvasClearanceMm) joints.push_back(j);
+    }
+    return joints;
+  }
 
   void update(const Number* x, bool new_x) {
     if (!new_x && have_) return;
@@ -390,6 +422,7 @@ class BrushNlp : public Ipopt::TNLP {
   bool warm_;
   bool epigraph_;
   std::vector<std::vector<int>> terms_;  // per spine, the joints (1..n) whose friction has a t
+  std::vector<std::vector<int>> canvas_;  // per spine, the joints (1..n) with a canvas constraint
   std::vector<CrossBlock> blocks_;
   std::vector<int> link_block_;  // per link, its block
   std::vector<double> cross_;    // one link's cross terms (workspace)

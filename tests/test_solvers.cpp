@@ -335,6 +335,59 @@ TEST_CASE("slsqp reaches the one-joint closed-form equilibrium", "[solvers][slsq
   CHECK(sim.state().force_n.z() == Approx(fn_star).epsilon(kForceRel));
 }
 
+TEST_CASE("ipopt: a hard press lays the belly on the paper, and joints out of reach carry "
+          "nothing",
+          "[solvers][ipopt]") {
+  // Ipopt's NLP leaves out the canvas constraint of a joint that no angles
+  // could put on the paper: its root is higher than the segments before it
+  // are long (engine/ipopt_solver.cpp, reachingJoints). The probe spine of
+  // 4 x 4 mm tilted 60 degrees is lowered from 20 mm, where no joint can
+  // reach, until its root is 0.6 mm up, where every joint can and the belly
+  // lies on the paper; then dragged. Along the way, joints drop in and out
+  // of the NLP's constraints.
+  SpineSpec spine = makeSpine({4, 4, 4, 4}, {10, 10 - 5.0 / 3, 10 - 10.0 / 3, 5}, 0.005);
+  spine.rest_angles_rad[0] = Eigen::Vector2d(0.03, 0);
+  const Brush brush = makeBrush({spine}, 0.4, 0.4);
+  const double tilt = 60 * std::numbers::pi / 180;
+  const Eigen::Vector3d axis = Eigen::Vector3d::UnitY();
+  const std::vector<Pose> path =
+      handlePath({tilted(poseAt(0, 0, 20), tilt, axis), tilted(poseAt(0, 0, 0.6), tilt, axis),
+                  tilted(poseAt(4, 0, 0.6), tilt, axis)});
+  Simulation sim(brush, SimOptions{}, makeIpoptSolver());
+  double t = 0;
+  sim.reset(path.front(), t);
+  // On or above the paper: Ipopt relaxes each bound by 1e-8 of its size
+  // (bound_relax_factor) and converges to tol 1e-8, so a joint on the paper
+  // may sit nanometres under it; 1e-6 mm is a thousand times that, and a
+  // joint left unconstrained by mistake would sink by millimetres.
+  constexpr double kUnderPaperMm = 1e-6;
+  int belly_contacts = 0, out_of_reach = 0;
+  for (size_t i = 1; i < path.size(); ++i) {
+    const BrushState& st = sim.step(path[i], t += 0.01);
+    const SpineState& s = st.spines[0];
+    INFO("step " << i << ": " << s.summary.message);
+    REQUIRE(s.summary.usable());
+    const double root_z = s.joints_mm[0].z();
+    double reach = 0;
+    for (int j = 1; j <= 4; ++j) {
+      INFO("joint " << j);
+      reach += 4;
+      CHECK(s.joints_mm[j].z() >= -kUnderPaperMm);
+      if (j < 4) belly_contacts += s.contact[j - 1];
+      if (root_z - reach > 1e-3) {  // out of reach: no constraint, no force
+        ++out_of_reach;
+        CHECK(s.solution.normal_force_n[j - 1] == 0.0);
+        // (A spine that needed no solve keeps no multipliers at all.)
+        CHECK((s.solution.lambda.empty() || s.solution.lambda[j - 1] == 0.0));
+      }
+    }
+  }
+  // The belly, not only the tip, lay on the paper: at the deepest, joints 1
+  // and 2 carry the press and the tip lifts off by a fraction of a micrometre.
+  CHECK(belly_contacts > 20);
+  CHECK(out_of_reach > 100);  // and the path also held joints out of reach
+}
+
 TEST_CASE("one whole-brush Ipopt NLP and per-spine Ipopt solves reach the same optima",
           "[solvers][ipopt]") {
   const double tilt = 0.3;
@@ -531,12 +584,13 @@ TEST_CASE("ipopt: bristle's KKT solver reaches MUMPS's optima, with and without 
 
 TEST_CASE("ipopt: a KKT block past bristle's solver's limit goes to MUMPS",
           "[solvers][ipopt][dense_kkt]") {
-  // 64 spines of 4 joints in a row, 2 mm apart, each pushing its neighbours
-  // to 2.5 mm at its second joint (the row's ends splay out):
-  // one KKT block of 64 x 16 = 1,024 rows, past kOwnKktMaxRows (1,000), whose
+  // 128 spines of 4 joints in a row, 2 mm apart, each pushing its neighbours
+  // to 2.5 mm at its second joint (the row's ends splay out), held 50 mm above
+  // the paper, out of its reach: no canvas constraints, so 8 rows a spine and
+  // one KKT block of 128 x 8 = 1,024 rows, past kOwnKktMaxRows (1,000), whose
   // MA27-style work array would take 5 x 1,024^2 reals. Such an NLP goes to
   // MUMPS: bit for bit what linear_solver=mumps gives.
-  constexpr int kSpines = 64;
+  constexpr int kSpines = 128;
   std::vector<SpineSpec> specs;
   for (int s = 0; s < kSpines; ++s) {
     specs.push_back(makeSpine({5.0, 5.0, 4.0, 3.0}, {3, 2, 1.5, 1}, 0.0,
