@@ -6,7 +6,7 @@
 // convention of HSL's MA27, which Debian's Ipopt 3.11 accepts through its HSL
 // loader (LSL_setMA27; docs/dynamics.md, "Ipopt's linear solver").
 //
-// Why: bristle's KKT systems are small (a spine of J joints gives 4J rows)
+// Why: bristle's KKT systems are small (a spine of J joints gives 4J rows at most)
 // and, without hair volume, block diagonal, one block per spine. MUMPS 5.5
 // pays a fixed cost on every call (its driver sizes its own save file after
 // each analysis, factorisation and solve), which was 13-22% of a render's
