@@ -361,6 +361,10 @@ TEST_CASE("ipopt: a hard press lays the belly on the paper, and joints out of re
   // may sit nanometres under it; 1e-6 mm is a thousand times that, and a
   // joint left unconstrained by mistake would sink by millimetres.
   constexpr double kUnderPaperMm = 1e-6;
+  // Out of reach: the root higher above the paper than the segments before
+  // the joint are long, by more than the solver's margin for rounding
+  // (kCanvasClearanceMm in engine/ipopt_solver.cpp).
+  constexpr double kOutOfReachMm = 1e-3;
   int belly_contacts = 0, out_of_reach = 0;
   for (size_t i = 1; i < path.size(); ++i) {
     const BrushState& st = sim.step(path[i], t += 0.01);
@@ -374,7 +378,7 @@ TEST_CASE("ipopt: a hard press lays the belly on the paper, and joints out of re
       reach += 4;
       CHECK(s.joints_mm[j].z() >= -kUnderPaperMm);
       if (j < 4) belly_contacts += s.contact[j - 1];
-      if (root_z - reach > 1e-3) {  // out of reach: no constraint, no force
+      if (root_z - reach > kOutOfReachMm) {  // no constraint, so no force
         ++out_of_reach;
         CHECK(s.solution.normal_force_n[j - 1] == 0.0);
         // (A spine that needed no solve keeps no multipliers at all.)
