@@ -307,8 +307,71 @@ Eigen::Vector2d stripBendDirection(const StripLayout& layout, const BrushState& 
   return ns > 0 ? Eigen::Vector2d(sum / ns) : sum;
 }
 
+namespace {
+
+// How far above below_mm a strip's spines must all stay for buildStrips to
+// skip it: far above the rounding of a convex combination (1e-15 relative)
+// and of the vertices' float z (6e-8 relative), and far below anything drawn.
+constexpr double kStripCullMarginMm = 1e-3;
+
+// Dresses one strip's centre line c (layout.samples() points) as a quad
+// strip (buildStrips): width tapering from root to tip, flat side in the
+// canvas plane, texture row u and v = f s along it. Only the quads that reach
+// down to below_mm are appended.
+void appendStripQuads(const StripSpec& spec, const StripLayout& layout, const Eigen::Vector3d* c,
+                      double f, float u, const Eigen::Vector3d& fallback, double below_mm,
+                      std::vector<BrushVertex>* triangles) {
+  const int samples = layout.samples();
+  auto vert = [u](const Eigen::Vector3d& p, float v) {
+    return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
+                       static_cast<float>(p.z()), u, v};
+  };
+  // Both triangles of the quad between samples k - 1 and k have their
+  // lowest vertex at the lower of the two samples' heights (the strip's
+  // side lies in the canvas plane), so the quad is drawn when that reaches
+  // down to below_mm (reachesDown), and a sample is dressed only for a
+  // quad beside it that is drawn.
+  auto quad = [&](int k) {
+    const float z = std::min(static_cast<float>(c[k - 1].z()), static_cast<float>(c[k].z()));
+    return !(z > below_mm);
+  };
+  Eigen::Vector3d prev_left = c[0], prev_right = c[0];
+  float prev_v = 0;
+  for (int k = 0; k < samples; ++k) {
+    const bool before = k > 0 && quad(k), after = k + 1 < samples && quad(k + 1);
+    if (!before && !after) continue;
+    // Tangent: the mean of the adjacent segment directions.
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+    if (k > 0) t += (c[k] - c[k - 1]).normalized();  // Eigen: zero stays zero
+    if (k + 1 < samples) t += (c[k + 1] - c[k]).normalized();
+    // §4.2.1: the flat side faces the canvas, like a billboard whose viewer is
+    // the canvas: side = z x t lies in the canvas plane.
+    Eigen::Vector3d side(-t.y(), t.x(), 0);
+    const double sn = side.norm();
+    side = sn > 1e-6 * t.norm() && sn > 0 ? Eigen::Vector3d(side / sn) : fallback;
+    // Linear taper along the strip's own length, so a shortened strip still
+    // ends at the tip width.
+    const double half = 0.5 * (spec.root_width_mm +
+                               (spec.tip_width_mm - spec.root_width_mm) * layout.sample_s[k]);
+    const Eigen::Vector3d left = c[k] - half * side, right = c[k] + half * side;
+    const float v = static_cast<float>(f * layout.sample_s[k]);
+    if (before) {
+      // (side x t) points down for a level strip: counter-clockwise from below.
+      triangles->push_back(vert(prev_left, prev_v));
+      triangles->push_back(vert(prev_right, prev_v));
+      triangles->push_back(vert(right, v));
+      triangles->push_back(vert(prev_left, prev_v));
+      triangles->push_back(vert(right, v));
+      triangles->push_back(vert(left, v));
+    }
+    prev_left = left, prev_right = right, prev_v = v;
+  }
+}
+
+}  // namespace
+
 void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState& state,
-                 std::vector<BrushVertex>* triangles) {
+                 std::vector<BrushVertex>* triangles, double below_mm) {
   if (layout.count == 0) return;
   const int ns = layout.spines, samples = layout.samples();
   triangles->reserve(triangles->size() + 3 * static_cast<size_t>(layout.triangleCount()));
@@ -332,6 +395,19 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
   if (fallback.norm() < 1e-6) fallback = Eigen::Vector3d(by.x(), by.y(), 0);
   fallback.normalize();
 
+  // Each spine's lowest joint. A strip's centre line is a convex combination
+  // of points on its spines (eq. 19 keeps the weights >= 0, summing to 1; a
+  // bunch's are means of those, and clumping * s lies in [0, 1]), so it never
+  // dips below the lowest joint of the spines it follows: a strip whose
+  // spines all stay clear of below_mm by more than rounding is not built.
+  // (A brush file holds at most kMaxSpines; one made otherwise is not culled.)
+  const bool cull = ns <= kMaxSpines;
+  double spine_low[kMaxSpines];
+  for (int i = 0; cull && i < ns; ++i) {
+    spine_low[i] = kAllHeights;
+    for (const Eigen::Vector3d& x : state.spines[i].joints_mm)
+      spine_low[i] = std::min(spine_low[i], x.z());
+  }
   const StripSpec& spec = brush.strips;
   Eigen::Vector3d c[kMaxStripSamples];   // one strip's centre line
   Eigen::Vector3d cg[kMaxStripSamples];  // its bunch's (clumping)
@@ -347,6 +423,13 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
     const bool clumped = !layout.clump.empty();
     const double* wg =
         clumped ? &layout.clump_weights[static_cast<size_t>(layout.clump[j]) * ns] : nullptr;
+    double low = -kAllHeights;
+    if (cull) {
+      low = kAllHeights;
+      for (int i = 0; i < ns; ++i)
+        if (w[i] != 0 || (clumped && wg[i] != 0)) low = std::min(low, spine_low[i]);
+    }
+    if (low > below_mm + kStripCullMarginMm) continue;
     std::fill(c, c + samples, Eigen::Vector3d::Zero());
     if (clumped) std::fill(cg, cg + samples, Eigen::Vector3d::Zero());
     for (int i = 0; i < ns; ++i) {
@@ -367,40 +450,8 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
     }
     if (clumped)
       for (int k = 0; k < samples; ++k) c[k] += spec.clumping * layout.sample_s[k] * (cg[k] - c[k]);
-    const float u = static_cast<float>((j + 0.5) / layout.count);
-    auto vert = [u](const Eigen::Vector3d& p, float v) {
-      return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
-                         static_cast<float>(p.z()), u, v};
-    };
-    Eigen::Vector3d prev_left = c[0], prev_right = c[0];
-    float prev_v = 0;
-    for (int k = 0; k < samples; ++k) {
-      // Tangent: the mean of the adjacent segment directions.
-      Eigen::Vector3d t = Eigen::Vector3d::Zero();
-      if (k > 0) t += (c[k] - c[k - 1]).normalized();  // Eigen: zero stays zero
-      if (k + 1 < samples) t += (c[k + 1] - c[k]).normalized();
-      // §4.2.1: the flat side faces the canvas, like a billboard whose viewer is
-      // the canvas: side = z x t lies in the canvas plane.
-      Eigen::Vector3d side(-t.y(), t.x(), 0);
-      const double sn = side.norm();
-      side = sn > 1e-6 * t.norm() && sn > 0 ? Eigen::Vector3d(side / sn) : fallback;
-      // Linear taper along the strip's own length, so a shortened strip still
-      // ends at the tip width.
-      const double half = 0.5 * (spec.root_width_mm +
-                                 (spec.tip_width_mm - spec.root_width_mm) * layout.sample_s[k]);
-      const Eigen::Vector3d left = c[k] - half * side, right = c[k] + half * side;
-      const float v = static_cast<float>(f * layout.sample_s[k]);
-      if (k > 0) {
-        // (side x t) points down for a level strip: counter-clockwise from below.
-        triangles->push_back(vert(prev_left, prev_v));
-        triangles->push_back(vert(prev_right, prev_v));
-        triangles->push_back(vert(right, v));
-        triangles->push_back(vert(prev_left, prev_v));
-        triangles->push_back(vert(right, v));
-        triangles->push_back(vert(left, v));
-      }
-      prev_left = left, prev_right = right, prev_v = v;
-    }
+    appendStripQuads(spec, layout, c, f, static_cast<float>((j + 0.5) / layout.count), fallback,
+                     below_mm, triangles);
   }
 }
 

@@ -108,7 +108,9 @@ Eigen::Vector2d stripBendDirection(const StripLayout& layout, const BrushState& 
 // u = (strip + 0.5) / count is the strip's texture row, v = s the arc-length
 // parameter along the spines. A clumped strip's centre line is drawn towards
 // its bunch's by clumping * s. Allocates nothing but the growth of `triangles`.
+// With below_mm, only the triangles that reach down to it (reachesDown): a
+// strip's quads above it are not built.
 void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState& state,
-                 std::vector<BrushVertex>* triangles);
+                 std::vector<BrushVertex>* triangles, double below_mm = kAllHeights);
 
 }  // namespace bristle

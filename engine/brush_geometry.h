@@ -30,19 +30,26 @@ class BrushGeometry {
   BrushGeometry(BrushGeometry&&) noexcept;
   BrushGeometry& operator=(BrushGeometry&&) noexcept;
 
-  // Appends the triangles of the brush in `state` (3 vertices each).
-  void build(const BrushState& state, std::vector<BrushVertex>* triangles);
+  // Appends the triangles of the brush in `state` (3 vertices each). With
+  // below_mm, the hair's (strips' and spine tubes') triangles that do not
+  // reach down to it are left out (reachesDown); the surface's are all kept.
+  void build(const BrushState& state, std::vector<BrushVertex>* triangles,
+             double below_mm = kAllHeights);
   // The parts separately, for previews: surface (or spine tubes) and strips.
-  void buildSurface(const BrushState& state, std::vector<BrushVertex>* triangles);
-  void buildStrips(const BrushState& state, std::vector<BrushVertex>* triangles);
+  void buildSurface(const BrushState& state, std::vector<BrushVertex>* triangles,
+                    double below_mm = kAllHeights);
+  void buildStrips(const BrushState& state, std::vector<BrushVertex>* triangles,
+                   double below_mm = kAllHeights);
   // Everything but the subdivision surface: the spines' tubes and the strips,
   // the parts fine enough to leave gaps between a step's stamps.
-  void buildHair(const BrushState& state, std::vector<BrushVertex>* triangles);
+  void buildHair(const BrushState& state, std::vector<BrushVertex>* triangles,
+                 double below_mm = kAllHeights);
 
   const Brush& brush() const { return *brush_; }
 
  private:
-  void buildSpineTubes(const BrushState& state, std::vector<BrushVertex>* triangles);
+  void buildSpineTubes(const BrushState& state, std::vector<BrushVertex>* triangles,
+                       double below_mm);
 
   const Brush* brush_;
   std::unique_ptr<BrushSurface> surface_;

@@ -19,6 +19,9 @@
 // encodeTextureU and the decoders below are the only places that know the
 // offsets.
 
+#include <algorithm>
+#include <limits>
+
 namespace bristle {
 
 // A vertex of brush geometry in world mm with its brush texture coordinate:
@@ -29,6 +32,19 @@ struct BrushVertex {
   float x_mm, y_mm, z_mm;
   float u, v;
 };
+
+// Whether a triangle reaches down to z_mm: its lowest vertex at or below it,
+// by the footprint renderer's own test (a vertex's float z against a double
+// height; render/stroke_renderer.cpp draws only such triangles). The brush
+// geometry's builders take such a height and leave out the triangles above
+// it: the footprint is the same to the bit, and what is far above the paper
+// (most of a pressed brush) is not built. kAllHeights keeps every triangle
+// (previews, exporters).
+inline constexpr double kAllHeights = std::numeric_limits<double>::infinity();
+inline bool reachesDown(const BrushVertex& a, const BrushVertex& b, const BrushVertex& c,
+                        double z_mm) {
+  return !(std::min({a.z_mm, b.z_mm, c.z_mm}) > z_mm);
+}
 
 enum class BrushPart { kSurface, kStrip, kSpine };
 

@@ -202,6 +202,21 @@ struct SpineTube {
   std::vector<BrushVertex> grid;       // one cap's or the tube's vertices (scratch)
 };
 
+// Appends triangle (a, b, c) if it reaches down to below_mm (reachesDown).
+void pushTriangle(const BrushVertex& a, const BrushVertex& b, const BrushVertex& c,
+                  double below_mm, std::vector<BrushVertex>* triangles) {
+  if (!reachesDown(a, b, c, below_mm)) return;
+  triangles->push_back(a);
+  triangles->push_back(b);
+  triangles->push_back(c);
+}
+
+// Float rounding of a cap's vertices (world mm, float: a relative 6e-8, so
+// 6e-6 mm at 100 mm from the origin) is far below this margin of the caps'
+// cull, which only needs to be safe: a cap within it is built and its
+// triangles tested one by one.
+constexpr double kCapCullMarginMm = 1e-3;
+
 // Places the half-tube rings of one spine.
 void placeTubeRings(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
                     SpineTube* tube) {
@@ -265,12 +280,19 @@ float acrossU(const SpineSpec& spec, const SpineTube& tube, size_t s, size_t ns,
 // tips carry both paints of a double load, and each hair its own streak
 // (engine/paint.h, hairNoise).
 void appendJointCaps(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns,
-                     std::vector<BrushVertex>* triangles) {
+                     std::vector<BrushVertex>* triangles, double below_mm) {
   const int n = spec.jointCount();
   for (int j = 1; j <= n; ++j) {
     const BundleSection& q = tube.section[j];
     if (q.empty()) continue;
     const Eigen::Vector3d& c = tube.centre[j];
+    // A cap's points lie within its section's box (a, b across the hair, c
+    // along it) around the centre; flattening moves them across the canvas
+    // only. So none is lower than the box's half diagonal below the centre,
+    // and a cap whose box stays clear of below_mm by more than float
+    // rounding (kCapCullMarginMm) has no triangle that reaches it.
+    if (c.z() - std::sqrt(q.a * q.a + q.b * q.b + q.c * q.c) > below_mm + kCapCullMarginMm)
+      continue;
     const double spread = q.spread(q.depth(), c.z());
     // The hairs of a bundle end together, cut to length: past the last
     // joint the bundle ends in a face, not a dome. So the tip's cap
@@ -303,20 +325,16 @@ void appendJointCaps(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns
     auto at = [&](int lat, int lon) { return grid[lat * kLon + lon]; };
     for (int lat = 0; lat < kCapRings; ++lat)
       for (int lon = 0; lon < 2 * F; ++lon) {
-        triangles->push_back(at(lat, lon));
-        triangles->push_back(at(lat + 1, lon));
-        triangles->push_back(at(lat + 1, lon + 1));
+        pushTriangle(at(lat, lon), at(lat + 1, lon), at(lat + 1, lon + 1), below_mm, triangles);
         if (lat == 0) continue;  // the pole row is a fan
-        triangles->push_back(at(lat, lon));
-        triangles->push_back(at(lat + 1, lon + 1));
-        triangles->push_back(at(lat, lon + 1));
+        pushTriangle(at(lat, lon), at(lat + 1, lon + 1), at(lat, lon + 1), below_mm, triangles);
       }
   }
 }
 
 // The half tube itself, two triangles per facet and segment.
 void appendTube(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns,
-                std::vector<BrushVertex>* triangles) {
+                std::vector<BrushVertex>* triangles, double below_mm) {
   const int n = spec.jointCount();
   std::vector<BrushVertex>& grid = tube.grid;
   grid.clear();
@@ -330,26 +348,22 @@ void appendTube(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns,
   auto at = [&](int j, int k) { return grid[j * (F + 1) + k]; };
   for (int j = 0; j < n; ++j)
     for (int k = 0; k < F; ++k) {
-      triangles->push_back(at(j, k));
-      triangles->push_back(at(j, k + 1));
-      triangles->push_back(at(j + 1, k + 1));
-      triangles->push_back(at(j, k));
-      triangles->push_back(at(j + 1, k + 1));
-      triangles->push_back(at(j + 1, k));
+      pushTriangle(at(j, k), at(j, k + 1), at(j + 1, k + 1), below_mm, triangles);
+      pushTriangle(at(j, k), at(j + 1, k + 1), at(j + 1, k), below_mm, triangles);
     }
 }
 
 }  // namespace
 
 void buildSpineGeometry(const Brush& brush, const BrushState& state,
-                        std::vector<BrushVertex>* triangles) {
+                        std::vector<BrushVertex>* triangles, double below_mm) {
   const size_t ns = brush.spines.size();
   SpineTube tube;
   for (size_t s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush.spines[s];
     placeTubeRings(spec, state.spines[s], state.handle, &tube);
-    appendJointCaps(spec, tube, s, ns, triangles);
-    appendTube(spec, tube, s, ns, triangles);
+    appendJointCaps(spec, tube, s, ns, triangles, below_mm);
+    appendTube(spec, tube, s, ns, triangles, below_mm);
   }
 }
 

@@ -108,8 +108,9 @@ std::vector<double> bundleReachBelowPoints(const SpineSpec& spec,
 // (SpineState::solution.normal_force_n; none given is no load): where a joint's
 // bundle would reach further below the canvas than bundlePressDepth allows, it
 // is raised until it reaches only that far, and it spreads (bundleSpread) for
-// the depth it keeps.
+// the depth it keeps. Triangles that do not reach down to below_mm are left
+// out (reachesDown).
 void buildSpineGeometry(const Brush& brush, const BrushState& state,
-                        std::vector<BrushVertex>* triangles);
+                        std::vector<BrushVertex>* triangles, double below_mm = kAllHeights);
 
 }  // namespace bristle

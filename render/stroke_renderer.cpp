@@ -58,7 +58,7 @@ StrokeRenderer::~StrokeRenderer() = default;
 bool StrokeRenderer::footprint(BrushGeometry& geometry, const BrushState& state,
                                const CanvasGrid& grid, double contact_band_mm, FootprintImage* out) {
   triangles_.clear();
-  geometry.build(state, &triangles_);
+  geometry.build(state, &triangles_, contact_band_mm);
   return renderTriangles(grid, contact_band_mm, out);
 }
 
@@ -69,8 +69,9 @@ bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double contact_band
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   vertices_.clear();
   for (size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const float zmin = std::min({tris[t].z_mm, tris[t + 1].z_mm, tris[t + 2].z_mm});
-    if (zmin > contact_band_mm) continue;
+    // The hair's builders left out what stays above the band already; the
+    // surface's triangles are all here.
+    if (!reachesDown(tris[t], tris[t + 1], tris[t + 2], contact_band_mm)) continue;
     for (int k = 0; k < 3; ++k) {
       const BrushVertex& v = tris[t + k];
       x0 = std::min(x0, double(v.x_mm));
@@ -216,9 +217,9 @@ bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& f
   // for each blend would double a step's footprint time (docs/PERFORMANCE.md).
   for (int k = 1; k < stamps; ++k) {
     blendStates(from, to, double(k) / stamps, &blended_);
-    geometry.buildHair(blended_, &triangles_);
+    geometry.buildHair(blended_, &triangles_, contact_band_mm);
   }
-  geometry.build(to, &triangles_);
+  geometry.build(to, &triangles_, contact_band_mm);
   return renderTriangles(grid, contact_band_mm, out);
 }
 

@@ -269,3 +269,52 @@ TEST_CASE("the footprint of a fixed pose is the same in two runs", "[library][de
   };
   CHECK(run() == run());
 }
+
+TEST_CASE("the hair left out above the contact band is exactly what the footprint drops",
+          "[library][footprint]") {
+  // BrushGeometry::build and buildHair, given the contact band, leave out
+  // the hair's triangles that stay above it (engine/brush_vertex.h,
+  // reachesDown). The footprint renderer drops such triangles anyway, so the
+  // hair must be the full build's with them filtered out: the same
+  // triangles, bit for bit, in the same order. The surface's triangles are
+  // all kept, and the renderer filters them, so a whole build must filter to
+  // what the full one filters to. And the cut must be real: a pressed brush
+  // has most of its hair above the band.
+  constexpr double kBandMm = 0.1;  // the renderer's default --contact-band-mm
+  auto filtered = [&](const std::vector<BrushVertex>& all) {
+    std::vector<BrushVertex> kept;
+    for (size_t t = 0; t + 2 < all.size(); t += 3)
+      if (reachesDown(all[t], all[t + 1], all[t + 2], kBandMm))
+        kept.insert(kept.end(), all.begin() + t, all.begin() + t + 3);
+    return kept;
+  };
+  auto same = [](const std::vector<BrushVertex>& a, const std::vector<BrushVertex>& b) {
+    return a.size() == b.size() &&
+           std::equal(a.begin(), a.end(), b.begin(), [](const BrushVertex& p, const BrushVertex& q) {
+             return p.x_mm == q.x_mm && p.y_mm == q.y_mm && p.z_mm == q.z_mm && p.u == q.u &&
+                    p.v == q.v;
+           });
+  };
+  for (const char* name : {"round", "flat", "bright", "filbert", "badger", "fan", "calligraphy"}) {
+    INFO(name);
+    const Brush brush = library(name);
+    BrushGeometry geo(brush);
+    Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
+    const double top = brush.reachMm() + 1, down = hairLength(brush) * std::cos(0.3) - 5;
+    sim.reset(at(0, 0, top, 0.3), 0);
+    moveTo(sim, at(0, 0, down, 0.3));
+    moveTo(sim, at(0, 6, down, 0.3));
+    REQUIRE(sim.state().anyContact());
+    std::vector<BrushVertex> all, cut, hair_all, hair_cut;
+    geo.build(sim.state(), &all);
+    geo.build(sim.state(), &cut, kBandMm);
+    geo.buildHair(sim.state(), &hair_all);
+    geo.buildHair(sim.state(), &hair_cut, kBandMm);
+    CHECK(same(filtered(all), filtered(cut)));
+    CHECK(same(filtered(hair_all), hair_cut));
+    CHECK_FALSE(hair_cut.empty());  // pressed: some hair reaches the band
+    // At least a third of the hair's triangles are above it, for every
+    // library brush pressed 5 mm (measured: each leaves out more than half).
+    CHECK(3 * (hair_all.size() - hair_cut.size()) >= hair_all.size());
+  }
+}
