@@ -381,13 +381,15 @@ PaintCanvas::PaintCanvas(const CanvasGrid& grid, const PaperSpec& paper, MixMode
                                    static_cast<float>(srgbToLinear(colour.b))};
   dry_.assign(n, bg);
   dry_height_.assign(n, 0.0f);
-  tooth_.resize(n);
-  for (int r = 0; r < grid.height_px; ++r)
-    for (int c = 0; c < grid.width_px; ++c) {
-      const double x = grid.x0_mm + (c + 0.5) / grid.px_per_mm;
-      const double y = grid.y0_mm + (grid.height_px - r - 0.5) / grid.px_per_mm;
-      tooth_[index(c, r)] = static_cast<float>(paperTooth(paper, x, y));
-    }
+  tooth_.assign(n, -1.0f);  // tooth() fills each pixel in on first use
+}
+
+float PaintCanvas::toothAt(size_t i) const {
+  const int c = static_cast<int>(i % static_cast<size_t>(grid_.width_px));
+  const int r = static_cast<int>(i / static_cast<size_t>(grid_.width_px));
+  const double x = grid_.x0_mm + (c + 0.5) / grid_.px_per_mm;
+  const double y = grid_.y0_mm + (grid_.height_px - r - 0.5) / grid_.px_per_mm;
+  return static_cast<float>(paperTooth(paper_, x, y));
 }
 
 std::array<double, 3> PaintCanvas::reflectance(size_t i) const {

@@ -216,7 +216,14 @@ class PaintCanvas {
   PaintCell& wet(size_t i) { return wet_[i]; }
   const PaintCell& wet(size_t i) const { return wet_[i]; }
   // Paper tooth at a pixel: 0 in the deepest valley, 1 on the highest peak.
-  float tooth(size_t i) const { return tooth_[i]; }
+  // Worked out on the pixel's first use (paperTooth at its centre) and kept:
+  // a stroke touches a small part of its canvas, and a painting's canvas of
+  // tens of megapixels took seconds to fill in advance. Not thread-safe, as
+  // nothing else of the canvas is.
+  float tooth(size_t i) const {
+    if (tooth_[i] < 0) tooth_[i] = toothAt(i);
+    return tooth_[i];
+  }
   // Linear reflectance of the dry layer (paper and dried paint).
   const std::array<float, 3>& dryReflectance(size_t i) const { return dry_[i]; }
 
@@ -240,7 +247,8 @@ class PaintCanvas {
   std::vector<PaintCell> wet_;
   std::vector<std::array<float, 3>> dry_;
   std::vector<float> dry_height_;
-  std::vector<float> tooth_;
+  float toothAt(size_t i) const;
+  mutable std::vector<float> tooth_;  // < 0: not worked out yet
 };
 
 // Paper tooth (value noise, two octaves, world-anchored so a pixel at the same

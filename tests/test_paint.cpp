@@ -490,6 +490,29 @@ TEST_CASE("Transfer and paper are deterministic", "[paint][transfer]") {
   CHECK(paperTooth(a, 3.3, 4.4) != paperTooth(b, 3.3, 4.4));
 }
 
+TEST_CASE("PaintCanvas: a pixel's tooth is the paper's at its centre, in any order of use",
+          "[paint]") {
+  // The canvas works a pixel's tooth out on first use (engine/paint.h). It
+  // must be paperTooth at the pixel's centre, exactly (the float of the
+  // double), whichever pixels were asked for before: here every pixel of a
+  // canvas, first in reverse order, then again from the start.
+  PaperSpec paper;
+  paper.seed = 11;
+  const CanvasGrid g = grid(37, 23);
+  const PaintCanvas canvas(g, paper, MixModel::kKubelkaMunk);
+  auto expected = [&](size_t i) {
+    const int c = static_cast<int>(i % g.width_px), r = static_cast<int>(i / g.width_px);
+    return static_cast<float>(paperTooth(paper, g.x0_mm + (c + 0.5) / g.px_per_mm,
+                                         g.y0_mm + (g.height_px - r - 0.5) / g.px_per_mm));
+  };
+  bool all = true;
+  for (size_t i = canvas.pixels(); i-- > 0;) all = all && canvas.tooth(i) == expected(i);
+  for (size_t i = 0; i < canvas.pixels(); ++i) all = all && canvas.tooth(i) == expected(i);
+  CHECK(all);
+  CHECK(canvas.tooth(canvas.index(5, 7)) >= 0);
+  CHECK(canvas.tooth(canvas.index(5, 7)) <= 1);
+}
+
 TEST_CASE("FNV-1a 64 matches its published test vectors", "[paint]") {
   // draft-eastlake-fnv: FNV1a64("") = cbf29ce484222325, ("a") = af63dc4c8601ec8c,
   // ("foobar") = 85944171f73967e8.
