@@ -403,9 +403,13 @@ class BrushNlp : public Ipopt::TNLP {
   void addLink(const VolumeLink& l, CrossBlock* block) {
     const int nva = problems_[l.a]->vars(), nvb = problems_[l.b]->vars();
     cross_.assign(static_cast<size_t>(nva) * nvb, 0.0);
+    int parts = 0;
     energy_ += volumeLinkEnergy(l, fk_[l.a], fk_[l.b], grad_.data() + var_offset_[l.a],
                                 grad_.data() + var_offset_[l.b], hess_[l.a].data(),
-                                hess_[l.b].data(), cross_.data());
+                                hess_[l.b].data(), cross_.data(), &parts);
+    // A pair between its limits adds nothing: its cross block would add zeros
+    // to a block that starts at +0 and so never holds -0, which changes no bit.
+    if (parts == 0) return;
     for (int w = 0; w < nva; ++w)    // variable of a
       for (int v = 0; v < nvb; ++v) {  // variable of b
         const double h = cross_[static_cast<size_t>(w) * nvb + v];

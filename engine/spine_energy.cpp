@@ -96,7 +96,7 @@ int volumeParts(const Eigen::Vector3d& delta, const Eigen::Vector3d& push_dir, d
 // the terms over r are those of the distance only (not of a held push).
 double volumeLinkEnergy(const VolumeLink& l, const SpineFk& fa, const SpineFk& fb,
                         double* grad_a, double* grad_b, double* hess_aa, double* hess_bb,
-                        double* hess_ba) {
+                        double* hess_ba, int* active_parts) {
   VolumePart parts[2];
   const int np = volumeParts(fa.x[l.joint] - fb.x[l.joint], l.push_dir, l.min_mm, l.max_mm,
                              l.stiffness_n_per_mm, l.cohesion_n_per_mm, parts);
@@ -113,27 +113,36 @@ double volumeLinkEnergy(const VolumeLink& l, const SpineFk& fa, const SpineFk& f
       if (grad_a) grad_a[v] += pt.df * ra[v];
       if (grad_b) grad_b[v] += pt.df * rb[v];
     }
-    for (int v = 0; v < nj; ++v)
-      for (int w = 0; w < nj; ++w) {
+    // Each spine's own block is symmetric: its lower triangle (row v >= column
+    // w, all that Ipopt reads) is computed and mirrored.
+    for (int w = 0; w < nj; ++w)
+      for (int v = w; v < nj; ++v) {
         if (hess_aa) {
           const double across =
               pt.curved ? (fa.d(l.joint, v).dot(fa.d(l.joint, w)) - ra[v] * ra[w]) / pt.r : 0.0;
           const double d2 = across + pt.u.dot(fa.dd(l.joint, v, w));
-          hess_aa[w * nva + v] += pt.ddf * ra[v] * ra[w] + pt.df * d2;
+          const double h = pt.ddf * ra[v] * ra[w] + pt.df * d2;
+          hess_aa[w * nva + v] += h;
+          if (v != w) hess_aa[v * nva + w] += h;
         }
         if (hess_bb) {
           const double across =
               pt.curved ? (fb.d(l.joint, v).dot(fb.d(l.joint, w)) - rb[v] * rb[w]) / pt.r : 0.0;
           const double d2 = across - pt.u.dot(fb.dd(l.joint, v, w));
-          hess_bb[w * nvb + v] += pt.ddf * rb[v] * rb[w] + pt.df * d2;
+          const double h = pt.ddf * rb[v] * rb[w] + pt.df * d2;
+          hess_bb[w * nvb + v] += h;
+          if (v != w) hess_bb[v * nvb + w] += h;
         }
-        if (hess_ba) {  // v: variable of b, w: variable of a
+      }
+    if (hess_ba)
+      for (int v = 0; v < nj; ++v)
+        for (int w = 0; w < nj; ++w) {  // v: variable of b, w: variable of a
           const double d2 =
               pt.curved ? -(fb.d(l.joint, v).dot(fa.d(l.joint, w)) + rb[v] * ra[w]) / pt.r : 0.0;
           hess_ba[w * nvb + v] += pt.ddf * rb[v] * ra[w] + pt.df * d2;
         }
-      }
   }
+  if (active_parts) *active_parts = np;
   return energy;
 }
 

@@ -98,9 +98,11 @@ struct VolumeLink {
 // kinematics (order 2 when hessians are wanted): grad_a and grad_b (vars of
 // each), hess_aa and hess_bb (full, column-major, as spineEnergy's) and hess_ba,
 // d2E / dq_b,u dq_a,v at [v * vars_b + u]. Any pointer may be null.
+// active_parts (if given) gets how many parts (push, cohesion) acted: with
+// none, nothing was added anywhere.
 double volumeLinkEnergy(const VolumeLink& link, const SpineFk& fa, const SpineFk& fb,
                         double* grad_a, double* grad_b, double* hess_aa, double* hess_bb,
-                        double* hess_ba);
+                        double* hess_ba, int* active_parts = nullptr);
 
 // Everything that stays fixed during one solve of one spine.
 struct SpineProblem {
