@@ -260,6 +260,26 @@ double smallestCurvature(const VolumeLink& link, const Eigen::Vector3d& xa,
 }
 }  // namespace
 
+TEST_CASE("a hair-volume pair reports whether it acted, and its own blocks are symmetric",
+          "[energy][volume]") {
+  // Joints 2 mm apart; limits 1-3 mm leave the pair idle, 2.5-3 mm push it.
+  const Eigen::Vector3d xa(2.0, 0.3, 0.1), xb(0, 0, 0);
+  const SpineFk fa = planarJoint(xa), fb = planarJoint(xb);
+  double g[4] = {}, haa[4] = {}, hbb[4] = {}, hba[4] = {};
+  int parts = -1;
+  const VolumeLink idle{0, 1, 1, 1.0, 3.0, 10.0, 0.5};
+  CHECK(volumeLinkEnergy(idle, fa, fb, g, g + 2, haa, hbb, hba, &parts) == 0.0);
+  CHECK(parts == 0);  // and nothing was added: the caller may skip its copies
+  for (int i = 0; i < 4; ++i) CHECK((g[i] == 0 && haa[i] == 0 && hbb[i] == 0 && hba[i] == 0));
+  const VolumeLink pushed{0, 1, 1, 2.5, 3.0, 10.0, 0.5};
+  CHECK(volumeLinkEnergy(pushed, fa, fb, g, g + 2, haa, hbb, hba, &parts) > 0.0);
+  CHECK(parts == 1);
+  // Each spine's block is filled from its lower triangle, so exactly symmetric.
+  CHECK(haa[1] == haa[2]);
+  CHECK(hbb[1] == hbb[2]);
+  CHECK(haa[1] != 0.0);
+}
+
 TEST_CASE("a push held along one direction is convex in the joints' positions",
           "[energy][volume]") {
   // Two joints 0.5 mm apart that must keep 1 mm: the push along their own line
