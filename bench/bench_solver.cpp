@@ -140,6 +140,7 @@ class TimedSolver : public SpineSolver {
   }
   bool couplesSpines() const override { return inner_->couplesSpines(); }
   bool wantsPredictedStart() const override { return inner_->wantsPredictedStart(); }
+  void setWatch(SolveWatch* watch) override { inner_->setWatch(watch); }
   const char* name() const override { return inner_->name(); }
 
  private:

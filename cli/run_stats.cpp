@@ -33,6 +33,7 @@ void writeRunStats(const std::string& path, const RunStats& s) {
       {"steady_merged_steps", s.sim.steady_merged},
       {"steady_rejected", s.sim.steady_rejected},
       {"jump_split_steps", s.sim.jump_split_steps},
+      {"jump_stopped_steps", s.sim.jump_stopped_steps},
       {"recentred_solves", s.sim.recentred_solves},
       {"isolated_solves", s.sim.isolated_solves},
       {"rescue_iterations", s.sim.rescue_iterations},

@@ -4,6 +4,10 @@
 // is paid once per step rather than once per spine.
 
 #include <IpIpoptApplication.hpp>
+#include <IpIpoptCalculatedQuantities.hpp>
+#include <IpIpoptData.hpp>
+#include <IpOrigIpoptNLP.hpp>
+#include <IpTNLPAdapter.hpp>
 #include <IpRegOptions.hpp>
 #include <IpSolveStatistics.hpp>
 #include <IpTNLP.hpp>
@@ -327,6 +331,29 @@ class BrushNlp : public Ipopt::TNLP {
   }
   int largest_coupled_rows_ = 0;
 
+  // Shows each accepted iterate of the regular phase to the watch, if any,
+  // and stops the solve when it says so. Ipopt 3.11 passes no iterate here
+  // (get_curr_iterate is 3.14's), so it is read from Ipopt's data and put
+  // back in this NLP's variable order by the adapter, as Ipopt does before
+  // every evaluation.
+  bool intermediate_callback(Ipopt::AlgorithmMode mode, Index, Number, Number, Number, Number,
+                             Number, Number, Number, Number, Index,
+                             const Ipopt::IpoptData* ip_data,
+                             Ipopt::IpoptCalculatedQuantities* ip_cq) override {
+    if (!watch_ || mode != Ipopt::RegularMode || !ip_data || !ip_cq) return true;
+    auto* orig = dynamic_cast<Ipopt::OrigIpoptNLP*>(Ipopt::GetRawPtr(ip_cq->GetIpoptNLP()));
+    auto* adapter = orig ? dynamic_cast<Ipopt::TNLPAdapter*>(Ipopt::GetRawPtr(orig->nlp())) : nullptr;
+    if (!adapter || !Ipopt::IsValid(ip_data->curr())) return true;
+    watched_x_.resize(nvars_);
+    adapter->ResortX(*ip_data->curr()->x(), watched_x_.data());
+    watched_q_.resize(problems_.size());
+    for (size_t s = 0; s < problems_.size(); ++s) watched_q_[s] = watched_x_.data() + var_offset_[s];
+    stopped = watch_->stop(problems_, watched_q_);
+    return !stopped;
+  }
+  SolveWatch* watch_ = nullptr;
+  bool stopped = false;  // the watch stopped the solve
+
   void finalize_solution(Ipopt::SolverReturn, Index, const Number* x, const Number* z_L,
                          const Number* z_U, Index, const Number*, const Number* lambda, Number,
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
@@ -439,6 +466,8 @@ class BrushNlp : public Ipopt::TNLP {
   std::vector<double> lagrangian_;           // one spine's Hessian block (workspace)
   double energy_ = 0;
   bool have_ = false;
+  std::vector<double> watched_x_;         // the iterate shown to the watch
+  std::vector<const double*> watched_q_;  // per spine, its angles in watched_x_
 };
 
 const char* ipoptStatusName(Ipopt::ApplicationReturnStatus s) {
@@ -614,6 +643,7 @@ class IpoptSolver : public SpineSolver {
         warm && (friction_form_ == FrictionForm::kEpigraph ||
                  (friction_form_ == FrictionForm::kAuto && volume));
     Ipopt::SmartPtr<BrushNlp> nlp = new BrushNlp(problems, solutions, links, warm, epigraph);
+    nlp->watch_ = watch_;
     // bristle's own KKT solver, in MA27's place (engine/dense_kkt.h): each
     // spine's block densely, the blocks that hair volume couples sparsely.
     if (dense_kkt_)
@@ -625,6 +655,7 @@ class IpoptSolver : public SpineSolver {
     const bool retry = warm && warm_retry_;
     if (!user_resto_) o.SetIntegerValue("max_resto_iter", retry ? 0 : kIpoptDefaultMaxRestoIter);
     Ipopt::ApplicationReturnStatus st = optimize(nlp, &summary.iterations);
+    if (nlp->stopped) return stoppedSummary(summary);  // the caller drops the step
     if (retry && !solvedOk(st)) {
       // The same warm start once more, pushed 1e-3 into the interior with the
       // adaptive barrier, which can raise mu to re-centre the iterate: where
@@ -637,12 +668,14 @@ class IpoptSolver : public SpineSolver {
       if (!user_resto_) o.SetIntegerValue("max_resto_iter", kIpoptDefaultMaxRestoIter);
       if (!user_warm_push_) setWarmStartPush(o, kRetryWarmPush);
       nlp = new BrushNlp(problems, solutions, links, warm, epigraph);
+      nlp->watch_ = watch_;
       int more = 0;
       st = optimize(nlp, &more);
       if (!user_warm_push_) setWarmStartPush(o, kWarmPush);
       summary.iterations += more;
       summary.recentred = 1;
       summary.recentred_iterations = more;
+      if (nlp->stopped) return stoppedSummary(summary);
     }
     summary.message = ipoptStatusName(st);
     const bool ok = solvedOk(st);
@@ -656,6 +689,14 @@ class IpoptSolver : public SpineSolver {
   }
 
  private:
+  // A solve the watch stopped: nothing to rescue, the caller drops the step.
+  static SolveSummary stoppedSummary(SolveSummary summary) {
+    summary.status = SolveStatus::kFailed;
+    summary.stopped = true;
+    summary.message = "stopped by the watch";
+    return summary;
+  }
+
   static bool solvedOk(Ipopt::ApplicationReturnStatus st) {
     return st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
   }

@@ -273,6 +273,7 @@ void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSol
   std::vector<int> order = which;
   if (state_.step % 2 == 1) std::reverse(order.begin(), order.end());
   for (int s : order) {
+    if (stopped_) return;
     setVolumeContacts(s, *trial, {});
     solveGroup({s}, trial, {});
   }
@@ -290,6 +291,10 @@ void Simulation::solveGroup(const std::vector<int>& which, std::vector<SpineSolu
   stats_.iterations += summary.iterations;
   stats_.recentred_solves += summary.recentred;
   stats_.rescue_iterations += summary.recentred_iterations;
+  if (summary.stopped) {  // the step is given up: nothing to rescue
+    stopped_ = true;
+    return;
+  }
   if (summary.usable()) {
     for (int s : which) state_.spines[s].summary = summary;
     return;
@@ -308,6 +313,10 @@ void Simulation::solveGroup(const std::vector<int>& which, std::vector<SpineSolu
     SolveSummary si = solver_->solve({&pone, 1}, {&one, 1});
     stats_.iterations += si.iterations;
     stats_.rescue_iterations += si.iterations;
+    if (si.stopped) {
+      stopped_ = true;
+      return;
+    }
     if (!si.usable() && fallback_) {
       SpineSolution again = state_.spines[s].solution;
       again.lambda.clear();
@@ -328,7 +337,58 @@ void Simulation::solveGroup(const std::vector<int>& which, std::vector<SpineSolu
 }
 
 const BrushState& Simulation::step(const Pose& handle, double t_s) {
-  return stepSplitting(handle, t_s, 0);
+  return step(handle, t_s, JumpLimit{});
+}
+
+const BrushState& Simulation::step(const Pose& handle, double t_s, const JumpLimit& stop_on_jump) {
+  stopped_ = false;
+  if (stop_on_jump.limit_mm <= 0) return stepSplitting(handle, t_s, 0);
+  const Snapshot before = snapshot();
+  const int run_before = failed_run_;
+  jump_limit_ = stop_on_jump;
+  // The solver looks at this only during the step, whatever it throws.
+  struct Unwatch {
+    SpineSolver& solver;
+    ~Unwatch() { solver.setWatch(nullptr); }
+  } unwatch{*solver_};
+  solver_->setWatch(this);
+  stepSplitting(handle, t_s, 0);
+  if (stopped_) {
+    const SimStats tried = stats_;
+    restore(before);
+    failed_run_ = run_before;
+    keepWork(before.stats, tried);
+    ++stats_.jump_stopped_steps;
+  }
+  return state_;
+}
+
+bool Simulation::stop(std::span<const SpineProblem* const> problems,
+                      std::span<const double* const> q) {
+  for (size_t i = 0; i < problems.size(); ++i) {
+    const SpineProblem& p = *problems[i];
+    const ptrdiff_t s = &p - problems_.data();
+    if (s < 0 || s >= static_cast<ptrdiff_t>(problems_.size())) continue;  // not this brush's
+    spineForwardKinematics(*p.spine, p.handle, p.baseData(), q[i], 0, &watch_fk_);
+    // Until a step (or a half of a failed one) commits, the state's joints
+    // are where it began.
+    if (contactJumpMm(*p.spine, state_.spines[s].joints_mm, watch_fk_.x,
+                      jump_limit_.contact_band_mm) > jump_limit_.limit_mm)
+      return true;
+  }
+  return false;
+}
+
+double contactJumpMm(const SpineSpec& spine, const std::vector<Eigen::Vector3d>& a,
+                     const std::vector<Eigen::Vector3d>& b, double contact_band_mm) {
+  double jump = 0;
+  const size_t n = std::min(a.size(), b.size());
+  for (size_t j = 1; j < n; ++j) {
+    const double reach = contact_band_mm + spine.bundleReachMm(j);  // geometry around the joint
+    if (std::min(a[j].z(), b[j].z()) > reach) continue;
+    jump = std::max(jump, (a[j].head<2>() - b[j].head<2>()).norm());
+  }
+  return jump;
 }
 
 // A step with a failed solve is redone as two half steps (the handle pose
@@ -341,6 +401,7 @@ const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int 
   const Snapshot before = snapshot();
   const int run_before = failed_run_;
   stepOnce(handle, t_s);
+  if (stopped_) return state_;  // step() puts the state back
   // A failure that goes on from the previous step (a solve that cannot
   // converge at all, say with a tiny iteration limit) is not split again: only
   // the first failed step of a run pays for the halves.
@@ -353,7 +414,9 @@ const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int 
   const Pose from = state_.handle;
   const double t0 = state_.t_s;
   stepSplitting(interpolatePose(from, handle, 0.5), 0.5 * (t0 + t_s), depth + 1);
+  if (stopped_) return state_;
   stepSplitting(handle, t_s, depth + 1);
+  if (stopped_) return state_;
   const bool failed = stats_.failed_steps > before.stats.failed_steps;
   stats_.steps = before.stats.steps + 1;
   state_.step = before.state.step + 1;
@@ -376,7 +439,9 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
     ++stats_.solved_steps;
     const std::vector<SpineSolution> start = trial;
     solveSpines(which, &trial);
+    if (stopped_) return state_;  // step() puts the state back
     correctContactSet(handle, which, start, &trial, &sliding);
+    if (stopped_) return state_;
   }
 
   const bool step_failed = commitSpines(which, &trial, sliding);
@@ -510,7 +575,7 @@ void Simulation::correctContactSet(const Pose& handle, const std::vector<int>& w
   const int ns = static_cast<int>(brush_.spines.size());
   std::vector<std::vector<bool>> lifted(ns);
   for (int s : which) lifted[s].assign((*sliding)[s].size(), false);
-  for (int pass = 0; pass < kMaxStictionPasses; ++pass) {
+  for (int pass = 0; pass < kMaxStictionPasses && !stopped_; ++pass) {
     std::vector<int> again;
     for (int s : which) {
       if (!state_.spines[s].summary.usable()) continue;

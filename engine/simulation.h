@@ -87,6 +87,9 @@ struct SimStats {
   // step may move it (render/stroke_renderer.cpp); their first try's
   // iterations stay in `iterations`.
   int jump_split_steps = 0;
+  // Of those, the ones whose first try was stopped mid-solve, as soon as an
+  // iterate showed the jump (Simulation::JumpLimit; Ipopt only).
+  int jump_stopped_steps = 0;
   // Solves of a group of spines (or of one) that failed from a warm start and
   // were solved again from a re-centred one (Ipopt), and solves that failed
   // outright and were redone spine by spine from cold starts.
@@ -112,6 +115,7 @@ struct SimStats {
     steady_merged += r.steady_merged;
     steady_rejected += r.steady_rejected;
     jump_split_steps += r.jump_split_steps;
+    jump_stopped_steps += r.jump_stopped_steps;
     recentred_solves += r.recentred_solves;
     rescue_iterations += r.rescue_iterations;
     isolated_solves += r.isolated_solves;
@@ -128,7 +132,16 @@ struct VolumePair {
 };
 std::vector<VolumePair> volumePairs(const Brush& brush);
 
-class Simulation {
+// How far a spine's hair near the paper moved across it between two sets of
+// its joint positions (n + 1 each, root first): the largest x-y move of a
+// joint j >= 1 that is, in either set, within the contact band plus its
+// bundle's reach (SpineSpec::bundleReachMm) of the paper. Where it is larger
+// than a stamp covers, a step is redone in halves (render/stroke_renderer.cpp).
+double contactJumpMm(const SpineSpec& spine, const std::vector<Eigen::Vector3d>& a,
+                     const std::vector<Eigen::Vector3d>& b, double contact_band_mm);
+
+// Simulation is a SolveWatch only while a step with a JumpLimit runs.
+class Simulation : private SolveWatch {
  public:
   // `fallback` (optional) is tried on a spine whose solve failed with `solver`.
   Simulation(const Brush& brush, const SimOptions& options, std::unique_ptr<SpineSolver> solver,
@@ -139,6 +152,18 @@ class Simulation {
   // One step (paper §3.1 steps 1-3) to the new handle pose. A step whose solve
   // fails is redone in halves (up to 8 pieces) before a failure is kept.
   const BrushState& step(const Pose& handle, double t_s);
+  // A step that is given up as soon as the hair near the paper is seen to
+  // jump: when an iterate of one of its solves (a solver that shows them,
+  // SolveWatch) has moved it further than `limit_mm` across the paper
+  // (contactJumpMm), the step stops there, the state stays as before it, and
+  // stepStopped() is true; the work done stays counted. The caller then
+  // redoes the step in halves, as it would have after the whole step.
+  struct JumpLimit {
+    double limit_mm = 0;  // 0: never stop
+    double contact_band_mm = 0;
+  };
+  const BrushState& step(const Pose& handle, double t_s, const JumpLimit& stop_on_jump);
+  bool stepStopped() const { return stopped_; }
 
   const BrushState& state() const { return state_; }
   const SimStats& stats() const { return stats_; }
@@ -177,6 +202,7 @@ class Simulation {
   // that was undone still cost its iterations.
   void keepWork(const SimStats& before, const SimStats& tried) {
     stats_.iterations += tried.iterations - before.iterations;
+    stats_.jump_stopped_steps += tried.jump_stopped_steps - before.jump_stopped_steps;
     stats_.recentred_solves += tried.recentred_solves - before.recentred_solves;
     stats_.rescue_iterations += tried.rescue_iterations - before.rescue_iterations;
     stats_.isolated_solves += tried.isolated_solves - before.isolated_solves;
@@ -204,6 +230,10 @@ class Simulation {
                     const std::vector<std::vector<bool>>& sliding);
   void sumCanvasForce();
   const BrushState& stepSplitting(const Pose& handle, double t_s, int depth);
+  // SolveWatch: whether an iterate moved a spine's hair near the paper
+  // further than jump_limit_ allows (step with a JumpLimit).
+  bool stop(std::span<const SpineProblem* const> problems,
+            std::span<const double* const> q) override;
 
   const Brush& brush_;
   SimOptions options_;
@@ -213,6 +243,9 @@ class Simulation {
   std::vector<SpineProblem> problems_;
   SpineFk fk_;
   int failed_run_ = 0;
+  JumpLimit jump_limit_;  // of the step running
+  bool stopped_ = false;  // the step running, or the last one, was stopped
+  SpineFk watch_fk_;      // the iterate stop() looks at
   std::vector<VolumePair> volume_pairs_;
   // Every spine's joints where this step's solves start (solveSpines).
   std::vector<std::vector<Eigen::Vector3d>> volume_start_;

@@ -37,6 +37,9 @@ struct SolveSummary {
   // (Ipopt; the iterations count both tries).
   int recentred = 0;
   int recentred_iterations = 0;  // of `iterations`, the re-centred try's
+  // The watch (SpineSolver::setWatch) stopped the solve: status is kFailed,
+  // and the caller drops the step rather than rescue the solve.
+  bool stopped = false;
   bool usable() const { return status != SolveStatus::kFailed; }
 };
 
@@ -56,9 +59,24 @@ struct SpineSolution {
 inline constexpr double kThetaLimitRad = 1.45;
 inline constexpr double kPhiLimitRad = 2.8;
 
+// Looks at a solve while it runs (SpineSolver::setWatch). A solver that can
+// see its iterates (Ipopt, after each iteration) asks stop() and, when it says
+// so, ends the solve at once and reports it `stopped`. A solver that cannot
+// (SLSQP) never asks: the caller still judges the result.
+class SolveWatch {
+ public:
+  virtual ~SolveWatch() = default;
+  // q[i]: the joint angles of problems[i] at the current iterate.
+  virtual bool stop(std::span<const SpineProblem* const> problems,
+                    std::span<const double* const> q) = 0;
+};
+
 class SpineSolver {
  public:
   virtual ~SpineSolver() = default;
+  // Until set to nullptr again, solves show their iterates to `watch`. A
+  // solver that wraps another passes it on.
+  virtual void setWatch(SolveWatch* watch) { watch_ = watch; }
   // Solves all problems as one step. solutions[i] holds the start (warm start)
   // on entry and the result on exit (unchanged if the summary is not usable).
   // `links` couple the problems' energies (hair volume); only a solver whose
@@ -80,6 +98,9 @@ class SpineSolver {
   // more evaluations from it (docs/PERFORMANCE.md).
   virtual bool wantsPredictedStart() const { return false; }
   virtual const char* name() const = 0;
+
+ protected:
+  SolveWatch* watch_ = nullptr;
 };
 
 struct IpoptSettings {

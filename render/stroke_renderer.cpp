@@ -142,16 +142,9 @@ void blendStates(const BrushState& a, const BrushState& b, double t, BrushState*
 double contactJumpMm(const Brush& brush, const BrushState& a, const BrushState& b,
                      double contact_band_mm) {
   double jump = 0;
-  for (size_t s = 0; s < brush.spines.size(); ++s) {
-    const SpineSpec& spec = brush.spines[s];
-    for (size_t j = 1; j < a.spines[s].joints_mm.size(); ++j) {
-      const Eigen::Vector3d& pa = a.spines[s].joints_mm[j];
-      const Eigen::Vector3d& pb = b.spines[s].joints_mm[j];
-      const double reach = contact_band_mm + spec.bundleReachMm(j);  // geometry around the joint
-      if (std::min(pa.z(), pb.z()) > reach) continue;
-      jump = std::max(jump, (pa.head<2>() - pb.head<2>()).norm());
-    }
-  }
+  for (size_t s = 0; s < brush.spines.size(); ++s)
+    jump = std::max(jump, bristle::contactJumpMm(brush.spines[s], a.spines[s].joints_mm,
+                                                 b.spines[s].joints_mm, contact_band_mm));
   return jump;
 }
 
@@ -272,9 +265,13 @@ void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
   auto advance = [&](auto&& self, double t0, double t1, int depth) -> void {
     if (stopped) return;
     const Simulation::Snapshot before = sim.snapshot();
-    sim.step(trajectory.poseAt(t1), t1);
-    if (depth < kMaxSplitDepth &&
-        contactJumpMm(sim.brush(), before.state, sim.state(), options.contact_band_mm) > max_jump_mm) {
+    // A try that is going to be redone is given up as soon as it shows it.
+    const bool may_split = depth < kMaxSplitDepth;
+    Simulation::JumpLimit watch;
+    if (may_split) watch = {options.stop_on_jump * max_jump_mm, options.contact_band_mm};
+    sim.step(trajectory.poseAt(t1), t1, watch);
+    if (may_split && (sim.stepStopped() || contactJumpMm(sim.brush(), before.state, sim.state(),
+                                                         options.contact_band_mm) > max_jump_mm)) {
       // The first try's solves were done: their iterations stay counted.
       const SimStats tried = sim.stats();
       sim.restore(before);

@@ -28,6 +28,13 @@ struct StrokeOptions {
   // already solved (render/step_pipeline.h); the same pixels either way.
   // 0: defaultRenderThreads(), 2 where the process may run on 2+ CPUs.
   int threads = 0;
+  // A step whose hair on the paper jumps further than a step may move it is
+  // redone in halves. Its try is given up as soon as a solve's iterate has
+  // moved that hair this many times that far (Ipopt; 0: every try runs to its
+  // end and is judged by its result). The first tries of such steps held a
+  // sixth of the round's solver iterations on a tablet recording
+  // (docs/PERFORMANCE.md, "A jumping step given up early").
+  double stop_on_jump = 1;
 };
 
 // Called after every simulation step with the index of the planned step it

@@ -411,3 +411,78 @@ TEST_CASE("a spine that springs back in the air never ends below the canvas or i
   CHECK(lowest >= -kPenetrationTolMm);
   CHECK(sim.stats().relaxed_spines > 0);  // the case does spring spines back
 }
+
+// Simulation::JumpLimit: the renderer redoes in halves a step whose hair on
+// the paper jumps further than a stamp covers, and a step given a limit is
+// given up as soon as a solve's iterate shows such a jump, rather than after
+// the solves have converged (render/stroke_renderer.cpp).
+TEST_CASE("a step with a jump limit stops at the first iterate past it, and changes nothing",
+          "[dynamics][jump]") {
+  SpineSpec spine = makeSpine({6, 6}, {8, 5});
+  spine.rest_angles_rad[0] = Eigen::Vector2d(0.05, 0);
+  const Brush brush = makeBrush({spine}, 0.5, 0.4);
+  const Pose pressed = poseAt(0, 0, 8), dragged = poseAt(6, 1, 8);
+  for (const bool ipopt : {true, false}) {
+    INFO((ipopt ? "Ipopt" : "SLSQP"));
+    Simulation sim(brush, SimOptions{}, ipopt ? makeIpoptSolver() : makeSlsqpSolver());
+    double t = 0;
+    sim.reset(poseAt(0, 0, 14), t);
+    moveHandle(sim, poseAt(0, 0, 14), pressed, &t);
+    // Held still, the tip sticks; the drag then tears it loose, so the step's
+    // solves start with the tip on its anchor and move it on the way.
+    for (int i = 0; i < 10 && sim.state().spines[0].sliding[1]; ++i) sim.step(pressed, t += 0.01);
+    REQUIRE(sim.state().spines[0].contact[1]);
+    REQUIRE_FALSE(sim.state().spines[0].sliding[1]);
+    const Simulation::Snapshot before = sim.snapshot();
+    t += 0.01;
+
+    // The whole step, and how far it moved the hair on the paper.
+    sim.step(dragged, t);
+    const BrushState plain = sim.state();
+    const long plain_iterations = sim.stats().iterations - before.stats.iterations;
+    const double jump_mm = contactJumpMm(spine, before.state.spines[0].joints_mm,
+                                         plain.spines[0].joints_mm, 0.1);
+    INFO("the step moved the hair on the paper " << jump_mm << " mm in " << plain_iterations
+                                                 << " iterations");
+    REQUIRE(jump_mm > 0.5);  // the tip slid: a jump to watch for
+    CHECK_FALSE(sim.stepStopped());
+
+    // A limit no iterate reaches changes nothing, bit for bit. (An iterate
+    // can swing past the result, so the limit is beyond any: the handle moved
+    // 6 mm.)
+    constexpr double kBeyondReachMm = 100;
+    sim.restore(before);
+    sim.step(dragged, t, {kBeyondReachMm, 0.1});
+    CHECK_FALSE(sim.stepStopped());
+    CHECK(sim.state().spines[0].joints_mm == plain.spines[0].joints_mm);
+    CHECK(sim.stats().iterations - before.stats.iterations == plain_iterations);
+
+    // A limit the path passes: Ipopt stops on the way, with the state as it
+    // was before the step and the iterations it spent counted. SLSQP shows no
+    // iterates, so its step runs to the end as without a limit. (Ipopt's
+    // iterates, observed: the start 0.24 mm from where the tip stuck, as far
+    // as the few Gauss-Newton steps of the predicted start put it back; then
+    // 0.71, 0.74 ... 0.80 mm, and the stiction re-solve on to 0.83.)
+    sim.restore(before);
+    sim.step(dragged, t, {0.5 * jump_mm, 0.1});
+    const long stopped_iterations = sim.stats().iterations - before.stats.iterations;
+    INFO("with a limit of half of it: " << stopped_iterations << " iterations");
+    if (ipopt) {
+      CHECK(sim.stepStopped());
+      CHECK(sim.state().spines[0].joints_mm == before.state.spines[0].joints_mm);
+      CHECK(sim.state().step == before.state.step);
+      CHECK(sim.stats().steps == before.stats.steps);
+      CHECK(sim.stats().jump_stopped_steps == before.stats.jump_stopped_steps + 1);
+      CHECK(stopped_iterations > 0);
+      CHECK(stopped_iterations < plain_iterations);
+      // The step after it is a step as any other.
+      sim.step(dragged, t);
+      CHECK_FALSE(sim.stepStopped());
+      CHECK(sim.state().spines[0].joints_mm == plain.spines[0].joints_mm);
+    } else {
+      CHECK_FALSE(sim.stepStopped());
+      CHECK(sim.state().spines[0].joints_mm == plain.spines[0].joints_mm);
+      CHECK(stopped_iterations == plain_iterations);
+    }
+  }
+}
