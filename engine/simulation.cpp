@@ -344,7 +344,6 @@ const BrushState& Simulation::step(const Pose& handle, double t_s, const JumpLim
   stopped_ = false;
   if (stop_on_jump.limit_mm <= 0) return stepSplitting(handle, t_s, 0);
   const Snapshot before = snapshot();
-  const int run_before = failed_run_;
   jump_limit_ = stop_on_jump;
   // The solver looks at this only during the step, whatever it throws.
   struct Unwatch {
@@ -356,7 +355,6 @@ const BrushState& Simulation::step(const Pose& handle, double t_s, const JumpLim
   if (stopped_) {
     const SimStats tried = stats_;
     restore(before);
-    failed_run_ = run_before;
     keepWork(before.stats, tried);
     ++stats_.jump_stopped_steps;
   }
@@ -399,7 +397,7 @@ double contactJumpMm(const SpineSpec& spine, const std::vector<Eigen::Vector3d>&
 const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int depth) {
   constexpr int kMaxSplitDepth = 3;
   const Snapshot before = snapshot();
-  const int run_before = failed_run_;
+  const int run_before = before.failed_run;
   stepOnce(handle, t_s);
   if (stopped_) return state_;  // step() puts the state back
   // A failure that goes on from the previous step (a solve that cannot
@@ -410,7 +408,6 @@ const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int 
     return state_;
   const SimStats tried = stats_;
   restore(before);
-  failed_run_ = run_before;
   const Pose from = state_.handle;
   const double t0 = state_.t_s;
   stepSplitting(interpolatePose(from, handle, 0.5), 0.5 * (t0 + t_s), depth + 1);

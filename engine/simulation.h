@@ -175,11 +175,13 @@ class Simulation : private SolveWatch {
   struct Snapshot {
     BrushState state;
     SimStats stats;
+    int failed_run = 0;  // consecutive failed steps up to this state
   };
-  Snapshot snapshot() const { return {state_, stats_}; }
+  Snapshot snapshot() const { return {state_, stats_, failed_run_}; }
   void restore(const Snapshot& s) {
     state_ = s.state;
     stats_ = s.stats;
+    failed_run_ = s.failed_run;
   }
   void countSteady(int merged) {
     ++stats_.steady_steps;

@@ -360,6 +360,37 @@ TEST_CASE("a failed step is retried in halves and counted once", "[dynamics][spl
   CHECK(st.longest_failed_run >= 1);
 }
 
+// A snapshot holds the run of failed steps too: a failed step redone from its
+// snapshot (as the renderer redoes a step that jumped) is split as the first
+// failed step of a run, as it was the first time, not kept as the run's
+// continuation.
+TEST_CASE("a failed step redone from its snapshot is split as it was the first time",
+          "[dynamics][split]") {
+  SlsqpSettings starved;
+  starved.max_evaluations = 2;  // every contact solve fails (test above)
+  const SpineSpec spine = makeSpine({5, 5}, {8, 5}, 0.005);
+  const Brush brush = makeBrush({spine}, 0.4, 0.3);
+  Simulation sim(brush, SimOptions{}, makeSlsqpSolver(starved));
+  double t = 0;
+  sim.reset(poseAt(0, 0, 12), t);
+  Simulation::Snapshot before;
+  Pose pose;
+  for (int i = 1; i <= 40; ++i) {
+    before = sim.snapshot();
+    pose = poseAt(0.1 * i, 0, 12 - 0.1 * i);
+    sim.step(pose, t += 0.01);
+    if (sim.stats().failed_steps > before.stats.failed_steps) break;
+  }
+  REQUIRE(sim.stats().failed_steps == before.stats.failed_steps + 1);
+  const int splits = sim.stats().split_steps - before.stats.split_steps;
+  const std::vector<Eigen::Vector3d> joints = sim.state().spines[0].joints_mm;
+  CHECK(splits == 7);  // halves, quarters, eighths
+  sim.restore(before);
+  sim.step(pose, t);
+  CHECK(sim.stats().split_steps - before.stats.split_steps == splits);
+  CHECK(sim.state().spines[0].joints_mm == joints);
+}
+
 TEST_CASE("a spine that springs back in the air never ends below the canvas or in a neighbour",
           "[dynamics][volume]") {
   // The badger (hair volume on) along the start of the S-curve, held 5 mm up as
