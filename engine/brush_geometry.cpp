@@ -20,18 +20,18 @@ void BrushGeometry::buildSurface(const BrushState& state, std::vector<BrushVerte
 }
 
 void BrushGeometry::buildHair(const BrushState& state, std::vector<BrushVertex>* triangles,
-                              double below_mm) {
-  buildSpineTubes(state, triangles, below_mm);
+                              double below_mm, const JointCaps* caps) {
+  buildSpineTubes(state, triangles, below_mm, caps);
   buildStrips(state, triangles, below_mm);
 }
 
 void BrushGeometry::buildSpineTubes(const BrushState& state, std::vector<BrushVertex>* triangles,
-                                    double below_mm) {
+                                    double below_mm, const JointCaps* caps) {
   // The simulated spines are hairs too: dressed in their own width they mark
   // the paper wherever the solver puts them in contact, also where an
   // approximating surface (§4.1) rounds off inside them, at a splayed tip.
   const size_t first = triangles->size();
-  buildSpineGeometry(*brush_, state, triangles, below_mm);
+  buildSpineGeometry(*brush_, state, triangles, below_mm, caps);
   for (size_t i = first; i < triangles->size(); ++i) {
     (*triangles)[i].u = encodeTextureU(BrushPart::kSpine, (*triangles)[i].u);
   }

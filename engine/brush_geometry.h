@@ -16,6 +16,7 @@
 #include "engine/brush.h"
 #include "engine/simulation.h"
 #include "engine/brush_vertex.h"
+#include "engine/spine_bundles.h"
 
 namespace bristle {
 
@@ -41,15 +42,16 @@ class BrushGeometry {
   void buildStrips(const BrushState& state, std::vector<BrushVertex>* triangles,
                    double below_mm = kAllHeights);
   // Everything but the subdivision surface: the spines' tubes and the strips,
-  // the parts fine enough to leave gaps between a step's stamps.
+  // the parts fine enough to leave gaps between a step's stamps. With
+  // `caps`, only those half solids at the joints (buildSpineGeometry).
   void buildHair(const BrushState& state, std::vector<BrushVertex>* triangles,
-                 double below_mm = kAllHeights);
+                 double below_mm = kAllHeights, const JointCaps* caps = nullptr);
 
   const Brush& brush() const { return *brush_; }
 
  private:
   void buildSpineTubes(const BrushState& state, std::vector<BrushVertex>* triangles,
-                       double below_mm);
+                       double below_mm, const JointCaps* caps = nullptr);
 
   const Brush* brush_;
   std::unique_ptr<BrushSurface> surface_;

@@ -280,9 +280,11 @@ float acrossU(const SpineSpec& spec, const SpineTube& tube, size_t s, size_t ns,
 // tips carry both paints of a double load, and each hair its own streak
 // (engine/paint.h, hairNoise).
 void appendJointCaps(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns,
-                     std::vector<BrushVertex>* triangles, double below_mm) {
+                     const std::vector<char>* due, std::vector<BrushVertex>* triangles,
+                     double below_mm) {
   const int n = spec.jointCount();
   for (int j = 1; j <= n; ++j) {
+    if (due && !(*due)[j]) continue;
     const BundleSection& q = tube.section[j];
     if (q.empty()) continue;
     const Eigen::Vector3d& c = tube.centre[j];
@@ -346,25 +348,69 @@ void appendTube(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns,
                                  static_cast<float>(double(j) / n)});
     }
   auto at = [&](int j, int k) { return grid[j * (F + 1) + k]; };
-  for (int j = 0; j < n; ++j)
+  for (int j = 0; j < n; ++j) {
     for (int k = 0; k < F; ++k) {
       pushTriangle(at(j, k), at(j, k + 1), at(j + 1, k + 1), below_mm, triangles);
       pushTriangle(at(j, k), at(j + 1, k + 1), at(j + 1, k), below_mm, triangles);
     }
+  }
 }
 
 }  // namespace
 
 void buildSpineGeometry(const Brush& brush, const BrushState& state,
-                        std::vector<BrushVertex>* triangles, double below_mm) {
+                        std::vector<BrushVertex>* triangles, double below_mm,
+                        const JointCaps* caps) {
   const size_t ns = brush.spines.size();
   SpineTube tube;
   for (size_t s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush.spines[s];
+    const std::vector<char>* due = caps ? &(*caps)[s] : nullptr;
     placeTubeRings(spec, state.spines[s], state.handle, &tube);
-    appendJointCaps(spec, tube, s, ns, triangles, below_mm);
+    appendJointCaps(spec, tube, s, ns, due, triangles, below_mm);
     appendTube(spec, tube, s, ns, triangles, below_mm);
   }
+}
+
+void capPatchRoundness(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
+                       double band_mm, std::vector<double>* rho_mm) {
+  const int n = spec.jointCount();
+  rho_mm->assign(n + 1, 0.0);
+  // A slab's rounded rectangle turns its corners within a few hairs.
+  if (!spec.thickness_mm.empty()) return;
+  std::vector<BundleSection> section;
+  std::vector<Eigen::Vector3d> centre;
+  spineBundles(spec, spine, handle, &section, &centre);
+  // The half solid at point j, a half ball of radius r around its centre,
+  // reaches `dip` into the contact band. There it is cut in a disc, as drawn:
+  // its rings of latitude (appendJointCaps) lie at heights r (1 - cos a)
+  // above its lowest point with radii r sin a, a = 90 deg i / kCapRings,
+  // joined by flat facets, so the cut's radius grows linearly between them
+  // (the ball's own sqrt(dip (2 r - dip)) is up to twice that just below the
+  // first ring), and each is a polygon of 2 F sides, whose inscribed circle
+  // is cos(pi / 2F) of it. Pressing spreads it wider (bundleSpread), which
+  // only rounds it more.
+  auto patch = [&](int j) {
+    const double r = section[j].depth();
+    const double dip = std::min(band_mm - (centre[j].z() - r), r);
+    if (!(dip > 0)) return 0.0;
+    double below = 0, below_radius = 0;
+    for (int i = 1; i <= kCapRings; ++i) {
+      const double a = 0.5 * std::numbers::pi * i / kCapRings;
+      const double height = r * (1 - std::cos(a)), radius = r * std::sin(a);
+      if (dip <= height) {
+        const double cut = below_radius + (radius - below_radius) * (dip - below) / (height - below);
+        return cut * std::cos(std::numbers::pi / (2 * F));
+      }
+      below = height;
+      below_radius = radius;
+    }
+    return r * std::cos(std::numbers::pi / (2 * F));
+  };
+  for (int j = 1; j <= n; ++j) (*rho_mm)[j] = patch(j);
+  // The tip's half solid is squashed along the hair to kTipCapDepth of its
+  // radius: an ellipse whose sharpest turn has radius kTipCapDepth^2 r.
+  (*rho_mm)[n] *= kTipCapDepth * kTipCapDepth;
 }
 
 }  // namespace bristle

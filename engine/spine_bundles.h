@@ -103,14 +103,31 @@ std::vector<double> bundleReachBelowPoints(const SpineSpec& spec,
                                            const std::vector<Eigen::Vector3d>& joints_mm,
                                            const Pose& handle);
 
+// Which half solids buildSpineGeometry draws: caps[s][j] for joint j = 1..n
+// of spine s (index 0 unused); the tubes are always drawn. A sweep's stamps
+// between two steps draw a joint's half solid only as often as keeps the
+// notches between its copies small (render/stroke_renderer.cpp).
+using JointCaps = std::vector<std::vector<char>>;
+
+// The smallest radius of curvature (mm) of the outline of each joint's half
+// solid where it reaches into the contact band `band_mm` above the canvas,
+// rho_mm[j] for j = 1..n: the disc it is cut in there (as drawn: a polygon of
+// flat facets), a squashed one at the tip; 0 where it does not reach the
+// band, and for a slab's rounded rectangle, whose corners turn within a few
+// hairs. Copies of an outline whose curvature radius is at least rho, d
+// apart, leave notches rho - sqrt(rho^2 - d^2 / 4) deep between them.
+void capPatchRoundness(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
+                       double band_mm, std::vector<double>* rho_mm);
+
 // Appends the triangles of every spine's half tube (and the half solids at its
-// joints) to `triangles`. Each spine's load is the sum of its canvas forces
+// joints) to `triangles`; with `caps`, only those half solids. Each spine's load is the sum of its canvas forces
 // (SpineState::solution.normal_force_n; none given is no load): where a joint's
 // bundle would reach further below the canvas than bundlePressDepth allows, it
 // is raised until it reaches only that far, and it spreads (bundleSpread) for
 // the depth it keeps. Triangles that do not reach down to below_mm are left
 // out (reachesDown).
 void buildSpineGeometry(const Brush& brush, const BrushState& state,
-                        std::vector<BrushVertex>* triangles, double below_mm = kAllHeights);
+                        std::vector<BrushVertex>* triangles, double below_mm = kAllHeights,
+                        const JointCaps* caps = nullptr);
 
 }  // namespace bristle

@@ -198,19 +198,69 @@ constexpr int kMaxSweepStamps = 32;
 
 }  // namespace
 
+namespace {
+
+// Which stamps of a sweep draw the half solid at each joint: (*plan)[k] for
+// k = 1..stamps - 1 (the last stamp draws everything). A half solid whose
+// patch on the paper keeps a curvature radius rho (capPatchRoundness) may
+// move d = 2 sqrt(2 rho h - h^2) from one copy to the next and leave notches
+// at most h = notch_px deep between them. Each is drawn at a stamp when
+// waiting for the next would move it further than d from where it was last
+// drawn, `from` counting as drawn: the step before drew it, and the paint
+// sees the union of the steps' footprints.
+void planCapStamps(const Brush& brush, const BrushState& from, const BrushState& to, int stamps,
+                   double px_per_mm, double band_mm, double notch_px,
+                   std::vector<JointCaps>* plan) {
+  const size_t ns = brush.spines.size();
+  plan->resize(stamps);
+  for (JointCaps& caps : *plan) {
+    caps.resize(ns);
+    for (size_t s = 0; s < ns; ++s) caps[s].assign(brush.spines[s].jointCount() + 1, 0);
+  }
+  thread_local std::vector<double> rho_from, rho_to;
+  for (size_t s = 0; s < ns; ++s) {
+    const SpineSpec& spec = brush.spines[s];
+    capPatchRoundness(spec, from.spines[s], from.handle, band_mm, &rho_from);
+    capPatchRoundness(spec, to.spines[s], to.handle, band_mm, &rho_to);
+    for (int j = 1; j <= spec.jointCount(); ++j) {
+      // How far its outline moves over the step: with the joint, and as its
+      // patch grows or shrinks.
+      const double motion =
+          ((from.spines[s].joints_mm[j] - to.spines[s].joints_mm[j]).head<2>().norm() +
+           std::fabs(rho_to[j] - rho_from[j])) * px_per_mm;
+      const double rho = std::min(rho_from[j], rho_to[j]) * px_per_mm;
+      const double d = 2 * std::sqrt(std::max(0.0, 2 * rho * notch_px - notch_px * notch_px));
+      double last = 0;
+      for (int k = 1; k < stamps; ++k) {
+        if (notch_px > 0 && motion * (double(k + 1) / stamps - last) <= d) continue;
+        (*plan)[k][s][j] = 1;
+        last = double(k) / stamps;
+      }
+    }
+  }
+}
+
+}  // namespace
+
 bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& from,
                                     const BrushState& to, const CanvasGrid& grid,
-                                    double contact_band_mm, double spacing_mm, FootprintImage* out) {
+                                    double contact_band_mm, double spacing_mm, FootprintImage* out,
+                                    double notch_px) {
   const double jump = contactJumpMm(geometry.brush(), from, to, contact_band_mm);
   const int stamps =
       std::clamp(static_cast<int>(std::ceil(jump / spacing_mm)), 1, kMaxSweepStamps);
   triangles_.clear();
+  if (stamps > 1)
+    planCapStamps(geometry.brush(), from, to, stamps, grid.px_per_mm, contact_band_mm, notch_px,
+                  &stamp_plan_);
   // The blends stamp the hair only: the subdivision surface is the belly, many
   // pixels across, whose stamps a step apart overlap anyway; refining it again
   // for each blend would double a step's footprint time (docs/PERFORMANCE.md).
+  // Of the half solids at the spines' joints, each stamp draws those planned
+  // for it.
   for (int k = 1; k < stamps; ++k) {
     blendStates(from, to, double(k) / stamps, &blended_);
-    geometry.buildHair(blended_, &triangles_, contact_band_mm);
+    geometry.buildHair(blended_, &triangles_, contact_band_mm, &stamp_plan_[k]);
   }
   geometry.build(to, &triangles_, contact_band_mm);
   return renderTriangles(grid, contact_band_mm, out);
@@ -230,7 +280,8 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
   // draws a line.
   const double spacing_mm = 1.0 / grid.px_per_mm;
   const bool touched =
-      from ? sweptFootprint(geometry, *from, state, grid, options.contact_band_mm, spacing_mm, &image_)
+      from ? sweptFootprint(geometry, *from, state, grid, options.contact_band_mm, spacing_mm,
+                            &image_, options.sweep_notch_px)
            : footprint(geometry, state, grid, options.contact_band_mm, &image_);
   if (!touched) return;
   FootprintView view;

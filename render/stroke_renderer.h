@@ -35,6 +35,13 @@ struct StrokeOptions {
   // sixth of the round's solver iterations on a tablet recording
   // (docs/PERFORMANCE.md, "A jumping step given up early").
   double stop_on_jump = 1;
+  // Between two steps the sweep stamps the hair once per pixel of motion.
+  // The half solids that round the spines' bundles off at the joints, many
+  // pixels wide where they press on the paper, are stamped only as often as
+  // keeps the notches between their copies within this (px; 0: every stamp
+  // draws them all). They were most of a pressed round's footprint
+  // triangles (docs/PERFORMANCE.md, "Joint caps stamped less often").
+  double sweep_notch_px = 0.25;
 };
 
 // Called after every simulation step with the index of the planned step it
@@ -99,9 +106,14 @@ class StrokeRenderer {
   // than `spacing_mm` from one stamp to the next; `from` itself is not
   // stamped (the previous step painted it). Where two stamps overlap the
   // deeper wins, as for the geometry of one stamp.
+  // The half solids at the spines' joints (buildSpineGeometry), most of the
+  // triangles of a bundle, are stamped only as often as keeps the notches
+  // between their copies within notch_px (0: all of them at every stamp).
   bool sweptFootprint(BrushGeometry& geometry, const BrushState& from, const BrushState& to,
                       const CanvasGrid& grid, double contact_band_mm, double spacing_mm,
-                      FootprintImage* out);
+                      FootprintImage* out, double notch_px = 0);
+  // Triangles the last footprint drew (for tests).
+  size_t lastFootprintTriangles() const { return vertices_.size() / 3; }
 
  private:
   bool renderTriangles(const CanvasGrid& grid, double contact_band_mm, FootprintImage* out);
@@ -114,6 +126,7 @@ class StrokeRenderer {
   std::vector<BrushVertex> triangles_;
   std::vector<FootprintVertex> vertices_;
   BrushState blended_;
+  std::vector<JointCaps> stamp_plan_;  // [stamp][spine][joint]
 };
 
 }  // namespace bristle::render

@@ -87,18 +87,26 @@ int marks(const render::FootprintImage& fp) {
   return count;
 }
 
+// The round brush held 0.35 rad from upright just above its reach, with its
+// geometry and a footprint renderer (on llvmpipe, GALLIUM_DRIVER unset first).
+struct TiltedRound {
+  static constexpr double kTiltRad = 0.35;
+  bool llvmpipe = (::unsetenv("GALLIUM_DRIVER"), true);
+  Brush brush = library("round");
+  BrushGeometry geo{brush};
+  render::StrokeRenderer r;
+  Simulation sim{brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver()};
+  TiltedRound() { sim.reset(at(0, 0, brush.reachMm() + 1, kTiltRad), 0); }
+};
+
 }  // namespace
 
 TEST_CASE("the round brush's footprint grows with press depth", "[library][footprint]") {
-  ::unsetenv("GALLIUM_DRIVER");
-  const Brush brush = library("round");
-  BrushGeometry geo(brush);
-  render::StrokeRenderer r;
-  Simulation sim(brush, SimOptions{}, makeSlsqpSolver(), makeIpoptSolver());
-  sim.reset(at(0, 0, brush.reachMm() + 1, 0.35), 0);
+  TiltedRound f;
+  auto& [llvmpipe, brush, geo, r, sim] = f;
   long last = -1;
   for (double depth : {1.0, 3.0, 5.0, 7.0}) {
-    moveTo(sim, at(0, 0, 18.8 - depth, 0.35));
+    moveTo(sim, at(0, 0, 18.8 - depth, f.kTiltRad));
     const long area = coverage(r, geo, sim.state());
     INFO("depth " << depth << " mm: " << area << " px");
     CHECK(area > last);
@@ -316,5 +324,77 @@ TEST_CASE("the hair left out above the contact band is exactly what the footprin
     // At least a third of the hair's triangles are above it, for every
     // library brush pressed 5 mm (measured: each leaves out more than half).
     CHECK(3 * (hair_all.size() - hair_cut.size()) >= hair_all.size());
+  }
+}
+
+TEST_CASE("a joint's half solid is stamped only as often as its notches allow, and the paint "
+          "sees the same sweep", "[library][footprint]") {
+  // The round brush pressed 7 mm, then the whole state moved 2 mm across the
+  // canvas (16 px at 8 px/mm, whole pixels: a shifted stamp rasterises the
+  // same). At one stamp per pixel every half solid is drawn at each of 16
+  // stamps; with the notches between copies held to kNotchPx, those pressed
+  // on the paper (a disc some 7-9 px in radius) every 4 px or so. (A render's
+  // steps move the hair 4 px at most; this long one shows the gaps a plan
+  // too sparse would leave: with notches of 4 px allowed, 9 pixels change, 3
+  // of them inside the sweep.) The paint sees the union of the steps'
+  // footprints, so with the step before's (the state `from`): coverage may
+  // change only in pixels whose centres lie within the notches, on the
+  // outline of the sweep. Each such pixel touches an uncovered one
+  // (8-neighbours), and there are at most kNotchPx of a pixel's worth along
+  // the outline: under kOutlineShare of it.
+  constexpr double kNotchPx = 0.25, kOutlineShare = 0.25;
+  constexpr double kMinTriangleSaving = 0.15;  // measured: 0.27 of them are left out
+  TiltedRound f;
+  auto& [llvmpipe, brush, geo, r, sim] = f;
+  moveTo(sim, at(0, 0, hairLength(brush) * std::cos(f.kTiltRad) - 7, f.kTiltRad));
+  const BrushState from = sim.state();
+  render::FootprintImage before;
+  REQUIRE(r.footprint(geo, from, window(), 0.1, &before));
+  const CanvasGrid g = window();
+  auto origin = [&](const render::FootprintImage& fp) {
+    const render::FootprintWindow& fw = fp.window;
+    return std::pair{static_cast<int>(std::lround(g.colOf(fw.x0_mm))),
+                     static_cast<int>(std::lround(g.rowOf(fw.y0_mm + fw.height_px / g.px_per_mm)))};
+  };
+  // Whether a footprint covers canvas pixel (col, row).
+  auto covers = [&](const render::FootprintImage& fp, int col, int row) {
+    const auto [c0, r0] = origin(fp);
+    const int c = col - c0, rr = row - r0;
+    return c >= 0 && rr >= 0 && c < fp.window.width_px && rr < fp.window.height_px &&
+           fp.at(c, rr)[3] > 0;
+  };
+  for (const Eigen::Vector3d& shift : {Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(0, 2, 0)}) {
+    INFO("moved by (" << shift.transpose() << ") mm");
+    BrushState to = from;
+    to.handle.position_mm += shift;
+    for (SpineState& s : to.spines)
+      for (Eigen::Vector3d& p : s.joints_mm) p += shift;
+    render::FootprintImage every, planned;
+    REQUIRE(r.sweptFootprint(geo, from, to, window(), 0.1, 1.0 / 8, &every, 0));
+    const size_t every_triangles = r.lastFootprintTriangles();
+    REQUIRE(r.sweptFootprint(geo, from, to, window(), 0.1, 1.0 / 8, &planned, kNotchPx));
+    const size_t planned_triangles = r.lastFootprintTriangles();
+    auto full = [&](int c, int row) { return covers(before, c, row) || covers(every, c, row); };
+    const auto [c0, r0] = origin(every);
+    long area = 0, outline = 0, changed = 0, changed_inside = 0;
+    for (int row = r0 - 40; row <= r0 + every.window.height_px + 40; ++row)
+      for (int c = c0 - 40; c <= c0 + every.window.width_px + 40; ++c) {
+        bool edge = false;
+        for (int dr = -1; dr <= 1; ++dr)
+          for (int dc = -1; dc <= 1; ++dc) edge = edge || !full(c + dc, row + dr);
+        const bool in_full = full(c, row);
+        area += in_full;
+        outline += in_full && edge;
+        if (in_full != (covers(before, c, row) || covers(planned, c, row))) {
+          ++changed;
+          changed_inside += !edge;
+        }
+      }
+    INFO(area << " px covered, " << outline << " on the outline, " << changed
+              << " changed; triangles " << every_triangles << " -> " << planned_triangles);
+    CHECK(area > 400);
+    CHECK(changed_inside == 0);
+    CHECK(changed <= kOutlineShare * outline);
+    CHECK(planned_triangles <= (1 - kMinTriangleSaving) * every_triangles);
   }
 }

@@ -632,3 +632,81 @@ TEST_CASE("a bundle is pressed into the paper only as far as its load presses it
   CHECK(bundlePressDepth(r, kBundleFlatLoadN) == Approx(r).epsilon(1e-12));
   CHECK(bundlePressDepth(r, 10 * kBundleFlatLoadN) == Approx(r).epsilon(1e-12));  // flat at most
 }
+
+TEST_CASE("a bundle's joint caps are drawn as asked, and rounded as their cut gives",
+          "[strips][bundles]") {
+  // buildSpineGeometry with every half solid asked for draws what it draws
+  // without the list; with none, the tubes alone; with one, the tubes and
+  // that one. One straight spine along +x, joints 5 mm apart, 0.5 mm above
+  // the paper: its bundle (2.4 mm wide, 1.2 at the tip) reaches below it.
+  std::vector<SpineSpec> spines = {makeSpine({5, 5, 5}, {8, 6, 4}, 0.005, Eigen::Vector3d::Zero())};
+  spines[0].width_mm = {2.4, 2.4, 2.4, 1.2};
+  const Brush b = makeBrush(spines, 0.4, 0.3);
+  BrushState st = restState(b, poseAt(0, 0, 20));
+  for (int k = 0; k <= 3; ++k) st.spines[0].joints_mm[k] = Eigen::Vector3d(5.0 * k, 0, 0.5);
+  st.spines[0].solution.normal_force_n.assign(3, kBundleFlatLoadN / 3);
+  auto same = [](const std::vector<BrushVertex>& a, const std::vector<BrushVertex>& c) {
+    return a.size() == c.size() &&
+           std::equal(a.begin(), a.end(), c.begin(), [](const BrushVertex& p, const BrushVertex& q) {
+             return p.x_mm == q.x_mm && p.y_mm == q.y_mm && p.z_mm == q.z_mm && p.u == q.u &&
+                    p.v == q.v;
+           });
+  };
+  std::vector<BrushVertex> all, asked, tubes, one;
+  buildSpineGeometry(b, st, &all);
+  JointCaps caps = {std::vector<char>(4, 1)};
+  buildSpineGeometry(b, st, &asked, kAllHeights, &caps);
+  CHECK(same(all, asked));
+  caps[0].assign(4, 0);
+  buildSpineGeometry(b, st, &tubes, kAllHeights, &caps);
+  // Two triangles per facet and segment: 3 segments of kTubeFacets.
+  CHECK(tubes.size() == 3u * 3 * 2 * kTubeFacets);
+  caps[0][2] = 1;  // the half solid at joint 2 (x = 10)
+  buildSpineGeometry(b, st, &one, kAllHeights, &caps);
+  REQUIRE(one.size() > tubes.size());
+  REQUIRE(one.size() < all.size());
+  // The tubes come after the caps: what joint 2 adds lies around x = 10,
+  // within its radius spread at most twice (1.2 mm each way, float rounding
+  // aside).
+  constexpr double kRoundingMm = 1e-4;
+  for (size_t i = 0; i + tubes.size() < one.size(); ++i) {
+    CHECK(std::fabs(one[i].x_mm - 10.0) <= 2 * 1.2 + kRoundingMm);
+  }
+  CHECK(same(std::vector<BrushVertex>(one.end() - tubes.size(), one.end()), tubes));
+
+  // Roundness of the caps' cuts by the contact band, 0.1 mm: each centre at
+  // 0.5 mm (not raised: the load presses the bundle its whole radius deep)
+  // dips `dip` into it. The drawn half solid's cut grows linearly between its
+  // rings of latitude (at 30 and 60 degrees) and is a polygon of 2 F sides:
+  // its inscribed circle. At the squashed tip, kTipCapDepth^2 of that.
+  constexpr double kBandMm = 0.1;
+  auto disc = [&](double r, double centre_z) {
+    const double dip = kBandMm - (centre_z - r);
+    const double h1 = r * (1 - std::cos(std::numbers::pi / 6)), r1 = r * 0.5;
+    const double h2 = r * (1 - std::cos(std::numbers::pi / 3)), r2 = r * std::sin(std::numbers::pi / 3);
+    const double cut = dip <= h1 ? r1 * dip / h1 : dip <= h2 ? r1 + (r2 - r1) * (dip - h1) / (h2 - h1)
+                                                             : r2 + (r - r2) * (dip - h2) / (r - h2);
+    return cut * std::cos(std::numbers::pi / (2 * kTubeFacets));
+  };
+  std::vector<double> rho;
+  capPatchRoundness(b.spines[0], st.spines[0], st.handle, kBandMm, &rho);
+  REQUIRE(rho.size() == 4);
+  CHECK(rho[1] == Approx(disc(1.2, 0.5)));
+  CHECK(rho[2] == Approx(disc(1.2, 0.5)));
+  CHECK(rho[3] == Approx(kTipCapDepth * kTipCapDepth * disc(0.6, 0.5)));
+  // The ball's own cut, sqrt(dip (2 r - dip)), would be larger: the facets
+  // are what is drawn.
+  CHECK(rho[1] < std::sqrt(0.8 * (2.4 - 0.8)));
+  // Joint 1 lifted clear of the band: no patch there; joint 2 keeps its.
+  BrushState lifted = st;
+  lifted.spines[0].joints_mm[1].z() = 1.5;
+  capPatchRoundness(b.spines[0], lifted.spines[0], lifted.handle, kBandMm, &rho);
+  CHECK(rho[1] == 0);
+  CHECK(rho[2] == Approx(disc(1.2, 0.5)));
+  // A slab's corners are sharp wherever it lies.
+  std::vector<SpineSpec> slab = spines;
+  slab[0].thickness_mm = {1.0, 1.0, 1.0, 1.0};
+  const Brush slab_brush = makeBrush(slab, 0.4, 0.3);
+  capPatchRoundness(slab_brush.spines[0], st.spines[0], st.handle, kBandMm, &rho);
+  CHECK(rho[2] == 0);
+}
