@@ -3,6 +3,7 @@
 #include <HSLLoader.h>
 
 #include <Eigen/Sparse>
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
@@ -49,8 +50,9 @@ static_assert(std::is_same_v<ipfint, int>, "Ipopt's Fortran integer is int");
 // into one NLP: the round brush's 7 make about 200 rows) is factored as a
 // sparse LDL^T with 1 x 1 pivots in a fixed order: first the rows whose
 // diagonal is positive (the variables and slacks, whose block of Ipopt's KKT
-// matrix is W + Sigma + delta), then the others (the constraints, zero on
-// the diagonal). With the variables' block positive definite and the
+// matrix is W + Sigma + delta; in a block of kOrderedMinRows or more, in
+// minimum degree order), then the others (the constraints, zero on the
+// diagonal). With the variables' block positive definite and the
 // constraints' Jacobian of full rank, such a quasi-definite matrix has an
 // LDL^T in any order with that split, whose D has n_x positive and n_c
 // negative entries: the inertia Ipopt asks for. Where the variables' block is
@@ -212,6 +214,7 @@ struct SparseEntries {
 };
 
 thread_local long long analyses = 0;  // sparseKktAnalyses()
+thread_local long long last_fill = 0;  // lastSparseKktFill()
 
 // One analysed pattern of a sparse block: a row order, the slots of the
 // block's triplets in that order, which slots were not zero, and Eigen's
@@ -245,6 +248,10 @@ struct SparseAnalysis {
 struct SparseBlockCache {
   std::vector<int> irn, icn;  // the block's triplets, in the caller's order
   std::list<SparseAnalysis> recent;  // the most recently used first
+  // A large block's rows with a positive diagonal in minimum degree order:
+  // for which rows it was computed, and the order (block rows).
+  std::vector<char> ordered_positive;
+  std::vector<int> positive_order;
 };
 
 // How many patterns a block keeps. On the first 1.2 s of the tablet
@@ -317,6 +324,56 @@ void positiveFirst(const std::vector<double>& diag, std::vector<int>* perm) {
     if (diag[k] > 0) (*perm)[j++] = k;
   for (int k = 0; k < s; ++k)
     if (!(diag[k] > 0)) (*perm)[j++] = k;
+}
+
+// At and above this many rows, a sparse block's rows of positive diagonal
+// are put in approximate minimum degree order (Eigen's AMD) before the
+// factorisation; smaller blocks keep the rows' own order. In the natural
+// order the badger's 15 spines coupled into one block of 140-220 rows filled
+// L with 4,000-8,000 entries from 1,300-2,100, and the factorisation was a
+// quarter of its S-curve render's instructions; ordered, the render takes
+// 0.86 of them, with the same iterations and pixels. The round's blocks
+// (91-140 rows) gained nothing from it (1.0005), and a new order moves the
+// last bits of their iterates (docs/PERFORMANCE.md, "The badger's large
+// blocks in minimum degree order").
+constexpr int kOrderedMinRows = 144;
+
+// The positive rows of a large block (perm's first part, from positiveFirst)
+// put in approximate minimum degree order of their pattern, as Eigen's AMD
+// computes it. Any order of them keeps the block quasi-definite (its
+// constraints still come last), so D's signs still give the inertia. The
+// order depends on the structure alone; it is kept for the same set of
+// positive rows until the block's structure changes.
+void positiveInDegreeOrder(int s, const SparseEntries& e, const std::vector<double>& diag,
+                           SparseBlockCache* c, std::vector<int>* perm) {
+  std::vector<char> positive(s);
+  for (int k = 0; k < s; ++k) positive[k] = diag[k] > 0;
+  if (positive != c->ordered_positive) {
+    std::vector<int> index(s, -1);
+    int np = 0;
+    for (int k = 0; k < s; ++k)
+      if (positive[k]) index[k] = np++;
+    std::vector<Eigen::Triplet<double, int>> pattern;
+    pattern.reserve(e.count + np);
+    for (int k = 0; k < np; ++k) pattern.emplace_back(k, k, 1.0);
+    for (int k = 0; k < e.count; ++k) {
+      const int t = e.mine[k];
+      const int i = index[e.local[e.irn[t] - 1]], j = index[e.local[e.icn[t] - 1]];
+      if (i >= 0 && j >= 0 && i != j) pattern.emplace_back(std::max(i, j), std::min(i, j), 1.0);
+    }
+    Eigen::SparseMatrix<double, Eigen::ColMajor, int> m(np, np);
+    m.setFromTriplets(pattern.begin(), pattern.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
+    Eigen::AMDOrdering<int>()(m.selfadjointView<Eigen::Lower>(), order);
+    std::vector<int> rows;
+    rows.reserve(np);
+    for (int k = 0; k < s; ++k)
+      if (positive[k]) rows.push_back(k);
+    c->positive_order.resize(np);
+    for (int k = 0; k < np; ++k) c->positive_order[k] = rows[order.indices()[k]];
+    c->ordered_positive = std::move(positive);
+  }
+  std::copy(c->positive_order.begin(), c->positive_order.end(), perm->begin());
 }
 
 // The kept analysis for this row order and these sums, moved to the front of
@@ -393,6 +450,7 @@ SparseAnalysis* assembleSparseBlock(int s, const SparseEntries& e, bool same_str
   };
   if (!same_structure && !block_unchanged()) {
     c->recent.clear();
+    c->ordered_positive.clear();
     c->irn.resize(e.count);
     c->icn.resize(e.count);
     for (int k = 0; k < e.count; ++k) {
@@ -400,6 +458,7 @@ SparseAnalysis* assembleSparseBlock(int s, const SparseEntries& e, bool same_str
       c->icn[k] = e.icn[e.mine[k]];
     }
   }
+  if (s >= kOrderedMinRows) positiveInDegreeOrder(s, e, diag, c, &perm);
   SparseAnalysis* a = patternFor(s, e, perm, c, &sums);
   Eigen::Index* start = a->m.outerIndexPtr();
   Eigen::Index* row = a->m.innerIndexPtr();
@@ -460,6 +519,7 @@ void factorSparseBlock(int s, const SparseEntries& entries, bool same_structure,
     }
   }
   start[s] = count;
+  last_fill = count;
   for (int k = 0; k < s; ++k) {
     f[k] = d(k);
     *negative += d(k) < 0;
@@ -643,6 +703,7 @@ extern "C" void bristleDenseMa27c(int*, double* a, int*, int* iw, int*, double* 
 }
 
 long long sparseKktAnalyses() { return analyses; }
+long long lastSparseKktFill() { return last_fill; }
 
 void installDenseKktSolver() {
   LSL_setMA27(&bristleDenseMa27a, &bristleDenseMa27b, &bristleDenseMa27c, &bristleDenseMa27i);

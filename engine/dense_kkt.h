@@ -46,4 +46,8 @@ void installDenseKktSolver();
 // changed since its last one). For the tests.
 long long sparseKktAnalyses();
 
+// The entries below the diagonal of L in this thread's last factorisation of
+// a sparse block. For the tests.
+long long lastSparseKktFill();
+
 }  // namespace bristle
