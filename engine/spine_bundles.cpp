@@ -348,12 +348,11 @@ void appendTube(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns,
                                  static_cast<float>(double(j) / n)});
     }
   auto at = [&](int j, int k) { return grid[j * (F + 1) + k]; };
-  for (int j = 0; j < n; ++j) {
+  for (int j = 0; j < n; ++j)
     for (int k = 0; k < F; ++k) {
       pushTriangle(at(j, k), at(j, k + 1), at(j + 1, k + 1), below_mm, triangles);
       pushTriangle(at(j, k), at(j + 1, k + 1), at(j + 1, k), below_mm, triangles);
     }
-  }
 }
 
 }  // namespace

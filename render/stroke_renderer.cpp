@@ -196,10 +196,6 @@ constexpr double kJumpFloorPx = 2;
 // a --max-step-mm of 2 at 8 px/mm, as 16 did while the limit was one step.
 constexpr int kMaxSweepStamps = 32;
 
-}  // namespace
-
-namespace {
-
 // Which stamps of a sweep draw the half solid at each joint: (*plan)[k] for
 // k = 1..stamps - 1 (the last stamp draws everything). A half solid whose
 // patch on the paper keeps a curvature radius rho (capPatchRoundness) may
