@@ -39,6 +39,9 @@ constexpr double kTouchMm = 1e-5;
 // distance), with Levenberg's damping relative to J^T J.
 constexpr int kPredictIterations = 3;
 constexpr double kPredictDamping = 1e-3;
+// extrapolateStart: below this handle motion (mm, either step) the two
+// steps' directions are round-off and nothing is extrapolated.
+constexpr double kExtrapolateMinMoveMm = 1e-4;
 // A contact joint the solution puts this far above the canvas has left it. Well
 // above the solver's constraint accuracy, well below anything visible.
 constexpr double kLiftedMm = 1e-3;
@@ -425,6 +428,14 @@ const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int 
   return state_;
 }
 
+HandleMove handleMove(const Pose& from, const Pose& to) {
+  const Eigen::Vector3d down(0, 0, -10);
+  HandleMove m;
+  m.head<3>() = to.position_mm - from.position_mm;
+  m.tail<3>() = to.apply(down) - from.apply(down);
+  return m;
+}
+
 const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   const int ns = static_cast<int>(brush_.spines.size());
   std::vector<SpineSolution> trial(ns);
@@ -446,6 +457,7 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   failed_run_ = step_failed ? failed_run_ + 1 : 0;
   stats_.longest_failed_run = std::max(stats_.longest_failed_run, failed_run_);
 
+  state_.moved = handleMove(state_.handle, handle);
   state_.handle = handle;
   state_.t_s = t_s;
   ++state_.step;
@@ -487,8 +499,10 @@ std::vector<int> Simulation::startSpines(const Pose& handle, std::vector<SpineSo
     // start would bend the spine whichever way its round-off leans.
     if (straight)
       (*trial)[s].q[0] = kBucklingNudgeRad;
-    else if (options_.predict_start && solver_->wantsPredictedStart())
+    else if (options_.predict_start && solver_->wantsPredictedStart()) {
+      if (options_.extrapolate_start) extrapolateStart(s, handle, &(*trial)[s].q);
       predictStart(s, handle, &(*trial)[s].q);
+    }
   }
   return which;
 }
@@ -558,6 +572,30 @@ void Simulation::predictStart(int s, const Pose& handle, std::vector<double>* q)
     if (!dq.allFinite()) return;
     for (int v = 0; v < nv; ++v) (*q)[v] += dq(v);
   }
+}
+
+// The carried shape assumes the spine keeps its last pose relative to the
+// handle. Over a stroke it does not: a sliding spine keeps bending back as it
+// is dragged, a pressed one keeps splaying. Its last increment (the angles
+// the previous step turned each joint through, relative to the pose before)
+// is the best guess of this step's, scaled by how much of the previous
+// handle motion this step repeats: u = <m, m_prev> / |m_prev|^2, clamped to
+// [0, 1], so a stroke that reverses or stops starts from the carried shape
+// and a steady one from the continued bend. This is the first-order
+// predictor of continuation methods; only the start moves, never the
+// minimum (eq. 3). Measured on the tablet recording: 0.64-0.71 of the
+// Ipopt iterations of the round, calligraphy and badger brushes
+// (docs/PERFORMANCE.md, "The previous step's bend continued").
+void Simulation::extrapolateStart(int s, const Pose& handle, std::vector<double>* q) const {
+  const SpineState& prev = state_.spines[s];
+  if (!prev.summary.usable() || prev.solution.q.size() != q->size()) return;
+  const HandleMove& before = state_.moved;
+  const HandleMove now = handleMove(state_.handle, handle);
+  const double min2 = kExtrapolateMinMoveMm * kExtrapolateMinMoveMm;
+  const double before2 = before.squaredNorm();
+  if (before2 < min2 || now.squaredNorm() < min2) return;
+  const double u = std::clamp(now.dot(before) / before2, 0.0, 1.0);
+  for (size_t v = 0; v < q->size(); ++v) (*q)[v] += u * prev.solution.q[v];
 }
 
 void Simulation::correctContactSet(const Pose& handle, const std::vector<int>& which,

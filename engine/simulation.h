@@ -25,6 +25,11 @@ struct SimOptions {
   // carry pushed into the paper lifted onto it (docs/dynamics.md, "Where a
   // solve starts"). false: the carried shape alone (for comparisons).
   bool predict_start = true;
+  // With predict_start: the carried shape first continues each spine's bend
+  // at the rate of the previous step, in proportion to how far the handle
+  // goes on the same way (docs/dynamics.md, "Where a solve starts"). false:
+  // the prediction starts from the carried shape (for comparisons).
+  bool extrapolate_start = true;
   // Canvas multipliers below this are grazing contact, not contact
   // (docs/design.md, "Solver notes": grazing joints show 1e-6..3e-4 N).
   double contact_threshold_n = 1e-3;
@@ -58,10 +63,20 @@ struct SpineState {
   Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
 };
 
+// A handle's motion between two poses, for comparing one step's with the
+// next: the displacement of its origin, then of a point 10 mm down its axis
+// (where the hair is), so that a turn about the origin counts too.
+using HandleMove = Eigen::Matrix<double, 6, 1>;
+HandleMove handleMove(const Pose& from, const Pose& to);
+
 struct BrushState {
   int step = 0;
   double t_s = 0;
   Pose handle;
+  // How the handle moved in the step that led here, as the displacements of
+  // its origin and of a point down its axis (mm): the measure by which the
+  // next step extrapolates (Simulation::extrapolateStart). Zero at the start.
+  HandleMove moved = HandleMove::Zero();
   std::vector<SpineState> spines;
   Eigen::Vector3d force_n = Eigen::Vector3d::Zero();  // canvas force on the brush
   bool anyContact() const;
@@ -217,6 +232,7 @@ class Simulation : private SolveWatch {
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
   bool relaxInAir(int s, const Pose& handle);
   void predictStart(int s, const Pose& handle, std::vector<double>* q);
+  void extrapolateStart(int s, const Pose& handle, std::vector<double>* q) const;
   // One step without splitting (§3.1), in stages: start each spine (carried
   // rigidly, relaxed in air when clear: returns those left to solve), solve,
   // correct the contact set and re-solve, commit, sum the canvas force.
