@@ -429,6 +429,8 @@ const BrushState& Simulation::stepSplitting(const Pose& handle, double t_s, int 
 }
 
 HandleMove handleMove(const Pose& from, const Pose& to) {
+  // 10 mm down the axis: among the hair of every library brush, so that a
+  // turn of the handle counts as the hair feels it.
   const Eigen::Vector3d down(0, 0, -10);
   HandleMove m;
   m.head<3>() = to.position_mm - from.position_mm;
@@ -583,9 +585,9 @@ void Simulation::predictStart(int s, const Pose& handle, std::vector<double>* q)
 // [0, 1], so a stroke that reverses or stops starts from the carried shape
 // and a steady one from the continued bend. This is the first-order
 // predictor of continuation methods; only the start moves, never the
-// minimum (eq. 3). Measured on the tablet recording: 0.64-0.71 of the
-// Ipopt iterations of the round, calligraphy and badger brushes
-// (docs/PERFORMANCE.md, "The previous step's bend continued").
+// minimum (eq. 3). Measured on the tablet recording: 0.61-0.82 of the
+// library brushes' Ipopt iterations (docs/PERFORMANCE.md, "The previous
+// step's bend continued").
 void Simulation::extrapolateStart(int s, const Pose& handle, std::vector<double>* q) const {
   const SpineState& prev = state_.spines[s];
   if (!prev.summary.usable() || prev.solution.q.size() != q->size()) return;
