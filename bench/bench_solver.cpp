@@ -279,16 +279,21 @@ BENCHMARK(BM_BrushDragStep)
 // The round brush (7 spines x 4 joints) along s-curve.csv, one whole stroke per
 // iteration. Time: the stroke's steps. Counters: all steps, and solving steps
 // only (prefix solve_). volume:0 takes the library round's hair volume out
-// (docs/dynamics.md), for the cost of that term side by side.
+// (docs/dynamics.md), for the cost of that term side by side. extrapolate:0
+// starts Ipopt's solves without the previous step's bend continued
+// (SimOptions::extrapolate_start), for the start's gain side by side:
+//   bench_solver --benchmark_filter='RoundSCurve/solver:0/volume:1'
 void BM_RoundSCurve(benchmark::State& state) {
   const std::string dir = BRISTLE_SOURCE_DIR;
   Brush brush = loadBrush(dir + "/scenes/brushes/round.json");
   if (state.range(1) == 0) brush.volume = VolumeSpec{};
   const Trajectory traj = loadTrajectory(dir + "/scenes/trajectories/s-curve.csv");
-  const SimOptions options;
+  SimOptions options;
+  options.extrapolate_start = state.range(2) != 0;
   const std::vector<double> times = planStepTimes(traj, brush, options);
   Samples all, solving;
   double total_s = 0;
+  long iterations = 0;
   for (auto _ : state) {
     double solve_s = 0, stroke_s = 0;
     Simulation sim(brush, options, std::make_unique<TimedSolver>(&solve_s, state.range(0)));
@@ -310,6 +315,7 @@ void BM_RoundSCurve(benchmark::State& state) {
     }
     state.SetIterationTime(stroke_s);
     total_s += stroke_s;
+    iterations += sim.stats().iterations;
   }
   const double steps = double(all.step_us.size()), solves = double(solving.step_us.size());
   all.report(state);
@@ -318,10 +324,13 @@ void BM_RoundSCurve(benchmark::State& state) {
   state.counters["steps"] = steps / strokes;  // per stroke
   state.counters["solve_steps"] = solves / strokes;
   state.counters["steps_per_s"] = total_s > 0 ? steps / total_s : 0;
+  state.counters["solver_iterations"] = double(iterations) / strokes;  // per stroke
 }
 BENCHMARK(BM_RoundSCurve)
-    ->ArgNames({"solver", "volume"})
-    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}})
+    ->ArgNames({"solver", "volume", "extrapolate"})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {1}})
+    ->Args({0, 0, 0})
+    ->Args({0, 1, 0})
     ->Iterations(3)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
