@@ -472,6 +472,9 @@ std::vector<int> Simulation::startSpines(const Pose& handle, std::vector<SpineSo
                                          std::vector<std::vector<bool>>* sliding) {
   const int ns = static_cast<int>(brush_.spines.size());
   std::vector<int> which;
+  // How much of the last step's handle motion this one repeats: the same for
+  // every spine (extrapolateStart).
+  const double repeated = options_.extrapolate_start ? repeatedMotion(handle) : 0.0;
   for (int s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush_.spines[s];
     const SpineState& prev = state_.spines[s];
@@ -502,7 +505,7 @@ std::vector<int> Simulation::startSpines(const Pose& handle, std::vector<SpineSo
     if (straight)
       (*trial)[s].q[0] = kBucklingNudgeRad;
     else if (options_.predict_start && solver_->wantsPredictedStart()) {
-      if (options_.extrapolate_start) extrapolateStart(s, handle, &(*trial)[s].q);
+      extrapolateStart(s, repeated, &(*trial)[s].q);
       predictStart(s, handle, &(*trial)[s].q);
     }
   }
@@ -588,15 +591,18 @@ void Simulation::predictStart(int s, const Pose& handle, std::vector<double>* q)
 // minimum (eq. 3). Measured on the tablet recording: 0.61-0.82 of the
 // library brushes' Ipopt iterations (docs/PERFORMANCE.md, "The previous
 // step's bend continued").
-void Simulation::extrapolateStart(int s, const Pose& handle, std::vector<double>* q) const {
-  const SpineState& prev = state_.spines[s];
-  if (!prev.summary.usable() || prev.solution.q.size() != q->size()) return;
+double Simulation::repeatedMotion(const Pose& handle) const {
   const HandleMove& before = state_.moved;
   const HandleMove now = handleMove(state_.handle, handle);
   const double min2 = kExtrapolateMinMoveMm * kExtrapolateMinMoveMm;
   const double before2 = before.squaredNorm();
-  if (before2 < min2 || now.squaredNorm() < min2) return;
-  const double u = std::clamp(now.dot(before) / before2, 0.0, 1.0);
+  if (before2 < min2 || now.squaredNorm() < min2) return 0.0;
+  return std::clamp(now.dot(before) / before2, 0.0, 1.0);
+}
+
+void Simulation::extrapolateStart(int s, double u, std::vector<double>* q) const {
+  const SpineState& prev = state_.spines[s];
+  if (u == 0 || !prev.summary.usable() || prev.solution.q.size() != q->size()) return;
   for (size_t v = 0; v < q->size(); ++v) (*q)[v] += u * prev.solution.q[v];
 }
 

@@ -75,7 +75,7 @@ struct BrushState {
   Pose handle;
   // How the handle moved in the step that led here, as the displacements of
   // its origin and of a point down its axis (mm): the measure by which the
-  // next step extrapolates (Simulation::extrapolateStart). Zero at the start.
+  // next step extrapolates (Simulation::repeatedMotion). Zero at the start.
   HandleMove moved = HandleMove::Zero();
   std::vector<SpineState> spines;
   Eigen::Vector3d force_n = Eigen::Vector3d::Zero();  // canvas force on the brush
@@ -232,7 +232,8 @@ class Simulation : private SolveWatch {
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
   bool relaxInAir(int s, const Pose& handle);
   void predictStart(int s, const Pose& handle, std::vector<double>* q);
-  void extrapolateStart(int s, const Pose& handle, std::vector<double>* q) const;
+  double repeatedMotion(const Pose& handle) const;
+  void extrapolateStart(int s, double u, std::vector<double>* q) const;
   // One step without splitting (§3.1), in stages: start each spine (carried
   // rigidly, relaxed in air when clear: returns those left to solve), solve,
   // correct the contact set and re-solve, commit, sum the canvas force.
