@@ -285,7 +285,9 @@ BENCHMARK(BM_StripCountFootprint)->ArgName("strips")->Arg(200)->Arg(1000)
 
 // The same pressed state swept over a step: the state moved range(0) pixels
 // along x from the one before (8 px/mm). 0 px is one stamp, as above; 2 px is
-// a default step's largest contact motion (0.25 mm), stamped twice.
+// a default step's largest contact motion (0.25 mm), stamped twice. range(1)
+// = 1 leaves out the triangles that can mark no pixel (the default), 0 draws
+// them all: the same bytes, so the two compare llvmpipe's work alone.
 void BM_SweptFootprint(benchmark::State& state) {
   const Brush brush = benchBrush(1);
   BrushGeometry geometry(brush);
@@ -300,12 +302,14 @@ void BM_SweptFootprint(benchmark::State& state) {
   for (SpineState& s : from.spines)
     for (Eigen::Vector3d& p : s.joints_mm) p += back;
   StrokeRenderer renderer;
+  renderer.footprintRenderer().setSkipUnmarking(state.range(1) != 0);
   timeFootprints(state, [&](FootprintImage* out) {
     return renderer.sweptFootprint(geometry, from, to, grid, kClipMm, 1 / grid.px_per_mm, out);
   });
+  state.counters["triangles_drawn"] = double(renderer.footprintRenderer().lastDrawnTriangles());
 }
-BENCHMARK(BM_SweptFootprint)->ArgName("moved_px")->Arg(0)->Arg(2)->Arg(4)->UseManualTime()
-    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SweptFootprint)->ArgNames({"moved_px", "skip"})
+    ->ArgsProduct({{0, 2, 4}, {0, 1}})->UseManualTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -166,6 +166,9 @@ struct FootprintRenderer::Impl {
   float hair_u_begin = std::numeric_limits<float>::lowest();
   float hair_u_end = std::numeric_limits<float>::max();
   int target_width_px = 0, target_height_px = 0;  // current FBO attachment size
+  bool skip_unmarking = true;
+  std::vector<FootprintVertex> drawn;  // the triangles that may mark a pixel
+  std::size_t drawn_triangles = 0;
 
   // Grows the FBO attachments to hold the window; never shrinks them, so a
   // sequence of windows of varying size reallocates only a few times.
@@ -271,6 +274,44 @@ void FootprintRenderer::setHairTextureRange(float u_begin, float u_end) {
   impl_->hair_u_end = u_end;
 }
 
+void FootprintRenderer::setSkipUnmarking(bool skip) { impl_->skip_unmarking = skip; }
+
+std::size_t FootprintRenderer::lastDrawnTriangles() const { return impl_->drawn_triangles; }
+
+namespace {
+
+// Whether a triangle that is not hair (so kGeometryShader adds no band for it)
+// may mark a pixel: GL rasterises a triangle at the pixel centres it contains,
+// so one whose bounding box holds no centre marks none. Window pixel column c
+// has its centre at x = c + 1/2 in the vertex shader's pixel units (x_mm -
+// x0_mm) * px_per_mm, rows likewise from y0_mm. The box is widened by
+// kUnmarkingSlackPx to cover the shader's float arithmetic (about 1e-4 px at
+// 2,048 px) and llvmpipe's snapping of vertices to 1/256 px, so that only
+// triangles GL would certainly leave unmarked are dropped. Clipping at the
+// contact band and the depth clamp only ever remove coverage.
+constexpr double kUnmarkingSlackPx = 1.0 / 32;
+
+bool boxHoldsCentre(const FootprintVertex* v, const FootprintWindow& window, float x0_mm,
+                    float y0_mm) {
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (int k = 0; k < 3; ++k) {
+    const double p[2] = {(double(v[k].x_mm) - x0_mm) * window.px_per_mm,
+                         (double(v[k].y_mm) - y0_mm) * window.px_per_mm};
+    for (int a = 0; a < 2; ++a) {
+      if (!std::isfinite(p[a])) return true;  // left to GL, as before
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  }
+  // A centre c + 1/2 lies in [lo, hi] when ceil(lo - 1/2) <= floor(hi - 1/2).
+  for (int a = 0; a < 2; ++a)
+    if (std::ceil(lo[a] - kUnmarkingSlackPx - 0.5) > std::floor(hi[a] + kUnmarkingSlackPx - 0.5))
+      return false;
+  return true;
+}
+
+}  // namespace
+
 void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
                                const FootprintWindow& window, double contact_band_mm,
                                FootprintImage* out) {
@@ -293,6 +334,7 @@ void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
                                 " must be a multiple of 3");
   }
   out->window = window;
+  s.drawn_triangles = 0;
   // Every texel is overwritten by the readback below.
   out->texels.resize(static_cast<std::size_t>(width) * height * 4);
   if (out->texels.empty()) return;
@@ -318,10 +360,25 @@ void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
     glUniform2f(s.hair_u_loc, s.hair_u_begin, s.hair_u_end);
     glBindVertexArray(s.vao);
     glBindBuffer(GL_ARRAY_BUFFER, s.vbo);
-    glBufferData(GL_ARRAY_BUFFER,
-                 static_cast<GLsizeiptr>(triangles.size_bytes()), triangles.data(),
+    std::span<const FootprintVertex> drawn = triangles;
+    if (s.skip_unmarking) {
+      // The shader's origin is a float uniform; the test uses the same floats.
+      const float x0 = static_cast<float>(window.x0_mm), y0 = static_cast<float>(window.y0_mm);
+      s.drawn.clear();
+      for (std::size_t t = 0; t < triangles.size(); t += 3) {
+        const FootprintVertex* v = &triangles[t];
+        // The geometry shader's hair test, on the same float u.
+        const bool hair = v[0].u >= s.hair_u_begin && v[0].u < s.hair_u_end;
+        if (hair || boxHoldsCentre(v, window, x0, y0)) s.drawn.insert(s.drawn.end(), v, v + 3);
+      }
+      drawn = s.drawn;
+    }
+    s.drawn_triangles = drawn.size() / 3;
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(drawn.size_bytes()), drawn.data(),
                  GL_STREAM_DRAW);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(drawn.size()));
+  } else {
+    s.drawn_triangles = 0;
   }
 
   // GL's row 0 is the bottom (smallest y); the image's row 0 is the top.

@@ -4,6 +4,7 @@
 // just above the paper surface keeps only what touches it. The result is a
 // float image carrying, per canvas pixel, which brush texel touches and how deep.
 
+#include <cstddef>
 #include <memory>
 #include <span>
 #include <vector>
@@ -62,8 +63,17 @@ class FootprintRenderer {
 
   // Renders the triangles (3 consecutive vertices each) clipped to z <= contact_band_mm.
   // Deterministic: one fixed readback path (float colour attachment of an FBO).
+  // Triangles that cannot mark a pixel (not hair, and no pixel centre within
+  // their bounding box) are left out before GL sees them: the same bytes, less
+  // of llvmpipe's per-triangle work.
   void render(std::span<const FootprintVertex> triangles,
               const FootprintWindow& window, double contact_band_mm, FootprintImage* out);
+
+  // Leaving out the triangles that cannot mark a pixel (on by default); off,
+  // every triangle goes to GL. For tests and benchmarks that compare the two.
+  void setSkipUnmarking(bool skip);
+  // Triangles the last render sent to GL.
+  std::size_t lastDrawnTriangles() const;
 
  private:
   struct Impl;

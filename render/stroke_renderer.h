@@ -114,6 +114,8 @@ class StrokeRenderer {
                       FootprintImage* out, double notch_px = 0);
   // Triangles the last footprint drew (for tests).
   size_t lastFootprintTriangles() const { return vertices_.size() / 3; }
+  // The footprint renderer (for tests and benchmarks of its options).
+  FootprintRenderer& footprintRenderer() { return renderer_; }
 
  private:
   bool renderTriangles(const CanvasGrid& grid, double contact_band_mm, FootprintImage* out);

@@ -271,6 +271,82 @@ TEST_CASE("footprint: the same geometry renders to the same bytes", "[footprint]
   CHECK(hashTexels(first) == hashTexels(fresh));
 }
 
+TEST_CASE("footprint: triangles that can mark no pixel are left out, and the bytes stay the same",
+          "[footprint]") {
+  const FootprintWindow window = makeWindow(2, 3, 48, 40, 4);
+  const double px = 1.0 / window.px_per_mm;  // mm per pixel
+  const double contact_band_mm = 0.4;
+  std::uint64_t state = 777;
+  auto next = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;  // [0, 1)
+  };
+  // A triangle inside the box [xa, xb] x [ya, yb] (mm), touching the paper.
+  auto triangle = [&](std::vector<FootprintVertex>* tris, double xa, double ya, double xb,
+                      double yb, float u) {
+    tris->push_back({float(xa), float(ya), 0.0f, u, 0.5f});
+    tris->push_back({float(xb), float(ya + 0.3 * (yb - ya)), 0.1f, u, 0.5f});
+    tris->push_back({float(xa + 0.6 * (xb - xa)), float(yb), 0.2f, u, 0.5f});
+  };
+  std::vector<FootprintVertex> tris;
+  int must_draw = 0, between = 0;
+  // Inside the open square between four pixel centres, 0.1 px clear of each:
+  // no centre to mark. Not hair: left out; hair: drawn (its band marks pixels).
+  for (int i = 0; i < 60; ++i) {
+    const int col = static_cast<int>(next() * (window.width_px - 1));
+    const int row = static_cast<int>(next() * (window.height_px - 1));
+    const double xa = window.x0_mm + (col + 0.6) * px, ya = window.y0_mm + (row + 0.6) * px;
+    const bool hair = i % 3 == 0;
+    triangle(&tris, xa, ya, xa + 0.8 * px, ya + 0.8 * px, hair ? 2.5f : 0.5f);
+    if (hair) ++must_draw; else ++between;
+  }
+  // Holding a pixel centre: always drawn.
+  for (int i = 0; i < 40; ++i) {
+    const int col = static_cast<int>(next() * window.width_px);
+    const int row = static_cast<int>(next() * window.height_px);
+    const double cx = window.x0_mm + (col + 0.5) * px, cy = window.y0_mm + (row + 0.5) * px;
+    triangle(&tris, cx - 0.3 * px, cy - 0.3 * px, cx + 0.7 * px, cy + 0.7 * px, 0.25f);
+    ++must_draw;
+  }
+  // A sub-pixel soup anywhere, many of its boxes just reaching a centre or
+  // just short of one: the bytes must not tell whether it was sorted.
+  const std::size_t before_soup = tris.size() / 3;
+  for (int i = 0; i < 600; ++i) {
+    const double x = window.x0_mm + next() * window.width_px * px;
+    const double y = window.y0_mm + next() * window.height_px * px;
+    const double size = (0.1 + 1.2 * next()) * px;
+    triangle(&tris, x, y, x + size, y + size * (0.3 + next()), next() < 0.2 ? 3.0f : 0.75f);
+  }
+  const std::size_t soup = tris.size() / 3 - before_soup;
+
+  FootprintRenderer& renderer = sharedRenderer();
+  renderer.setHairTextureRange(2.0f, 4.0f);
+  FootprintImage all, sorted;
+  renderer.setSkipUnmarking(false);
+  renderer.render(tris, window, contact_band_mm, &all);
+  const std::size_t drawn_all = renderer.lastDrawnTriangles();
+  renderer.setSkipUnmarking(true);
+  renderer.render(tris, window, contact_band_mm, &sorted);
+  const std::size_t drawn_sorted = renderer.lastDrawnTriangles();
+  // Only the "between" triangles: exactly those go.
+  std::vector<FootprintVertex> fixed(tris.begin(), tris.begin() + 3 * before_soup);
+  FootprintImage fixed_image;
+  renderer.render(fixed, window, contact_band_mm, &fixed_image);
+  const std::size_t drawn_fixed = renderer.lastDrawnTriangles();
+  renderer.setHairTextureRange(std::numeric_limits<float>::lowest(),
+                               std::numeric_limits<float>::max());
+
+  int covered = 0;
+  for (std::size_t i = 3; i < all.texels.size(); i += 4) covered += all.texels[i] > 0;
+  CHECK(covered > 200);  // not vacuous: the triangles do mark pixels
+  CHECK(drawn_all == tris.size() / 3);
+  CHECK(drawn_fixed == static_cast<std::size_t>(must_draw));
+  CHECK(between > 0);
+  CHECK(drawn_sorted < drawn_all - between);  // some of the soup went too
+  CHECK(drawn_sorted > drawn_all - between - soup);  // and some of it stayed
+  CHECK(hashTexels(all) == hashTexels(sorted));
+}
+
 TEST_CASE("footprint: a hair finer than a pixel covers its share where it misses every centre",
           "[footprint]") {
   // A strip 0.3 px wide, 32 px long, centred on the boundary between two rows
