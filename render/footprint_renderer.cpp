@@ -281,33 +281,73 @@ std::size_t FootprintRenderer::lastDrawnTriangles() const { return impl_->drawn_
 namespace {
 
 // Whether a triangle that is not hair (so kGeometryShader adds no band for it)
-// may mark a pixel: GL rasterises a triangle at the pixel centres it contains,
-// so one whose bounding box holds no centre marks none. Window pixel column c
-// has its centre at x = c + 1/2 in the vertex shader's pixel units (x_mm -
-// x0_mm) * px_per_mm, rows likewise from y0_mm. The box is widened by
-// kUnmarkingSlackPx to cover the shader's float arithmetic (about 1e-4 px at
-// 2,048 px) and llvmpipe's snapping of vertices to 1/256 px, so that only
-// triangles GL would certainly leave unmarked are dropped. Clipping at the
-// contact band and the depth clamp only ever remove coverage.
-constexpr double kUnmarkingSlackPx = 1.0 / 32;
+// may mark a pixel. GL rasterises a triangle at the pixel centres it
+// contains; window pixel column c has its centre at x = c + 1/2 in the vertex
+// shader's pixel units (x_mm - x0_mm) * px_per_mm, rows likewise from y0_mm.
+// The answer must never be "no" for a triangle GL would draw, so both tests
+// allow every vertex to sit up to kVertexSlackPx away from where it is
+// computed here, in x and in y: that covers the shader's float arithmetic
+// (about 1e-4 px at 2,048 px) and llvmpipe's snapping of vertices to 1/256 px
+// with room to spare. Clipping at the contact band and the depth clamp only
+// ever remove coverage.
+constexpr double kVertexSlackPx = 1.0 / 64;
+// The box test widens the box by more than that; the value with which the
+// 32 goldens were first checked byte for byte.
+constexpr double kBoxSlackPx = 1.0 / 32;
+// A triangle whose box holds more centres than this goes to GL untested:
+// such a triangle is rarely a sliver between them.
+constexpr int kMaxCentresTested = 16;
 
-bool boxHoldsCentre(const FootprintVertex* v, const FootprintWindow& window, float x0_mm,
-                    float y0_mm) {
+// Whether a centre p lies outside the edge from a to b, for a triangle of
+// orientation `sign` (+1 counterclockwise), wherever its vertices may move
+// within kVertexSlackPx. E = (b - a) x (p - a) moves by at most
+// 2 sqrt2 d |p - a| + sqrt2 d |b - a| + 4 d^2 when each vertex moves by up
+// to d in x and in y.
+bool surelyOutside(const double* a, const double* b, double px, double py, double sign) {
+  const double ux = b[0] - a[0], uy = b[1] - a[1], wx = px - a[0], wy = py - a[1];
+  const double e = sign * (ux * wy - uy * wx);
+  const double d = kVertexSlackPx;
+  const double bound = 2 * std::sqrt(2.0) * d * std::hypot(wx, wy) +
+                       std::sqrt(2.0) * d * std::hypot(ux, uy) + 4 * d * d;
+  return e < -bound;
+}
+
+bool mayMarkCentre(const FootprintVertex* v, const FootprintWindow& window, float x0_mm,
+                   float y0_mm) {
+  double p[3][2];
   double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
   for (int k = 0; k < 3; ++k) {
-    const double p[2] = {(double(v[k].x_mm) - x0_mm) * window.px_per_mm,
-                         (double(v[k].y_mm) - y0_mm) * window.px_per_mm};
+    p[k][0] = (double(v[k].x_mm) - x0_mm) * window.px_per_mm;
+    p[k][1] = (double(v[k].y_mm) - y0_mm) * window.px_per_mm;
     for (int a = 0; a < 2; ++a) {
-      if (!std::isfinite(p[a])) return true;  // left to GL, as before
-      lo[a] = std::min(lo[a], p[a]);
-      hi[a] = std::max(hi[a], p[a]);
+      if (!std::isfinite(p[k][a])) return true;  // left to GL, as before
+      lo[a] = std::min(lo[a], p[k][a]);
+      hi[a] = std::max(hi[a], p[k][a]);
     }
   }
-  // A centre c + 1/2 lies in [lo, hi] when ceil(lo - 1/2) <= floor(hi - 1/2).
-  for (int a = 0; a < 2; ++a)
-    if (std::ceil(lo[a] - kUnmarkingSlackPx - 0.5) > std::floor(hi[a] + kUnmarkingSlackPx - 0.5))
-      return false;
-  return true;
+  // The centres c + 1/2 in [lo, hi]: ceil(lo - 1/2) <= c <= floor(hi - 1/2).
+  int first[2], last[2];
+  for (int a = 0; a < 2; ++a) {
+    first[a] = static_cast<int>(std::max(std::ceil(lo[a] - kBoxSlackPx - 0.5), -1.0));
+    last[a] = static_cast<int>(std::min(std::floor(hi[a] + kBoxSlackPx - 0.5), 4096.0));
+    if (first[a] > last[a]) return false;  // no centre in the box
+  }
+  if ((last[0] - first[0] + 1) * (last[1] - first[1] + 1) > kMaxCentresTested) return true;
+  // A sliver: a centre in the box, but perhaps none in the triangle. The
+  // orientation first; a triangle that slack could flip goes to GL.
+  const double ux = p[1][0] - p[0][0], uy = p[1][1] - p[0][1];
+  const double wx = p[2][0] - p[0][0], wy = p[2][1] - p[0][1];
+  const double area2 = ux * wy - uy * wx;
+  if (!surelyOutside(p[0], p[1], p[2][0], p[2][1], area2 > 0 ? -1.0 : 1.0)) return true;
+  const double sign = area2 > 0 ? 1.0 : -1.0;
+  for (int c = first[0]; c <= last[0]; ++c)
+    for (int r = first[1]; r <= last[1]; ++r) {
+      const double cx = c + 0.5, cy = r + 0.5;
+      if (!surelyOutside(p[0], p[1], cx, cy, sign) && !surelyOutside(p[1], p[2], cx, cy, sign) &&
+          !surelyOutside(p[2], p[0], cx, cy, sign))
+        return true;
+    }
+  return false;
 }
 
 }  // namespace
@@ -369,7 +409,7 @@ void FootprintRenderer::render(std::span<const FootprintVertex> triangles,
         const FootprintVertex* v = &triangles[t];
         // The geometry shader's hair test, on the same float u.
         const bool hair = v[0].u >= s.hair_u_begin && v[0].u < s.hair_u_end;
-        if (hair || boxHoldsCentre(v, window, x0, y0)) s.drawn.insert(s.drawn.end(), v, v + 3);
+        if (hair || mayMarkCentre(v, window, x0, y0)) s.drawn.insert(s.drawn.end(), v, v + 3);
       }
       drawn = s.drawn;
     }

@@ -292,6 +292,7 @@ TEST_CASE("footprint: triangles that can mark no pixel are left out, and the byt
   int must_draw = 0, between = 0;
   // Inside the open square between four pixel centres, 0.1 px clear of each:
   // no centre to mark. Not hair: left out; hair: drawn (its band marks pixels).
+  // The triangles are counter-clockwise; the slivers below clockwise.
   for (int i = 0; i < 60; ++i) {
     const int col = static_cast<int>(next() * (window.width_px - 1));
     const int row = static_cast<int>(next() * (window.height_px - 1));
@@ -299,6 +300,20 @@ TEST_CASE("footprint: triangles that can mark no pixel are left out, and the byt
     const bool hair = i % 3 == 0;
     triangle(&tris, xa, ya, xa + 0.8 * px, ya + 0.8 * px, hair ? 2.5f : 0.5f);
     if (hair) ++must_draw; else ++between;
+  }
+  // Slivers along a diagonal halfway between rows of centres (0.35 px from the
+  // nearest): their boxes hold centres, the triangles none. Not hair: left out.
+  for (int i = 0; i < 20; ++i) {
+    const int col = static_cast<int>(next() * (window.width_px - 4));
+    const int row = static_cast<int>(next() * (window.height_px - 4));
+    auto at = [&](double c, double r, float z) {
+      return FootprintVertex{float(window.x0_mm + c * px), float(window.y0_mm + r * px), z, 0.5f,
+                             0.5f};
+    };
+    tris.push_back(at(col + 0.5, row + 1.0, 0.0f));
+    tris.push_back(at(col + 2.5, row + 3.0, 0.1f));
+    tris.push_back(at(col + 2.55, row + 2.95, 0.2f));
+    ++between;
   }
   // Holding a pixel centre: always drawn.
   for (int i = 0; i < 40; ++i) {
