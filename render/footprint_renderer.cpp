@@ -302,13 +302,14 @@ constexpr int kMaxCentresTested = 16;
 // orientation `sign` (+1 counterclockwise), wherever its vertices may move
 // within kVertexSlackPx. E = (b - a) x (p - a) moves by at most
 // 2 sqrt2 d |p - a| + sqrt2 d |b - a| + 4 d^2 when each vertex moves by up
-// to d in x and in y.
+// to d in x and in y; the lengths are bounded by their L1 norms, which are
+// larger and need no square root.
 bool surelyOutside(const double* a, const double* b, double px, double py, double sign) {
   const double ux = b[0] - a[0], uy = b[1] - a[1], wx = px - a[0], wy = py - a[1];
   const double e = sign * (ux * wy - uy * wx);
-  const double d = kVertexSlackPx;
-  const double bound = 2 * std::sqrt(2.0) * d * std::hypot(wx, wy) +
-                       std::sqrt(2.0) * d * std::hypot(ux, uy) + 4 * d * d;
+  constexpr double d = kVertexSlackPx, k = 2 * 1.4142135623730951 * d;
+  const double bound = k * (std::fabs(wx) + std::fabs(wy)) +
+                       0.5 * k * (std::fabs(ux) + std::fabs(uy)) + 4 * d * d;
   return e < -bound;
 }
 
@@ -333,20 +334,35 @@ bool mayMarkCentre(const FootprintVertex* v, const FootprintWindow& window, floa
     if (first[a] > last[a]) return false;  // no centre in the box
   }
   if ((last[0] - first[0] + 1) * (last[1] - first[1] + 1) > kMaxCentresTested) return true;
-  // A sliver: a centre in the box, but perhaps none in the triangle. The
-  // orientation first; a triangle that slack could flip goes to GL.
-  const double ux = p[1][0] - p[0][0], uy = p[1][1] - p[0][1];
-  const double wx = p[2][0] - p[0][0], wy = p[2][1] - p[0][1];
-  const double area2 = ux * wy - uy * wx;
-  if (!surelyOutside(p[0], p[1], p[2][0], p[2][1], area2 > 0 ? -1.0 : 1.0)) return true;
+  // A sliver: a centre in the box, but perhaps none in the triangle. GL's
+  // triangle (its vertices moved as above) holds a centre only if, for its
+  // orientation, no edge has the centre surely outside. A thin triangle's
+  // orientation may flip with its vertices, so a centre is dropped only when
+  // it is surely outside for both orientations; the computed one is tried
+  // first.
+  const double area2 = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
+                       (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
   const double sign = area2 > 0 ? 1.0 : -1.0;
-  for (int c = first[0]; c <= last[0]; ++c)
-    for (int r = first[1]; r <= last[1]; ++r) {
-      const double cx = c + 0.5, cy = r + 0.5;
-      if (!surelyOutside(p[0], p[1], cx, cy, sign) && !surelyOutside(p[1], p[2], cx, cy, sign) &&
-          !surelyOutside(p[2], p[0], cx, cy, sign))
+  auto mayHold = [&](int c, int r) {
+    const double cx = c + 0.5, cy = r + 0.5;
+    for (const double o : {sign, -sign})
+      if (!surelyOutside(p[0], p[1], cx, cy, o) && !surelyOutside(p[1], p[2], cx, cy, o) &&
+          !surelyOutside(p[2], p[0], cx, cy, o))
         return true;
-    }
+    return false;
+  };
+  // The centre nearest the centroid first: in a triangle that is not a
+  // sliver it is usually inside, and the search ends there.
+  int mid[2];
+  for (int a = 0; a < 2; ++a) {
+    const double centroid = (p[0][a] + p[1][a] + p[2][a]) / 3;
+    mid[a] = std::clamp(static_cast<int>(std::lround(centroid - 0.5)), first[a], last[a]);
+  }
+  const int c_mid = mid[0], r_mid = mid[1];
+  if (mayHold(c_mid, r_mid)) return true;
+  for (int c = first[0]; c <= last[0]; ++c)
+    for (int r = first[1]; r <= last[1]; ++r)
+      if ((c != c_mid || r != r_mid) && mayHold(c, r)) return true;
   return false;
 }
 
