@@ -63,14 +63,17 @@ class FootprintRenderer {
 
   // Renders the triangles (3 consecutive vertices each) clipped to z <= contact_band_mm.
   // Deterministic: one fixed readback path (float colour attachment of an FBO).
-  // Triangles that cannot mark a pixel (not hair, and no pixel centre within
-  // their bounding box) are left out before GL sees them: the same bytes, less
-  // of llvmpipe's per-triangle work.
+  // Triangles that cannot mark a pixel (not hair, and no pixel centre inside)
+  // are left out before GL sees them: the same bytes, less of llvmpipe's
+  // per-triangle work.
   void render(std::span<const FootprintVertex> triangles,
               const FootprintWindow& window, double contact_band_mm, FootprintImage* out);
 
   // Leaving out the triangles that cannot mark a pixel (on by default); off,
   // every triangle goes to GL. For tests and benchmarks that compare the two.
+  // Where a footprint drops few triangles, the next 15 are sent whole without
+  // the tests (their cost would exceed the saving); setting this starts
+  // testing again at the next render.
   void setSkipUnmarking(bool skip);
   // Triangles the last render sent to GL.
   std::size_t lastDrawnTriangles() const;

@@ -343,9 +343,10 @@ TEST_CASE("footprint: triangles that can mark no pixel are left out, and the byt
   renderer.setSkipUnmarking(true);
   renderer.render(tris, window, contact_band_mm, &sorted);
   const std::size_t drawn_sorted = renderer.lastDrawnTriangles();
-  // Only the "between" triangles: exactly those go.
+  // Only the "between" triangles and the slivers: exactly those go.
   std::vector<FootprintVertex> fixed(tris.begin(), tris.begin() + 3 * before_soup);
   FootprintImage fixed_image;
+  renderer.setSkipUnmarking(true);  // testing, whatever the draw before dropped
   renderer.render(fixed, window, contact_band_mm, &fixed_image);
   const std::size_t drawn_fixed = renderer.lastDrawnTriangles();
   renderer.setHairTextureRange(std::numeric_limits<float>::lowest(),
@@ -360,6 +361,46 @@ TEST_CASE("footprint: triangles that can mark no pixel are left out, and the byt
   CHECK(drawn_sorted < drawn_all - between);  // some of the soup went too
   CHECK(drawn_sorted > drawn_all - between - soup);  // and some of it stayed
   CHECK(hashTexels(all) == hashTexels(sorted));
+}
+
+TEST_CASE("footprint: after a footprint that drops few triangles, the next 15 are sent whole",
+          "[footprint]") {
+  const FootprintWindow window = makeWindow(0, 0, 32, 32, 4);
+  const double px = 1.0 / window.px_per_mm;
+  std::vector<FootprintVertex> dense, sparse;
+  // 64 quads over the window: every triangle holds a centre, none is dropped.
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      addQuad(&dense, flatQuad(4 * i * px, 4 * j * px, (4 * i + 3) * px, (4 * j + 3) * px, 0.0,
+                               0.5, 0.5));
+  // The same, and as many triangles between centres, each of which could go.
+  sparse = dense;
+  for (int k = 0; k < 128; ++k) {
+    const double x = (k % 30 + 0.6) * px, y = (k / 30 + 0.6) * px;
+    sparse.push_back({float(x), float(y), 0.0f, 0.5f, 0.5f});
+    sparse.push_back({float(x + 0.8 * px), float(y), 0.0f, 0.5f, 0.5f});
+    sparse.push_back({float(x), float(y + 0.8 * px), 0.0f, 0.5f, 0.5f});
+  }
+  FootprintRenderer& renderer = sharedRenderer();
+  renderer.setHairTextureRange(2.0f, 4.0f);  // none of these is hair
+  renderer.setSkipUnmarking(true);
+  FootprintImage image, whole;
+  renderer.render(dense, window, 0.5, &image);  // nothing dropped: a rest follows
+  CHECK(renderer.lastDrawnTriangles() == dense.size() / 3);
+  std::vector<std::size_t> drawn;
+  for (int k = 0; k < 17; ++k) {
+    renderer.render(sparse, window, 0.5, &image);
+    drawn.push_back(renderer.lastDrawnTriangles());
+  }
+  for (int k = 0; k < 15; ++k) CHECK(drawn[k] == sparse.size() / 3);  // sent whole
+  CHECK(drawn[15] == dense.size() / 3);  // tested again: the 128 dropped
+  CHECK(drawn[16] == dense.size() / 3);  // half of them dropped: it keeps testing
+  renderer.setSkipUnmarking(false);
+  renderer.render(sparse, window, 0.5, &whole);
+  renderer.setSkipUnmarking(true);
+  renderer.setHairTextureRange(std::numeric_limits<float>::lowest(),
+                               std::numeric_limits<float>::max());
+  CHECK(hashTexels(image) == hashTexels(whole));
 }
 
 TEST_CASE("footprint: a hair finer than a pixel covers its share where it misses every centre",
