@@ -317,10 +317,11 @@ constexpr double kStripCullMarginMm = 1e-3;
 // Dresses one strip's centre line c (layout.samples() points) as a quad
 // strip (buildStrips): width tapering from root to tip, flat side in the
 // canvas plane, texture row u and v = f s along it. Only the quads that reach
-// down to below_mm are appended.
+// down to below_mm are appended. c is read from sample `first` on: no quad
+// that ends at or before sample first + 1 may reach below_mm.
 void appendStripQuads(const StripSpec& spec, const StripLayout& layout, const Eigen::Vector3d* c,
-                      double f, float u, const Eigen::Vector3d& fallback, double below_mm,
-                      std::vector<BrushVertex>* triangles) {
+                      int first, double f, float u, const Eigen::Vector3d& fallback,
+                      double below_mm, std::vector<BrushVertex>* triangles) {
   const int samples = layout.samples();
   auto vert = [u](const Eigen::Vector3d& p, float v) {
     return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
@@ -337,8 +338,8 @@ void appendStripQuads(const StripSpec& spec, const StripLayout& layout, const Ei
   };
   Eigen::Vector3d prev_left = c[0], prev_right = c[0];
   float prev_v = 0;
-  for (int k = 0; k < samples; ++k) {
-    const bool before = k > 0 && quad(k), after = k + 1 < samples && quad(k + 1);
+  for (int k = first; k < samples; ++k) {
+    const bool before = k > first && quad(k), after = k + 1 < samples && quad(k + 1);
     if (!before && !after) continue;
     // Tangent: the mean of the adjacent segment directions.
     Eigen::Vector3d t = Eigen::Vector3d::Zero();
@@ -365,6 +366,34 @@ void appendStripQuads(const StripSpec& spec, const StripLayout& layout, const Ei
       triangles->push_back(vert(left, v));
     }
     prev_left = left, prev_right = right, prev_v = v;
+  }
+}
+
+// A strip's sample at s is a convex combination of its spines' points at s
+// (eq. 19 keeps the weights >= 0, summing to 1; a bunch's are means of
+// those, and clumping * s lies in [0, 1]), each on the segment of its
+// polyline that holds s. So where every spine it follows is still on
+// segments whose joints all stay clear of below_mm by more than rounding,
+// the sample is too. Per spine, clear_s is the parameter up to which that
+// holds: the start of its first segment with a joint within the margin (a
+// sample at s <= clear_s lies on an earlier segment, see buildStrips' walk),
+// or kAllHeights if no joint is. A hanging brush's hair dips only near its
+// tips, so most of each strip is not built at all; a strip all of whose
+// spines stay clear is skipped whole.
+void spinesClearUpTo(const StripLayout& layout, const BrushState& state, double below_mm,
+                     double* clear_s) {
+  for (int i = 0; i < layout.spines; ++i) {
+    const double* js = &layout.joint_s[layout.joint_begin[i]];
+    const std::vector<Eigen::Vector3d>& x = state.spines[i].joints_mm;
+    const int joints = layout.joint_begin[i + 1] - layout.joint_begin[i];
+    clear_s[i] = kAllHeights;
+    for (int a = 0; a < joints; ++a) {
+      if (!(x[a].z() > below_mm + kStripCullMarginMm)) {
+        // Joint a ends segment a - 1 and starts segment a.
+        clear_s[i] = a == 0 ? -kAllHeights : js[a - 1];
+        break;
+      }
+    }
   }
 }
 
@@ -395,19 +424,11 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
   if (fallback.norm() < 1e-6) fallback = Eigen::Vector3d(by.x(), by.y(), 0);
   fallback.normalize();
 
-  // Each spine's lowest joint. A strip's centre line is a convex combination
-  // of points on its spines (eq. 19 keeps the weights >= 0, summing to 1; a
-  // bunch's are means of those, and clumping * s lies in [0, 1]), so it never
-  // dips below the lowest joint of the spines it follows: a strip whose
-  // spines all stay clear of below_mm by more than rounding is not built.
-  // (A brush file holds at most kMaxSpines; one made otherwise is not culled.)
+  // How far along each spine stays clear of below_mm (spinesClearUpTo). (A
+  // brush file holds at most kMaxSpines; one made otherwise is not culled.)
   const bool cull = ns <= kMaxSpines;
-  double spine_low[kMaxSpines];
-  for (int i = 0; cull && i < ns; ++i) {
-    spine_low[i] = kAllHeights;
-    for (const Eigen::Vector3d& x : state.spines[i].joints_mm)
-      spine_low[i] = std::min(spine_low[i], x.z());
-  }
+  double clear_s[kMaxSpines];
+  if (cull) spinesClearUpTo(layout, state, below_mm, clear_s);
   const StripSpec& spec = brush.strips;
   Eigen::Vector3d c[kMaxStripSamples];   // one strip's centre line
   Eigen::Vector3d cg[kMaxStripSamples];  // its bunch's (clumping)
@@ -423,15 +444,19 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
     const bool clumped = !layout.clump.empty();
     const double* wg =
         clumped ? &layout.clump_weights[static_cast<size_t>(layout.clump[j]) * ns] : nullptr;
-    double low = -kAllHeights;
+    // The first sample that may dip (dip), and the first one built: the two
+    // before it, the first of them for the tangent at the second.
+    int dip = 0;
     if (cull) {
-      low = kAllHeights;
+      double clear = kAllHeights;
       for (int i = 0; i < ns; ++i)
-        if (w[i] != 0 || (clumped && wg[i] != 0)) low = std::min(low, spine_low[i]);
+        if (w[i] != 0 || (clumped && wg[i] != 0)) clear = std::min(clear, clear_s[i]);
+      while (dip < samples && f * layout.sample_s[dip] <= clear) ++dip;
+      if (dip == samples) continue;
     }
-    if (low > below_mm + kStripCullMarginMm) continue;
-    std::fill(c, c + samples, Eigen::Vector3d::Zero());
-    if (clumped) std::fill(cg, cg + samples, Eigen::Vector3d::Zero());
+    const int first = std::max(dip - 2, 0);
+    std::fill(c + first, c + samples, Eigen::Vector3d::Zero());
+    if (clumped) std::fill(cg + first, cg + samples, Eigen::Vector3d::Zero());
     for (int i = 0; i < ns; ++i) {
       if (w[i] == 0 && (!clumped || wg[i] == 0)) continue;
       const double* js = &layout.joint_s[layout.joint_begin[i]];
@@ -439,7 +464,7 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
       const int last_seg = layout.joint_begin[i + 1] - layout.joint_begin[i] - 2;
       const Eigen::Vector3d* x = state.spines[i].joints_mm.data();
       int a = 0;
-      for (int k = 0; k < samples; ++k) {
+      for (int k = first; k < samples; ++k) {
         const double s = f * layout.sample_s[k];
         while (a < last_seg && js[a + 1] < s) ++a;
         const double t = std::min((s - js[a]) * inv[a], 1.0);
@@ -449,9 +474,10 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
       }
     }
     if (clumped)
-      for (int k = 0; k < samples; ++k) c[k] += spec.clumping * layout.sample_s[k] * (cg[k] - c[k]);
-    appendStripQuads(spec, layout, c, f, static_cast<float>((j + 0.5) / layout.count), fallback,
-                     below_mm, triangles);
+      for (int k = first; k < samples; ++k)
+        c[k] += spec.clumping * layout.sample_s[k] * (cg[k] - c[k]);
+    appendStripQuads(spec, layout, c, first, f, static_cast<float>((j + 0.5) / layout.count),
+                     fallback, below_mm, triangles);
   }
 }
 

@@ -473,6 +473,71 @@ TEST_CASE("the fan's hairs reach the paper wherever their spine tips do", "[stri
   CHECK(double(touching) / eligible >= 0.95);
 }
 
+TEST_CASE("strips built for the contact band are exactly the whole strips' quads that reach it",
+          "[strips]") {
+  // buildStrips skips the samples of a strip that its spines keep clear of
+  // the band (and whole strips). Whatever it skips, what it builds must be
+  // the quads of the whole strips that reach below_mm, bit for bit and in
+  // the same order: a sample built too late would leave the first quad's
+  // tangent, and so its vertices, wrong. Checked along real strokes of
+  // three brushes whose hair meets the paper differently: the badger held
+  // upright (only the last segments dip), the fan dragged lightly, the
+  // calligraphy brush pressed.
+  constexpr double kBandMm = 0.1;  // StrokeOptions::contact_band_mm
+  struct Case {
+    const char* brush;
+    const char* trajectory;
+    double raise_mm;
+  };
+  const Case cases[] = {{"badger", "straight-pull.csv", 0.0},
+                        {"fan", "straight-pull.csv", 1.3},
+                        {"calligraphy", "tilted-drag.csv", 0.0}};
+  for (const Case& cs : cases) {
+    INFO(cs.brush << " on " << cs.trajectory);
+    const Brush b =
+        loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/" + cs.brush + ".json");
+    Trajectory tr =
+        loadTrajectory(std::string(BRISTLE_SOURCE_DIR) + "/scenes/trajectories/" + cs.trajectory);
+    for (TrajectorySample& s : tr.samples) s.pose.position_mm.z() += cs.raise_mm;
+    const StripLayout layout = layoutStrips(b);
+    REQUIRE(layout.count > 0);
+    Simulation sim(b, SimOptions{}, makeSlsqpSolver());
+    const std::vector<double> times = planStepTimes(tr, b, SimOptions{});
+    sim.reset(tr.poseAt(times.front()), times.front());
+    std::vector<BrushVertex> whole, culled, expected;
+    long steps_with_hair = 0, kept = 0, all = 0;
+    for (size_t i = 1; i < times.size(); i += 4) {
+      const BrushState& st = sim.step(tr.poseAt(times[i]), times[i]);
+      whole.clear(), culled.clear(), expected.clear();
+      buildStrips(b, layout, st, &whole);
+      buildStrips(b, layout, st, &culled, kBandMm);
+      // Quads are six vertices; both triangles' lowest vertex is the lower
+      // sample's height, the quad's test.
+      REQUIRE(whole.size() % 6 == 0);
+      for (size_t q = 0; q < whole.size(); q += 6) {
+        float low = whole[q].z_mm;
+        for (size_t v = q; v < q + 6; ++v) low = std::min(low, whole[v].z_mm);
+        if (!(low > kBandMm)) expected.insert(expected.end(), &whole[q], &whole[q] + 6);
+      }
+      REQUIRE(culled.size() == expected.size());
+      for (size_t v = 0; v < culled.size(); ++v) {
+        INFO("step " << i << ", vertex " << v);
+        REQUIRE(culled[v].x_mm == expected[v].x_mm);
+        REQUIRE(culled[v].y_mm == expected[v].y_mm);
+        REQUIRE(culled[v].z_mm == expected[v].z_mm);
+        REQUIRE(culled[v].u == expected[v].u);
+        REQUIRE(culled[v].v == expected[v].v);
+      }
+      if (!culled.empty()) ++steps_with_hair;
+      kept += static_cast<long>(culled.size());
+      all += static_cast<long>(whole.size());
+    }
+    // The strokes do put hair in the band, and most of the hair stays above it.
+    CHECK(steps_with_hair >= 10);
+    CHECK(kept < all / 2);
+  }
+}
+
 // ---- The spines' own bundles flatten and spread on the paper (engine/spine_bundles.h) ----
 
 TEST_CASE("a bundle pressed onto the paper keeps its area and spreads sideways", "[strips]") {
