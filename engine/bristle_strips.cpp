@@ -336,7 +336,7 @@ void appendStripQuads(const StripSpec& spec, const StripLayout& layout, const Ei
     const float z = std::min(static_cast<float>(c[k - 1].z()), static_cast<float>(c[k].z()));
     return !(z > below_mm);
   };
-  Eigen::Vector3d prev_left = c[0], prev_right = c[0];
+  Eigen::Vector3d prev_left = c[first], prev_right = c[first];
   float prev_v = 0;
   for (int k = first; k < samples; ++k) {
     const bool before = k > first && quad(k), after = k + 1 < samples && quad(k + 1);
