@@ -1,7 +1,10 @@
 #include "render/compose.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <span>
 
 #include "bristle/version.h"
 #include "engine/fnv1a64.h"
@@ -56,27 +59,62 @@ std::vector<float> composeLinear(const PaintCanvas& canvas, const ComposeOptions
   return out;
 }
 
+namespace {
+
+// linearToSrgb's pow was most of composing a canvas (1.8% of a whole render
+// of the badger on the S-curve, docs/PERFORMANCE.md), and a canvas holds few
+// distinct values: the bare paper, the flat inside of a stroke. A
+// direct-mapped memo keyed by the float's bits gives every value the very
+// result the function gives it, computed once per slot it lands in.
+template <class T, int kMax>
+void encodeSrgbInto(std::span<const float> linear, std::vector<T>* out) {
+  constexpr int kSlots = 4096;  // 48 KB of keys and codes
+  struct Slot {
+    std::uint32_t key;
+    T code;
+    bool used;
+  };
+  std::vector<Slot> memo(kSlots, Slot{0, 0, false});
+  out->reserve(out->size() + linear.size());
+  for (const float v : linear) {
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(v);
+    // Fibonacci hashing: the top 12 bits of the product mix every input bit.
+    Slot& s = memo[(bits * 2654435769u) >> 20];
+    if (!s.used || s.key != bits)
+      s = Slot{bits, static_cast<T>(std::lround(double(kMax) * linearToSrgb(v))), true};
+    out->push_back(s.code);
+  }
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encodeSrgb8(std::span<const float> linear) {
+  std::vector<std::uint8_t> out;
+  encodeSrgbInto<std::uint8_t, 255>(linear, &out);
+  return out;
+}
+
+std::vector<std::uint16_t> encodeSrgb16(std::span<const float> linear) {
+  std::vector<std::uint16_t> out;
+  encodeSrgbInto<std::uint16_t, 65535>(linear, &out);
+  return out;
+}
+
 Image8 composeRgb8(const PaintCanvas& canvas, const ComposeOptions& options) {
-  const std::vector<float> lin = composeLinear(canvas, options);
   Image8 img;
   img.width = canvas.grid().width_px;
   img.height = canvas.grid().height_px;
   img.channels = 3;
-  img.pixels.reserve(lin.size());
-  for (const float v : lin)
-    img.pixels.push_back(static_cast<std::uint8_t>(std::lround(255.0 * linearToSrgb(v))));
+  img.pixels = encodeSrgb8(composeLinear(canvas, options));
   return img;
 }
 
 Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options) {
-  const std::vector<float> lin = composeLinear(canvas, options);
   Image16 img;
   img.width = canvas.grid().width_px;
   img.height = canvas.grid().height_px;
   img.channels = 3;
-  img.pixels.reserve(lin.size());
-  for (const float v : lin)
-    img.pixels.push_back(static_cast<std::uint16_t>(std::lround(65535.0 * linearToSrgb(v))));
+  img.pixels = encodeSrgb16(composeLinear(canvas, options));
   return img;
 }
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <cstdlib>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,9 @@ struct ComposeOptions {
 
 // Linear-light RGB per pixel (3 floats, row 0 at the top), shading applied.
 std::vector<float> composeLinear(const PaintCanvas& canvas, const ComposeOptions& options);
+// Linear values to sRGB codes, lround(255 or 65535 * linearToSrgb(v)) each.
+std::vector<std::uint8_t> encodeSrgb8(std::span<const float> linear);
+std::vector<std::uint16_t> encodeSrgb16(std::span<const float> linear);
 // 8-bit / 16-bit sRGB-encoded RGB images of the canvas.
 Image8 composeRgb8(const PaintCanvas& canvas, const ComposeOptions& options);
 Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options);

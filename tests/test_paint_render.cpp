@@ -3,7 +3,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -14,6 +16,7 @@
 
 #include "engine/fnv1a64.h"
 #include "engine/paint.h"
+#include "engine/pigments.h"
 #include "engine/solver_pair.h"
 #include "engine/spine_solver.h"
 #include "render/compose.h"
@@ -321,6 +324,51 @@ TEST_CASE("Compose: paper shows through where there is no paint, and impasto lig
   CHECK(left_edge > top);
   CHECK(right_edge < top - 20);
   CHECK(top == flat.pixels[(5 * 40 + 20) * 3]);  // flat paint keeps its colour
+}
+
+// composeRgb8/16 memoise the sRGB encoding by the float's bits in a
+// direct-mapped table; each code must still be exactly the formula's. The
+// values mix repeats (a canvas's paper), spread values and values chosen to
+// land in one slot, so a memo that answered by slot alone would fail.
+TEST_CASE("Compose: the memoised sRGB codes are exactly the formula's, value by value",
+          "[paint-render]") {
+  std::vector<float> v;
+  std::uint64_t state = 12345;
+  auto next = [&state] {  // xorshift64*: a fixed sequence on every platform
+    state ^= state >> 12, state ^= state << 25, state ^= state >> 27;
+    return (state * 2685821657736338717ull) >> 40;  // 24 bits
+  };
+  for (int i = 0; i < 200000; ++i) {
+    const float x = static_cast<float>(next()) / float(1 << 24);
+    v.push_back(i % 3 == 0 ? 0.2140411f : x);  // a third of them one paper value
+  }
+  // Pairs of floats that share a slot, found by walking consecutive bit
+  // patterns until one lands where an earlier one did.
+  const auto slot = [](float f) { return (std::bit_cast<std::uint32_t>(f) * 2654435769u) >> 20; };
+  std::vector<std::uint32_t> first_in(4096, 0);
+  int colliding = 0;
+  for (std::uint32_t b = 0x3e000000u; b < 0x3e000000u + 40000 && colliding < 200; ++b) {
+    std::uint32_t& seen = first_in[slot(std::bit_cast<float>(b))];
+    if (seen == 0) {
+      seen = b;
+      continue;
+    }
+    const float a = std::bit_cast<float>(seen), c = std::bit_cast<float>(b);
+    v.insert(v.end(), {a, c, a, c});
+    ++colliding;
+  }
+  REQUIRE(colliding > 20);
+  v.insert(v.end(), {0.0f, 1.0f, -0.5f, 2.0f, 0.0031308f, 1e-30f});
+  const std::vector<std::uint8_t> e8 = encodeSrgb8(v);
+  const std::vector<std::uint16_t> e16 = encodeSrgb16(v);
+  REQUIRE(e8.size() == v.size());
+  REQUIRE(e16.size() == v.size());
+  int wrong = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    wrong += e8[i] != std::lround(255.0 * linearToSrgb(v[i]));
+    wrong += e16[i] != std::lround(65535.0 * linearToSrgb(v[i]));
+  }
+  CHECK(wrong == 0);
 }
 
 // `bristle preview --at t` steps as the render does (stepAlongTrajectory): the
