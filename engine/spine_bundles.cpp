@@ -217,6 +217,37 @@ void pushTriangle(const BrushVertex& a, const BrushVertex& b, const BrushVertex&
 // triangles tested one by one.
 constexpr double kCapCullMarginMm = 1e-3;
 
+// The unit directions the spines' dressing is built from, computed once:
+// sines and cosines were a tenth of the dressing's instructions when each
+// vertex took its own (docs/PERFORMANCE.md, "Sines and cosines once").
+// tube[k]: (cos a, sin a) of the half tube's angle a = pi k / F, from side
+// (k = 0) through down to -side. cap[lat][lon]: the half solid's direction
+// at polar angle 90 deg lat / kCapRings from straight down (lat 0, its lowest
+// point, to kCapRings, its equator) and azimuth 360 deg lon / 2F.
+struct DressingDirections {
+  Eigen::Vector2d tube[F + 1];
+  Eigen::Vector3d cap[kCapRings + 1][2 * F + 1];
+};
+
+const DressingDirections& dressingDirections() {
+  static const DressingDirections dirs = [] {
+    DressingDirections d;
+    for (int k = 0; k <= F; ++k) {
+      const double a = std::numbers::pi * k / F;
+      d.tube[k] = Eigen::Vector2d(std::cos(a), std::sin(a));
+    }
+    for (int lat = 0; lat <= kCapRings; ++lat)
+      for (int lon = 0; lon <= 2 * F; ++lon) {
+        const double polar = 0.5 * std::numbers::pi * lat / kCapRings;
+        const double az = 2 * std::numbers::pi * lon / (2 * F);
+        d.cap[lat][lon] = Eigen::Vector3d(std::sin(polar) * std::cos(az),
+                                          std::sin(polar) * std::sin(az), -std::cos(polar));
+      }
+    return d;
+  }();
+  return dirs;
+}
+
 // Places the half-tube rings of one spine.
 void placeTubeRings(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
                     SpineTube* tube) {
@@ -225,6 +256,7 @@ void placeTubeRings(const SpineSpec& spec, const SpineState& spine, const Pose& 
   tube->ring.assign((n + 1) * (F + 1), Eigen::Vector3d::Zero());
   tube->sides.assign(n + 1, Eigen::Vector3d::Zero());
   spineBundles(spec, spine, handle, &tube->section, &tube->centre);
+  const DressingDirections& dirs = dressingDirections();
   for (int j = 0; j <= n; ++j) {
     const BundleSection& q = tube->section[j];
     // Side: across the hair in the canvas plane; down: across the hair,
@@ -250,10 +282,10 @@ void placeTubeRings(const SpineSpec& spec, const SpineState& spine, const Pose& 
     const double reach = down.z() < -1e-9 ? c.z() / -down.z() : extent;
     const double spread = q.spread(extent, reach);
     for (int k = 0; k <= F; ++k) {
-      const double a = std::numbers::pi * k / F;
-      const Eigen::Vector3d d = std::cos(a) * side + std::sin(a) * down;
+      const double cos_a = dirs.tube[k].x(), sin_a = dirs.tube[k].y();
+      const Eigen::Vector3d d = cos_a * side + sin_a * down;
       tube->ring[j * (F + 1) + k] =
-          c + q.radiusAcross(d) * (spread * std::cos(a) * side + std::sin(a) * down);
+          c + q.radiusAcross(d) * (spread * cos_a * side + sin_a * down);
     }
   }
 }
@@ -283,6 +315,7 @@ void appendJointCaps(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns
                      const std::vector<char>* due, std::vector<BrushVertex>* triangles,
                      double below_mm) {
   const int n = spec.jointCount();
+  const DressingDirections& dirs = dressingDirections();
   for (int j = 1; j <= n; ++j) {
     if (due && !(*due)[j]) continue;
     const BundleSection& q = tube.section[j];
@@ -307,10 +340,7 @@ void appendJointCaps(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns
     if (j == n) along = q.t.head<2>();  // |along| = cos(elevation)
     const double squash = 1 - kTipCapDepth;
     auto cap = [&](int lat, int lon) {  // lat 0 = lowest point .. kCapRings = equator
-      const double polar = 0.5 * std::numbers::pi * lat / kCapRings;
-      const double az = 2 * std::numbers::pi * lon / (2 * F);
-      const Eigen::Vector3d d(std::sin(polar) * std::cos(az), std::sin(polar) * std::sin(az),
-                              -std::cos(polar));
+      const Eigen::Vector3d& d = dirs.cap[lat][lon];
       Eigen::Vector2d flat = spread * d.head<2>();
       flat -= squash * flat.dot(along) * along;
       const Eigen::Vector3d p = c + q.radius(d) * Eigen::Vector3d(flat.x(), flat.y(), d.z());
