@@ -83,6 +83,19 @@ void jointParameters(const Brush& brush, StripLayout* l) {
     const double ds = k + 1 < l->joint_s.size() ? l->joint_s[k + 1] - l->joint_s[k] : 0.0;
     l->joint_inv_ds.push_back(ds > 0 ? 1 / ds : 0.0);
   }
+  const int ns = static_cast<int>(brush.spines.size());
+  for (int i = 0; i < ns; ++i) {
+    const int bi = l->joint_begin[i], ni = l->joint_begin[i + 1] - bi;
+    int g = 0;
+    for (; g < i; ++g) {
+      const int bg = l->joint_begin[g];
+      if (l->joint_begin[g + 1] - bg == ni &&
+          std::equal(&l->joint_s[bi], &l->joint_s[bi] + ni, &l->joint_s[bg]) &&
+          std::equal(&l->joint_inv_ds[bi], &l->joint_inv_ds[bi] + ni, &l->joint_inv_ds[bg]))
+        break;
+    }
+    l->joint_group.push_back(g);
+  }
   // A strip's vertices sit at every spine's joints (§4.2: "two vertices per joint").
   std::vector<double> s = l->joint_s;
   std::sort(s.begin(), s.end());
@@ -369,6 +382,28 @@ void appendStripQuads(const StripSpec& spec, const StripLayout& layout, const Ei
   }
 }
 
+// Where a strip's samples k >= first fall on spine i's polyline: segment
+// seg[k], at fraction frac[k] of it (the strip's length factor f scales the
+// sample parameters). Spine by spine, the samples (increasing s) and the
+// joints are merged like two sorted lists.
+struct SamplePlacement {
+  int seg[kMaxStripSamples];
+  double frac[kMaxStripSamples];
+};
+
+void placeSamples(const StripLayout& layout, int i, double f, int first, SamplePlacement* out) {
+  const double* js = &layout.joint_s[layout.joint_begin[i]];
+  const double* inv = &layout.joint_inv_ds[layout.joint_begin[i]];
+  const int last_seg = layout.joint_begin[i + 1] - layout.joint_begin[i] - 2;
+  int a = 0;
+  for (int k = first; k < layout.samples(); ++k) {
+    const double s = f * layout.sample_s[k];
+    while (a < last_seg && js[a + 1] < s) ++a;
+    out->seg[k] = a;
+    out->frac[k] = std::min((s - js[a]) * inv[a], 1.0);
+  }
+}
+
 // A strip's sample at s is a convex combination of its spines' points at s
 // (eq. 19 keeps the weights >= 0, summing to 1; a bunch's are means of
 // those, and clumping * s lies in [0, 1]), each on the segment of its
@@ -432,13 +467,18 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
   const StripSpec& spec = brush.strips;
   Eigen::Vector3d c[kMaxStripSamples];   // one strip's centre line
   Eigen::Vector3d cg[kMaxStripSamples];  // its bunch's (clumping)
+  // The samples' places on the spines, per group of spines with the same
+  // joint parameters (joint_group), and the strip they were found for.
+  SamplePlacement placed[kMaxSpines];
+  int placed_for[kMaxSpines];
+  std::fill(placed_for, placed_for + kMaxSpines, -1);
+  SamplePlacement own;
   for (int o = 0; o < count; ++o) {
     const int j = order[o].second;
     const double f = layout.length_factor[j];
     const double* w = &layout.weights[static_cast<size_t>(j) * ns];
     // eq. 16: p(s) = sum_i w_i p_i(s), each spine a polyline parameterised by
-    // arc length. Spine by spine, the samples (increasing s) and the joints
-    // are merged like two sorted lists.
+    // arc length (placeSamples).
     // A clumped strip also follows its bunch's centre line (the same f, so the
     // two end together) and is drawn towards it by clumping * s below.
     const bool clumped = !layout.clump.empty();
@@ -459,15 +499,19 @@ void buildStrips(const Brush& brush, const StripLayout& layout, const BrushState
     if (clumped) std::fill(cg + first, cg + samples, Eigen::Vector3d::Zero());
     for (int i = 0; i < ns; ++i) {
       if (w[i] == 0 && (!clumped || wg[i] == 0)) continue;
-      const double* js = &layout.joint_s[layout.joint_begin[i]];
-      const double* inv = &layout.joint_inv_ds[layout.joint_begin[i]];
-      const int last_seg = layout.joint_begin[i + 1] - layout.joint_begin[i] - 2;
+      const SamplePlacement* at = &own;
+      if (cull) {
+        const int g = layout.joint_group[i];
+        if (placed_for[g] != o) placeSamples(layout, i, f, first, &placed[g]);
+        placed_for[g] = o;
+        at = &placed[g];
+      } else {
+        placeSamples(layout, i, f, first, &own);
+      }
       const Eigen::Vector3d* x = state.spines[i].joints_mm.data();
-      int a = 0;
       for (int k = first; k < samples; ++k) {
-        const double s = f * layout.sample_s[k];
-        while (a < last_seg && js[a + 1] < s) ++a;
-        const double t = std::min((s - js[a]) * inv[a], 1.0);
+        const int a = at->seg[k];
+        const double t = at->frac[k];
         const Eigen::Vector3d p = x[a] + t * (x[a + 1] - x[a]);
         c[k] += w[i] * p;
         if (clumped) cg[k] += wg[i] * p;

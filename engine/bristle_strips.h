@@ -73,6 +73,10 @@ struct StripLayout {
   std::vector<double> joint_s;
   std::vector<int> joint_begin;  // (spines + 1)
   std::vector<double> joint_inv_ds;  // 1 / (joint_s[k + 1] - joint_s[k]), 0 past a tip
+  // Per spine, the first spine whose joint parameters (joint_s, joint_inv_ds)
+  // are bit for bit its own: a strip's samples fall on the same segments at
+  // the same fractions of both, so buildStrips finds them once for the two.
+  std::vector<int> joint_group;  // (spines)
   // Spine tips at rest in the brush frame, for the tip deflections of §4.2.1.
   std::vector<Eigen::Vector3d> rest_tips_mm;
 

@@ -297,6 +297,42 @@ TEST_CASE("at rest every strip lies on the segment field of its spines", "[strip
   }
 }
 
+// buildStrips places a strip's samples once per group of spines with the same
+// joint parameters (StripLayout::joint_group). Spines of two different
+// segment proportions, alternating, make two groups; every strip must still
+// follow each spine along its own segments (eq. 16), so a placement shared
+// across the groups would put its samples on the wrong segments and fail.
+TEST_CASE("strips over spines of different proportions follow each spine's own segments",
+          "[strips]") {
+  std::vector<SpineSpec> spines;
+  const std::vector<Eigen::Vector2d> roots = {{-2, -2}, {2, -2}, {2, 2}, {-2, 2}, {0, 0.5}};
+  for (size_t i = 0; i < roots.size(); ++i) {
+    const std::vector<double> lengths =
+        i % 2 ? std::vector<double>{3, 4, 5} : std::vector<double>{5, 4, 3};
+    SpineSpec s = makeSpine(lengths, {8, 6, 4}, 0.005, Eigen::Vector3d(roots[i].x(), roots[i].y(), 0));
+    s.rest_angles_rad = {{0.3, 0.1}, {0.25, 0}, {0.2, -0.05}};  // curved, so segments differ
+    spines.push_back(s);
+  }
+  Brush b = makeBrush(spines, 0.4, 0.3);
+  b.strips.count = 80;
+  b.strips.length_jitter = 0.3;
+  const StripLayout l = layoutStrips(b);
+  CHECK(l.joint_group == std::vector<int>{0, 1, 0, 1, 0});
+  REQUIRE(l.samples() == 6);  // 0, 1/4, 5/12, 7/12, 3/4, 1
+  const BrushState st = restState(b, poseAt(10, 10, 20));
+  std::vector<BrushVertex> tris;
+  buildStrips(b, l, st, &tris);
+  const std::vector<Emitted> strips = decode(l, tris);
+  for (const Emitted& e : strips)
+    for (int k = 0; k < l.samples(); ++k) {
+      const double s = l.length_factor[e.strip] * l.sample_s[k];
+      Eigen::Vector3d expect = Eigen::Vector3d::Zero();  // eq. 16
+      for (int i = 0; i < l.spines; ++i)
+        expect += l.weight(e.strip, i) * spineAt(b.spines[i], st.spines[i].joints_mm, s);
+      CHECK((e.centre(k) - expect).norm() < kFloatTolMm);
+    }
+}
+
 TEST_CASE("clumped strips are drawn towards their bunch's centre line by clumping * s",
           "[strips]") {
   Brush round = roundBrush();
