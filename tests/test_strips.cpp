@@ -85,6 +85,20 @@ std::vector<Emitted> decode(const StripLayout& l, const std::vector<BrushVertex>
   return out;
 }
 
+// Every emitted strip's centre line is eq. 16's sum of its spines' points at
+// its samples, each found on that spine's own polyline (spineAt).
+void checkCentreLines(const Brush& brush, const StripLayout& l, const BrushState& st,
+                      const std::vector<Emitted>& strips) {
+  for (const Emitted& e : strips)
+    for (int k = 0; k < l.samples(); ++k) {
+      const double s = l.length_factor[e.strip] * l.sample_s[k];
+      Eigen::Vector3d expect = Eigen::Vector3d::Zero();  // eq. 16
+      for (int i = 0; i < l.spines; ++i)
+        expect += l.weight(e.strip, i) * spineAt(brush.spines[i], st.spines[i].joints_mm, s);
+      CHECK((e.centre(k) - expect).norm() < kFloatTolMm);
+    }
+}
+
 void checkWeights(const Brush& brush, const StripLayout& l) {
   for (int j = 0; j < l.count; ++j) {
     double sum = 0;
@@ -284,17 +298,8 @@ TEST_CASE("at rest every strip lies on the segment field of its spines", "[strip
   // No bend at rest, whatever the handle pose: layout order.
   CHECK(stripBendDirection(l, st).norm() < kStripBendEpsMm);
   const std::vector<Emitted> strips = decode(l, tris);
-  for (int o = 0; o < l.count; ++o) {
-    const Emitted& e = strips[o];
-    CHECK(e.strip == o);
-    for (int k = 0; k < l.samples(); ++k) {
-      const double s = l.length_factor[e.strip] * l.sample_s[k];
-      Eigen::Vector3d expect = Eigen::Vector3d::Zero();  // eq. 16
-      for (int i = 0; i < l.spines; ++i)
-        expect += l.weight(e.strip, i) * spineAt(round.spines[i], st.spines[i].joints_mm, s);
-      CHECK((e.centre(k) - expect).norm() < kFloatTolMm);
-    }
-  }
+  for (int o = 0; o < l.count; ++o) CHECK(strips[o].strip == o);
+  checkCentreLines(round, l, st, strips);
 }
 
 // buildStrips places a strip's samples once per group of spines with the same
@@ -322,15 +327,7 @@ TEST_CASE("strips over spines of different proportions follow each spine's own s
   const BrushState st = restState(b, poseAt(10, 10, 20));
   std::vector<BrushVertex> tris;
   buildStrips(b, l, st, &tris);
-  const std::vector<Emitted> strips = decode(l, tris);
-  for (const Emitted& e : strips)
-    for (int k = 0; k < l.samples(); ++k) {
-      const double s = l.length_factor[e.strip] * l.sample_s[k];
-      Eigen::Vector3d expect = Eigen::Vector3d::Zero();  // eq. 16
-      for (int i = 0; i < l.spines; ++i)
-        expect += l.weight(e.strip, i) * spineAt(b.spines[i], st.spines[i].joints_mm, s);
-      CHECK((e.centre(k) - expect).norm() < kFloatTolMm);
-    }
+  checkCentreLines(b, l, st, decode(l, tris));
 }
 
 TEST_CASE("clumped strips are drawn towards their bunch's centre line by clumping * s",
