@@ -40,7 +40,7 @@ for g in "${gestures[@]}"; do
       "$bristle" render -q --solver "$solver" --brush "$brush" --trajectory "$g" -o "$out/r.png"
       end=$(date +%s.%N)
       awk -v b="$brush" -v g="$(basename "$g")" -v s="$solver" -v t0="$start" -v t1="$end" \
-        -v d="$g_s" 'BEGIN { w = t1 - t0; printf "| %s | %s | %s | %.1f | %.2f | %.1f |\n", b, g, s, w, d, w / d }'
+        -v d="$g_s" 'BEGIN { w = t1 - t0; printf "| %s | %s | %s | %.2f | %.2f | %.2f |\n", b, g, s, w, d, w / d }'
     done
   done
 done
