@@ -218,8 +218,9 @@ void pushTriangle(const BrushVertex& a, const BrushVertex& b, const BrushVertex&
 constexpr double kCapCullMarginMm = 1e-3;
 
 // The unit directions the spines' dressing is built from, computed once:
-// sines and cosines were a tenth of the dressing's instructions when each
-// vertex took its own (docs/PERFORMANCE.md, "Sines and cosines once").
+// when each vertex took its own sines and cosines, the dressing executed
+// 1.36 times the instructions it does now (the badger on the S-curve,
+// docs/PERFORMANCE.md, "Three trims with the same bytes").
 // tube[k]: (cos a, sin a) of the half tube's angle a = pi k / F, from side
 // (k = 0) through down to -side. cap[lat][lon]: the half solid's direction
 // at polar angle 90 deg lat / kCapRings from straight down (lat 0, its lowest

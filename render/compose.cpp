@@ -62,13 +62,14 @@ std::vector<float> composeLinear(const PaintCanvas& canvas, const ComposeOptions
 namespace {
 
 // linearToSrgb's pow was most of composing a canvas (1.8% of a whole render
-// of the badger on the S-curve, docs/PERFORMANCE.md), and a canvas holds few
+// of the badger on the S-curve, docs/PERFORMANCE.md, "Three trims with the
+// same bytes"), and a canvas holds few
 // distinct values: the bare paper, the flat inside of a stroke. A
 // direct-mapped memo keyed by the float's bits gives every value the very
 // result the function gives it, computed once per slot it lands in.
 template <class T, int kMax>
 void encodeSrgbInto(std::span<const float> linear, std::vector<T>* out) {
-  constexpr int kSlots = 4096;  // 48 KB of keys and codes
+  constexpr int kSlots = 4096;  // 32 KB of keys and codes
   struct Slot {
     std::uint32_t key;
     T code;
