@@ -411,7 +411,7 @@ void placeSamples(const StripLayout& layout, int i, double f, int first, SampleP
 // segments whose joints all stay clear of below_mm by more than rounding,
 // the sample is too. Per spine, clear_s is the parameter up to which that
 // holds: the start of its first segment with a joint within the margin (a
-// sample at s <= clear_s lies on an earlier segment, see buildStrips' walk),
+// sample at s <= clear_s lies on an earlier segment, see placeSamples),
 // or kAllHeights if no joint is. A hanging brush's hair dips only near its
 // tips, so most of each strip is not built at all; a strip all of whose
 // spines stay clear is skipped whole.
