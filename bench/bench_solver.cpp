@@ -112,6 +112,15 @@ Scenario pressThenDrag(const Brush& brush) {
   return sc;
 }
 
+// The same press, then the handle held where the press ended for as many
+// steps as the drag takes: each solve after the first few starts at its own
+// minimum, so what it costs is the solver's cost per solve, not its search.
+Scenario pressThenHold(const Brush& brush) {
+  Scenario sc = pressThenDrag(brush);
+  std::fill(sc.poses.begin() + sc.drag_begin, sc.poses.end(), sc.poses[sc.drag_begin - 1]);
+  return sc;
+}
+
 // The benchmarks' solver argument: 0 Ipopt as bristle runs it, 1 SLSQP, 2 Ipopt
 // with its own getrusage timers on, as Ipopt 3.11 runs by itself
 // (engine/ipopt_timers.h), for the cost of those timers side by side; 3 Ipopt
@@ -182,9 +191,10 @@ struct Samples {
 // solve; at the end of the range it starts over with a fresh simulation.
 class Runner {
  public:
-  Runner(Brush brush, int begin, int end, long solver)
-      : brush_(std::move(brush)), sc_(pressThenDrag(brush_)), begin_(begin), end_(end),
-        solver_(solver) {}
+  Runner(Brush brush, int begin, int end, long solver, bool hold = false,
+         SimOptions options = {})
+      : brush_(std::move(brush)), sc_(hold ? pressThenHold(brush_) : pressThenDrag(brush_)),
+        begin_(begin), end_(end), solver_(solver), options_(options) {}
 
   // Spines touching the canvas when the timed range begins (after a restart).
   int spinesInContactAtBegin() {
@@ -218,7 +228,7 @@ class Runner {
 
  private:
   void restart() {
-    sim_ = std::make_unique<Simulation>(brush_, SimOptions{},
+    sim_ = std::make_unique<Simulation>(brush_, options_,
                                         std::make_unique<TimedSolver>(&solve_s_, solver_));
     sim_->reset(sc_.poses[0], 0);
     for (int i = 1; i < begin_; ++i) sim_->step(sc_.poses[i], i * kStepDtS);
@@ -229,6 +239,7 @@ class Runner {
   Scenario sc_;
   int begin_, end_, next_ = 0;
   long solver_ = 0;
+  SimOptions options_;
   double solve_s_ = 0;
   std::unique_ptr<Simulation> sim_;
 };
@@ -273,6 +284,29 @@ void BM_BrushDragStep(benchmark::State& state) {
 BENCHMARK(BM_BrushDragStep)
     ->ArgNames({"spines", "solver"})
     ->ArgsProduct({{1, 5, 10, 20}, {0, 1, 2, 3}})
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
+
+// Whole-brush steps with the handle held still after the press, from the
+// tenth held step on (kHoldSettleSteps), when each solve starts next to the
+// minimum it ends at: what a solve costs with nothing to search for. Every
+// held step is solved here (settled_mm = 0); by default a brush at rest
+// solves nothing (docs/dynamics.md, "A brush held still"; docs/PERFORMANCE.md
+// has both).
+constexpr int kHoldSettleSteps = 10;
+void BM_BrushHeldStep(benchmark::State& state) {
+  SimOptions every_step;
+  every_step.settled_mm = 0;
+  Runner runner(makeBrush(static_cast<int>(state.range(0)), 4),
+                1 + kPressSteps + kHoldSettleSteps, 1 + kPressSteps + kDragSteps,
+                state.range(1), /*hold=*/true, every_step);
+  const int touching = runner.spinesInContactAtBegin();
+  timeSteps(state, runner);
+  state.counters["in_contact"] = touching;
+}
+BENCHMARK(BM_BrushHeldStep)
+    ->ArgNames({"spines", "solver"})
+    ->ArgsProduct({{1, 5, 10, 20}, {0, 1}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 

@@ -149,9 +149,10 @@ int runRender(const RenderArgs& args) {
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,
-                 "bristle: %d steps (%d solved, %d stiction re-solves, %d rescued by the "
-                 "fallback solver), %ld solver iterations\n",
-                 st.steps, st.solved_steps, st.resolves, st.fallback_solves, st.iterations);
+                 "bristle: %d steps (%d solved, %d at rest, %d stiction re-solves, %d rescued "
+                 "by the fallback solver), %ld solver iterations\n",
+                 st.steps, st.solved_steps, st.settled_steps, st.resolves, st.fallback_solves,
+                 st.iterations);
     std::fprintf(stderr,
                  "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up; %.3g of %.3g mm^3 "
                  "left on the brush\n",

@@ -131,10 +131,10 @@ int runRenderScene(const RenderArgs& args) {
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,
-                 "bristle: %d strokes, %d steps (%d solved, %d stiction re-solves, %d rescued by "
-                 "the fallback solver), %ld solver iterations\n",
-                 strokes, st.steps, st.solved_steps, st.resolves, st.fallback_solves,
-                 st.iterations);
+                 "bristle: %d strokes, %d steps (%d solved, %d at rest, %d stiction re-solves, "
+                 "%d rescued by the fallback solver), %ld solver iterations\n",
+                 strokes, st.steps, st.solved_steps, st.settled_steps, st.resolves,
+                 st.fallback_solves, st.iterations);
     std::fprintf(stderr, "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up\n",
                  result.deposited_mm3, result.picked_up_mm3);
     if (!isStdio(args.output)) std::cout << args.output << "\n";

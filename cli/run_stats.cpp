@@ -27,6 +27,7 @@ void writeRunStats(const std::string& path, const RunStats& s) {
       {"pixels", s.pixels},
       {"steps", s.sim.steps},
       {"solved_steps", s.sim.solved_steps},
+      {"settled_steps", s.sim.settled_steps},
       {"stiction_resolves", s.sim.resolves},
       {"solver_iterations", s.sim.iterations},
       {"steady_steps", s.sim.steady_steps},

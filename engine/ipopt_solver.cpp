@@ -760,6 +760,7 @@ const char* toString(SolveStatus s) {
     case SolveStatus::kOk: return "ok";
     case SolveStatus::kAcceptable: return "acceptable";
     case SolveStatus::kFree: return "free";
+    case SolveStatus::kSettled: return "settled";
     case SolveStatus::kFailed: return "failed";
   }
   return "unknown";

@@ -445,7 +445,16 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
 
   for (int s = 0; s < ns; ++s) buildProblem(s, handle);
   const std::vector<int> which = startSpines(handle, &trial, &sliding);
-  if (!which.empty()) {
+  if (!which.empty() && settledAt(handle, which)) {
+    // Nothing moved and nothing will: the last optimum, re-based (q = 0),
+    // with its forces and warm start.
+    ++stats_.settled_steps;
+    for (int s : which) {
+      trial[s] = state_.spines[s].solution;
+      std::fill(trial[s].q.begin(), trial[s].q.end(), 0.0);
+      state_.spines[s].summary = SolveSummary{SolveStatus::kSettled, 0, ""};
+    }
+  } else if (!which.empty()) {
     ++stats_.solved_steps;
     const std::vector<SpineSolution> start = trial;
     solveSpines(which, &trial);
@@ -466,6 +475,27 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   ++stats_.steps;
   sumCanvasForce();
   return state_;
+}
+
+bool Simulation::settledAt(const Pose& handle, const std::vector<int>& which) const {
+  if (!(options_.settled_mm > 0)) return false;
+  // Bit for bit the same pose: the same problem as the last step's but for
+  // the damping's reference, which the last step's motion bounds.
+  if (handle.position_mm != state_.handle.position_mm ||
+      handle.rotation.coeffs() != state_.handle.rotation.coeffs())
+    return false;
+  // Hair volume couples the spines: all of them must be at rest together.
+  if (!volume_pairs_.empty() && which.size() != brush_.spines.size()) return false;
+  for (int s : which) {
+    const SpineState& st = state_.spines[s];
+    const SolveStatus status = st.summary.status;
+    if (status != SolveStatus::kOk && status != SolveStatus::kAcceptable &&
+        status != SolveStatus::kSettled)
+      return false;
+    if (std::find(st.sliding.begin(), st.sliding.end(), true) != st.sliding.end()) return false;
+    if (!(st.moved_mm <= options_.settled_mm)) return false;
+  }
+  return true;
 }
 
 std::vector<int> Simulation::startSpines(const Pose& handle, std::vector<SpineSolution>* trial,
@@ -702,6 +732,10 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
   const SpineProblem& problem = problems_[s];
   const int n = spec.jointCount();
   spineEnergy(problem, st.solution.q.data(), &fk_, &st.energy, nullptr, nullptr);
+  st.moved_mm = st.joints_mm.size() == fk_.x.size() ? 0.0
+                                                   : std::numeric_limits<double>::infinity();
+  for (size_t j = 0; j < st.joints_mm.size() && j < fk_.x.size(); ++j)
+    st.moved_mm = std::max(st.moved_mm, (fk_.x[j] - st.joints_mm[j]).norm());
   st.joints_mm = fk_.x;
   st.rot.resize(n);
   for (int k = 0; k < n; ++k)

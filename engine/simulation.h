@@ -5,6 +5,7 @@
 // (§3.4.1), anisotropic friction (§3.4.2) and joint damping (§3.5).
 
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -13,6 +14,18 @@
 #include "engine/trajectory.h"
 
 namespace bristle {
+
+// How little a spine held still may have moved in its last step to count as
+// at rest (SimOptions::settled_mm). Held still, a spine creeps to rest
+// geometrically: eq. 4's joint friction D |dbeta|, smoothed over
+// kSmoothDampContactRad, is viscous near rest, so each step moves it r times
+// as far as the one before. Measured with the handle held on the paper
+// (docs/dynamics.md, "A brush held still"): r is about 0.7 for the round and
+// flat, 0.95 for the calligraphy brush and 0.97 for the badger, whose hair
+// volume couples its 15 spines into slow modes. What a spine would still
+// move is then under r / (1 - r) = 33 times this: 3e-5 mm, Ipopt's own
+// accuracy at tol 1e-8 and a four-thousandth of a pixel at 8 px/mm.
+inline constexpr double kSettledMm = 1e-6;
 
 struct SimOptions {
   double max_step_mm = 0.25;  // no spine root moves further than this per step
@@ -41,6 +54,12 @@ struct SimOptions {
   // less than that is held, not dragged.
   double slip_mm = 10 * kSmoothMm;
   double stick_mm = 5 * kSmoothMm;
+  // A brush held still on the paper comes to rest: while the handle stays
+  // exactly where it was, and every spine that touches has stopped sliding
+  // and no joint of it moved further than this in the last step
+  // (SpineState::moved_mm), the previous step's optimum stands and nothing
+  // is solved (docs/dynamics.md, "A brush held still"). 0 solves every step.
+  double settled_mm = kSettledMm;
 };
 
 struct SpineState {
@@ -61,6 +80,10 @@ struct SpineState {
   // Canvas force on this spine (normal + friction, N); BrushState::force_n is
   // the sum over spines. The haptic force model (paper eq. 21) is per spine.
   Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+  // How far its joints moved in the step that led here, the largest of them
+  // (mm; infinite after a reset): with the handle held still, whether the
+  // spine has come to rest (SimOptions::settled_mm).
+  double moved_mm = std::numeric_limits<double>::infinity();
 };
 
 // A handle's motion between two poses, for comparing one step's with the
@@ -93,6 +116,7 @@ struct SimStats {
   // it was carried along unchanged (frozen).
   int longest_failed_run = 0;
   int relaxed_spines = 0;  // spine-steps relaxed in the air in closed form
+  int settled_steps = 0;   // steps of a brush held still at rest: nothing solved
   int split_steps = 0;     // steps or pieces of steps redone in halves after a failed solve
   long iterations = 0;
   int steady_steps = 0;       // steps that each took several planned steps at once
@@ -124,6 +148,7 @@ struct SimStats {
     failed_steps += r.failed_steps;
     longest_failed_run = std::max(longest_failed_run, r.longest_failed_run);
     relaxed_spines += r.relaxed_spines;
+    settled_steps += r.settled_steps;
     split_steps += r.split_steps;
     iterations += r.iterations;
     steady_steps += r.steady_steps;
@@ -238,6 +263,9 @@ class Simulation : private SolveWatch {
   // rigidly, relaxed in air when clear: returns those left to solve), solve,
   // correct the contact set and re-solve, commit, sum the canvas force.
   const BrushState& stepOnce(const Pose& handle, double t_s);
+  // Whether the spines in `which` are at rest and the handle has not moved:
+  // their last optimum is this step's (SimOptions::settled_mm).
+  bool settledAt(const Pose& handle, const std::vector<int>& which) const;
   std::vector<int> startSpines(const Pose& handle, std::vector<SpineSolution>* trial,
                                std::vector<std::vector<bool>>* sliding);
   void correctContactSet(const Pose& handle, const std::vector<int>& which,

@@ -19,6 +19,7 @@ enum class SolveStatus {
   kOk,          // converged to tol
   kAcceptable,  // converged to acceptable_tol
   kFree,        // no contact, nothing to solve: the previous angles are the optimum
+  kSettled,     // held still at rest (SimOptions::settled_mm): the last optimum stands
   kFailed,      // no usable solution; the caller keeps the previous state
 };
 const char* toString(SolveStatus s);

@@ -242,9 +242,21 @@ TEST_CASE("render --stats: the figures and the warnings as JSON", "[cli][stats]"
   const std::string solved = std::string(1, '(')
                                  .append(std::to_string(figures.at("solved_steps").get<long>()))
                                  .append(" solved, ")
+                                 .append(std::to_string(figures.at("settled_steps").get<long>()))
+                                 .append(" at rest, ")
                                  .append(std::to_string(figures.at("stiction_resolves").get<long>()))
                                  .append(" stiction re-solves");
   CHECK_THAT(loud.err, Contains(solved));
+  // A blot held still: the steps at rest are counted apart, and solve nothing.
+  REQUIRE(runShell(d, b + " render -q --brush round --trajectory '" +
+                          sourcePath("scenes/trajectories/depth/press-hold-lift.csv") +
+                          "' -o h.png --stats h.json")
+              .code == 0);
+  const nlohmann::json held = nlohmann::json::parse(readAll(d.file("h.json")));
+  // Observed: 264 of the 1.5 s hold's steps at rest.
+  CHECK(held.at("settled_steps").get<long>() > 100);
+  CHECK(held.at("solved_steps").get<long>() + held.at("settled_steps").get<long>() <=
+        held.at("steps").get<long>());
   const RunResult air =
       runShell(d, b + " render -q --brush round --trajectory air.csv -o a.png --stats a.json");
   CHECK(air.code == 0);

@@ -578,3 +578,94 @@ TEST_CASE("a step with a jump limit stops at the first iterate past it, and chan
     }
   }
 }
+
+namespace {
+// The farthest any joint of a brush is from its place in another state (mm).
+double jointsApartMm(const BrushState& a, const BrushState& b) {
+  double apart = 0;
+  for (size_t s = 0; s < a.spines.size(); ++s)
+    for (size_t j = 0; j < a.spines[s].joints_mm.size(); ++j)
+      apart = std::max(apart, (a.spines[s].joints_mm[j] - b.spines[s].joints_mm[j]).norm());
+  return apart;
+}
+}  // namespace
+
+TEST_CASE("a brush held still on the paper comes to rest and stops solving, where a solve "
+          "would keep it",
+          "[dynamics][settled]") {
+  // Pressed, held still, then dragged: A skips the solves of a brush at rest
+  // (SimOptions::settled_mm, the default), B solves every step. The round
+  // brush's spines are coupled by hair volume and solved as one NLP by Ipopt;
+  // the flat's are independent, solved one by one with SLSQP.
+  struct Case {
+    const char* brush;
+    bool ipopt;
+  };
+  for (const Case c : {Case{"round", true}, Case{"flat", false}}) {
+    INFO(c.brush);
+    const Brush brush =
+        loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/" + c.brush + ".json");
+    auto solver = [&] { return c.ipopt ? makeIpoptSolver() : makeSlsqpSolver(); };
+    SimOptions every_step;
+    every_step.settled_mm = 0;
+    Simulation a(brush, SimOptions{}, solver());
+    Simulation b(brush, every_step, solver());
+    // The hair is 17-20 mm long: 4 mm past first contact is a firm press.
+    double top = 0;
+    for (const SpineSpec& s : brush.spines) top = std::max(top, s.lengthMm());
+    const Pose above = poseAt(30, 30, top + 1), pressed = poseAt(30, 30, top - 4);
+    double ta = 0, tb = 0;
+    a.reset(above, 0);
+    b.reset(above, 0);
+    moveHandle(a, above, pressed, &ta);
+    moveHandle(b, above, pressed, &tb);
+    int touching = 0;
+    for (const SpineState& s : a.state().spines)
+      touching += std::count(s.contact.begin(), s.contact.end(), true) > 0;
+    REQUIRE(touching == static_cast<int>(brush.spines.size()));
+
+    // Held: once at rest, every later held step keeps the last optimum and
+    // solves nothing.
+    int first_settled = -1;
+    for (int i = 0; i < 300; ++i) {
+      const SimStats before = a.stats();
+      a.step(pressed, ta += 0.005);
+      b.step(pressed, tb += 0.005);
+      const bool settled = a.stats().settled_steps > before.settled_steps;
+      if (settled && first_settled < 0) first_settled = i;
+      if (first_settled >= 0) {
+        CHECK(settled);
+        CHECK(a.stats().iterations == before.iterations);
+        CHECK(a.stats().solved_steps == before.solved_steps);
+        for (const SpineState& s : a.state().spines)
+          CHECK(std::string(toString(s.summary.status)) == "settled");
+      }
+    }
+    INFO("first settled step of the hold: " << first_settled);
+    CHECK(first_settled > 0);
+    CHECK(b.stats().settled_steps == 0);
+    // Where the solves would have kept it: within Ipopt's own accuracy at
+    // tol 1e-8, about 3e-5 mm (engine/simulation.h, kSettledMm). Observed:
+    // 2.0e-6 and 2.5e-6 mm.
+    constexpr double kHeldMm = 3e-5;
+    const double held_mm = jointsApartMm(a.state(), b.state());
+    INFO("held apart by " << held_mm << " mm");
+    CHECK(held_mm < kHeldMm);
+
+    // Dragged again: every moving step solves, and the two stay on the same
+    // minima (the issue's bar, 1e-3 mm, as in the tests above).
+    constexpr double kSameMinimumMm = 1e-3;
+    double dragged_mm = 0;
+    for (int i = 1; i <= 40; ++i) {
+      const Pose p = poseAt(30 + 0.1 * i, 30, top - 4);
+      const SimStats before = a.stats();
+      a.step(p, ta += 0.005);
+      b.step(p, tb += 0.005);
+      CHECK(a.stats().settled_steps == before.settled_steps);
+      CHECK(a.stats().solved_steps == before.solved_steps + 1);
+      dragged_mm = std::max(dragged_mm, jointsApartMm(a.state(), b.state()));
+    }
+    INFO("dragged apart by " << dragged_mm << " mm");
+    CHECK(dragged_mm < kSameMinimumMm);
+  }
+}

@@ -140,6 +140,27 @@ def press_lift():
                 depth_rows)
 
 
+def press_hold_lift():
+    """A blot with a dwell: pressed, held still, lifted (depth/ only)."""
+    rows = []
+    press_s, hold_s, lift_s, depth_mm = 0.3, 1.5, 0.3, 4.0
+    duration = press_s + hold_s + lift_s
+    for i in range(int(round(duration * RATE_HZ)) + 1):
+        t = i / RATE_HZ
+        if t <= press_s:
+            depth = HOVER_MM + (depth_mm - HOVER_MM) * smoothstep(t / press_s)
+        elif t <= press_s + hold_s:
+            depth = depth_mm
+        else:
+            depth = depth_mm + (HOVER_MM - depth_mm) * smoothstep((t - press_s - hold_s) / lift_s)
+        rows.append((t, 30.0, 30.0, depth, 1.0, 0.0, 0.0, 0.0))
+    write_depth("press-hold-lift.csv",
+                ["A vertical handle pressed 4 mm past first contact in 0.3 s, held exactly",
+                 "still for 1.5 s (a blot soaking in; the brush comes to rest and stops",
+                 "solving: docs/dynamics.md, \"A brush held still\"), lifted in 0.3 s."],
+                rows)
+
+
 def broadside_pull():
     rows, depth_rows = [], []
     tilt = math.radians(25)
@@ -196,4 +217,5 @@ if __name__ == "__main__":
     straight_pull()
     s_curve()
     press_lift()
+    press_hold_lift()
     tilted_drag()
