@@ -445,14 +445,17 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
 
   for (int s = 0; s < ns; ++s) buildProblem(s, handle);
   const std::vector<int> which = startSpines(handle, &trial, &sliding);
-  if (!which.empty() && settledAt(handle, which)) {
-    // Nothing moved and nothing will: the last optimum, re-based (q = 0),
-    // with its forces and warm start.
+  const bool settled = !which.empty() && settledAt(handle, which);
+  if (settled) {
+    // Nothing moved and nothing will: the last optimum stands bit for bit,
+    // with its forces and warm start, on its own frames (q = 0).
     ++stats_.settled_steps;
     for (int s : which) {
-      trial[s] = state_.spines[s].solution;
-      std::fill(trial[s].q.begin(), trial[s].q.end(), 0.0);
-      state_.spines[s].summary = SolveSummary{SolveStatus::kSettled, 0, ""};
+      SpineState& st = state_.spines[s];
+      problems_[s].base = st.rot;
+      std::fill(st.solution.q.begin(), st.solution.q.end(), 0.0);
+      st.summary = SolveSummary{SolveStatus::kSettled, 0, ""};
+      st.moved_mm = 0;
     }
   } else if (!which.empty()) {
     ++stats_.solved_steps;
@@ -463,7 +466,7 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
     if (stopped_) return state_;
   }
 
-  const bool step_failed = commitSpines(which, &trial, sliding);
+  const bool step_failed = commitSpines(which, &trial, sliding, settled);
   if (step_failed) ++stats_.failed_steps;
   failed_run_ = step_failed ? failed_run_ + 1 : 0;
   stats_.longest_failed_run = std::max(stats_.longest_failed_run, failed_run_);
@@ -683,11 +686,12 @@ void Simulation::correctContactSet(const Pose& handle, const std::vector<int>& w
 }
 
 bool Simulation::commitSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial,
-                              const std::vector<std::vector<bool>>& sliding) {
+                              const std::vector<std::vector<bool>>& sliding, bool settled) {
   bool step_failed = false;
   for (int s = 0; s < static_cast<int>(brush_.spines.size()); ++s) {
     SpineState& st = state_.spines[s];
     const bool solved = std::find(which.begin(), which.end(), s) != which.end();
+    if (solved && settled) continue;  // kept as it was (stepOnce)
     if (!solved) st.summary = SolveSummary{SolveStatus::kFree, 0, ""};
     if (solved && !st.summary.usable()) {
       // Keep the last good pose (carried rigidly with the handle); report it.

@@ -273,8 +273,9 @@ class Simulation : private SolveWatch {
                          std::vector<SpineSolution>* trial,
                          std::vector<std::vector<bool>>* sliding);
   // Returns whether a solved spine failed (it keeps its last good pose).
+  // With `settled` (settledAt), the spines in `which` are left as they are.
   bool commitSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial,
-                    const std::vector<std::vector<bool>>& sliding);
+                    const std::vector<std::vector<bool>>& sliding, bool settled);
   void sumCanvasForce();
   const BrushState& stepSplitting(const Pose& handle, double t_s, int depth);
   // SolveWatch: whether an iterate moved a spine's hair near the paper

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #include "engine/error.h"
@@ -95,7 +96,29 @@ bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double contact_band
   win.x0_mm = grid.x0_mm + c0 / grid.px_per_mm;
   win.y0_mm = grid.y0_mm + (grid.height_px - r1) / grid.px_per_mm;
   if (win.width_px > 2048 || win.height_px > 2048) return false;
-  renderer_.render(vertices_, win, contact_band_mm, out);
+  // A brush held at rest (docs/dynamics.md, "A brush held still") sends the
+  // same triangles step after step; the same triangles in the same window
+  // draw the same footprint, which `out` still holds if it is this
+  // renderer's own image (a caller's may have changed since).
+  const bool same = out == &image_ && out == drawn_into_ && contact_band_mm == drawn_band_mm_ &&
+                    win.x0_mm == drawn_window_.x0_mm && win.y0_mm == drawn_window_.y0_mm &&
+                    win.width_px == drawn_window_.width_px &&
+                    win.height_px == drawn_window_.height_px &&
+                    win.px_per_mm == drawn_window_.px_per_mm &&
+                    vertices_.size() == drawn_vertices_.size() &&
+                    std::memcmp(vertices_.data(), drawn_vertices_.data(),
+                                vertices_.size() * sizeof(FootprintVertex)) == 0;
+  kept_ = same;
+  if (!same) {
+    drawn_into_ = nullptr;  // until the render below has filled it
+    renderer_.render(vertices_, win, contact_band_mm, out);
+    drawn_into_ = out;
+    drawn_window_ = win;
+    drawn_band_mm_ = contact_band_mm;
+  }
+  // The list just drawn (or kept) becomes the one to compare the next with;
+  // the other buffer is refilled then.
+  std::swap(vertices_, drawn_vertices_);
   return true;
 }
 
@@ -280,6 +303,7 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
                             &image_, options.sweep_notch_px)
            : footprint(geometry, state, grid, options.contact_band_mm, &image_);
   if (!touched) return;
+  if (kept_) ++result->footprints_kept;
   FootprintView view;
   // Pixel offset of the window in the canvas.
   view.col0 = static_cast<int>(std::lround(grid.colOf(image_.window.x0_mm)));

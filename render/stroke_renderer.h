@@ -53,6 +53,9 @@ struct StrokeResult {
   bool touched = false;  // the brush reached the canvas at least once
   double deposited_mm3 = 0;  // paint the brush laid down over the stroke
   double picked_up_mm3 = 0;  // wet paint the brush took up from the canvas
+  // Steps whose footprint was the last one again (a brush held at rest): not
+  // drawn, the last one's pixels reused.
+  int footprints_kept = 0;
 };
 
 // The canvas a stroke needs when no scene gives one: everything the brush can
@@ -113,7 +116,7 @@ class StrokeRenderer {
                       const CanvasGrid& grid, double contact_band_mm, double spacing_mm,
                       FootprintImage* out, double notch_px = 0);
   // Triangles the last footprint drew (for tests).
-  size_t lastFootprintTriangles() const { return vertices_.size() / 3; }
+  size_t lastFootprintTriangles() const { return drawn_vertices_.size() / 3; }
   // The footprint renderer (for tests and benchmarks of its options).
   FootprintRenderer& footprintRenderer() { return renderer_; }
 
@@ -127,6 +130,13 @@ class StrokeRenderer {
   FootprintImage image_;
   std::vector<BrushVertex> triangles_;
   std::vector<FootprintVertex> vertices_;
+  // The last footprint drawn: its triangles, where it went and how; a draw
+  // of the same is skipped (renderTriangles).
+  std::vector<FootprintVertex> drawn_vertices_;
+  const FootprintImage* drawn_into_ = nullptr;
+  FootprintWindow drawn_window_;
+  double drawn_band_mm_ = 0;
+  bool kept_ = false;  // the last renderTriangles kept the footprint before
   BrushState blended_;
   std::vector<JointCaps> stamp_plan_;  // [stamp][spine][joint]
 };
