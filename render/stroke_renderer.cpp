@@ -421,6 +421,9 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
   BrushGeometry geometry(brush);
   Simulation sim(brush, options.sim, std::move(solver), std::move(fallback));
   StrokeResult result;
+  // A stroke's first footprint is drawn, whatever the last stroke's was
+  // (its renderer's options may have changed since).
+  drawn_into_ = nullptr;
   bool first = true;
   BrushState painted;  // the state the last stamp showed
   const StepCallback draw = [&](const BrushState& state, int step, int steps) {
