@@ -28,6 +28,7 @@ struct FootprintWindow {
   double x0_mm = 0, y0_mm = 0;
   int width_px = 0, height_px = 0;
   double px_per_mm = 8;
+  bool operator==(const FootprintWindow&) const = default;
 };
 
 // Per pixel, 4 floats: u, v (texture coordinate of the touching brush point

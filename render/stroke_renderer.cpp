@@ -101,11 +101,7 @@ bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double contact_band
   // draw the same footprint, which `out` still holds if it is this
   // renderer's own image (a caller's may have changed since).
   const bool same = out == &image_ && out == drawn_into_ && contact_band_mm == drawn_band_mm_ &&
-                    win.x0_mm == drawn_window_.x0_mm && win.y0_mm == drawn_window_.y0_mm &&
-                    win.width_px == drawn_window_.width_px &&
-                    win.height_px == drawn_window_.height_px &&
-                    win.px_per_mm == drawn_window_.px_per_mm &&
-                    vertices_.size() == drawn_vertices_.size() &&
+                    win == drawn_window_ && vertices_.size() == drawn_vertices_.size() &&
                     std::memcmp(vertices_.data(), drawn_vertices_.data(),
                                 vertices_.size() * sizeof(FootprintVertex)) == 0;
   kept_ = same;
