@@ -579,17 +579,6 @@ TEST_CASE("a step with a jump limit stops at the first iterate past it, and chan
   }
 }
 
-namespace {
-// The farthest any joint of a brush is from its place in another state (mm).
-double jointsApartMm(const BrushState& a, const BrushState& b) {
-  double apart = 0;
-  for (size_t s = 0; s < a.spines.size(); ++s)
-    for (size_t j = 0; j < a.spines[s].joints_mm.size(); ++j)
-      apart = std::max(apart, (a.spines[s].joints_mm[j] - b.spines[s].joints_mm[j]).norm());
-  return apart;
-}
-}  // namespace
-
 TEST_CASE("a brush held still on the paper comes to rest and stops solving, where a solve "
           "would keep it",
           "[dynamics][settled]") {
@@ -648,7 +637,7 @@ TEST_CASE("a brush held still on the paper comes to rest and stops solving, wher
     // tol 1e-8, about 3e-5 mm (engine/simulation.h, kSettledMm). Observed:
     // 2.0e-6 and 2.5e-6 mm.
     constexpr double kHeldMm = 3e-5;
-    const double held_mm = jointsApartMm(a.state(), b.state());
+    const double held_mm = maxJointDistanceMm(a.state(), b.state());
     INFO("held apart by " << held_mm << " mm");
     CHECK(held_mm < kHeldMm);
 
@@ -663,7 +652,7 @@ TEST_CASE("a brush held still on the paper comes to rest and stops solving, wher
       b.step(p, tb += 0.005);
       CHECK(a.stats().settled_steps == before.settled_steps);
       CHECK(a.stats().solved_steps == before.solved_steps + 1);
-      dragged_mm = std::max(dragged_mm, jointsApartMm(a.state(), b.state()));
+      dragged_mm = std::max(dragged_mm, maxJointDistanceMm(a.state(), b.state()));
     }
     INFO("dragged apart by " << dragged_mm << " mm");
     CHECK(dragged_mm < kSameMinimumMm);

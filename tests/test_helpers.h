@@ -57,6 +57,15 @@ inline Brush makeBrush(std::vector<SpineSpec> spines, double mu_s, double mu_k) 
   return b;
 }
 
+// The farthest any joint of a brush is from its place in another state (mm).
+inline double maxJointDistanceMm(const BrushState& a, const BrushState& b) {
+  double d = 0;
+  for (size_t s = 0; s < a.spines.size(); ++s)
+    for (size_t j = 0; j < a.spines[s].joints_mm.size(); ++j)
+      d = std::max(d, (a.spines[s].joints_mm[j] - b.spines[s].joints_mm[j]).norm());
+  return d;
+}
+
 inline Pose poseAt(double x, double y, double z) {
   Pose p;
   p.position_mm = Eigen::Vector3d(x, y, z);

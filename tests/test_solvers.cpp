@@ -46,14 +46,6 @@ constexpr double kEnergyTolNmm = 1e-4;
 constexpr double kForceRelTol = 1e-2;
 constexpr double kForceAbsTolN = 1e-3;
 
-double maxJointDistanceMm(const BrushState& a, const BrushState& b) {
-  double d = 0;
-  for (size_t s = 0; s < a.spines.size(); ++s)
-    for (size_t j = 0; j < a.spines[s].joints_mm.size(); ++j)
-      d = std::max(d, (a.spines[s].joints_mm[j] - b.spines[s].joints_mm[j]).norm());
-  return d;
-}
-
 bool forcesAgree(double a, double b) {
   return std::fabs(a - b) <= std::max(kForceAbsTolN, kForceRelTol * std::max(a, b));
 }
