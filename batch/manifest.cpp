@@ -183,12 +183,14 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
   const nlohmann::json doc = parseJsonText(text, path);
   if (!doc.is_object()) throw dataError(path, "/", "a batch manifest is a JSON object");
   JsonObject root(doc, "", path);
+  root.declareKeys({"format", "defaults", "jobs"});
   const std::string format = root.string("format");
   root.require(format == kBatchFormat, "format", std::string("must be \"") + kBatchFormat + "\"");
 
   BatchJobOptions defaults;
   if (root.has("defaults")) {
     const JsonObject d = root.object("defaults");
+    d.declareKeys({"options"});
     if (d.has("options")) {
       checkOptions(d, "options", d.raw("options"));
       mergeOptions(d.raw("options"), &defaults);
@@ -205,6 +207,7 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
   std::map<std::string, std::string> ids, outputs;  // value -> pointer of first use
   for (size_t i = 0; i < jobs.size(); ++i) {
     const JsonObject& o = jobs[i];
+    o.declareKeys({"scene", "sheet", "preview", "brush", "trajectory", "id", "output", "options"});
     BatchJob job;
     job.index = static_cast<int>(i);
     job.pointer = o.pointer();
@@ -213,7 +216,10 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
     // brush deformed at --at); a stroke is a brush with a trajectory.
     const bool scene = o.has("scene"), sheet = o.has("sheet"), preview = o.has("preview");
     const bool stroke = o.has("brush") || (o.has("trajectory") && !preview);
-    if (int(scene) + int(sheet) + int(stroke) + int(preview) != 1)
+    const int kinds = int(scene) + int(sheet) + int(stroke) + int(preview);
+    if (kinds == 0)
+      for (const char* key : {"scene", "sheet", "preview", "brush"}) o.rejectMisspellingOf(key);
+    if (kinds != 1)
       o.fail(o.pointer(), "a job renders exactly one of: \"scene\", \"sheet\", \"preview\" "
                           "(with an optional \"trajectory\"), or \"brush\" with \"trajectory\"");
     const auto brushAt = [&](const std::string& key) {
@@ -233,6 +239,9 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
       if (o.has("trajectory")) job.trajectory = resolve(base_dir, o.string("trajectory"));
     } else {
       job.kind = BatchJobKind::kStroke;
+      // A misspelt "preview" beside its "trajectory" reads as a stroke here.
+      for (const char* key : {"brush", "trajectory", "preview"})
+        if (!o.has(key)) o.rejectMisspellingOf(key);
       if (!o.has("brush") || !o.has("trajectory"))
         o.fail(o.pointer(), "a stroke job needs both \"brush\" and \"trajectory\"");
       job.brush = brushAt("brush");

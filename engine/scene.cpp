@@ -67,6 +67,7 @@ void requireReadable(const std::string& scene, const std::string& pointer,
 }
 
 void parsePlacement(const JsonObject& o, Placement* out) {
+  o.declareKeys({"offset_mm", "rotate_deg"});
   if (o.has("offset_mm")) {
     const std::vector<double> off = o.numbers("offset_mm");
     o.require(off.size() == 2, "offset_mm", "must be [x, y] in mm");
@@ -82,6 +83,7 @@ void parsePlacement(const JsonObject& o, Placement* out) {
 }
 
 void parseCanvas(const JsonObject& c, SceneCanvas* out) {
+  c.declareKeys({"size_mm", "px_per_mm", "background", "paper"});
   SceneCanvas& cv = *out;
   const std::vector<double> size = c.numbers("size_mm");
   c.require(size.size() == 2, "size_mm", "must be [width, height] in mm");
@@ -116,6 +118,7 @@ void parseCanvas(const JsonObject& c, SceneCanvas* out) {
 Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
                      const std::string& base_dir) {
   const JsonObject top(root, "", path);
+  top.declareKeys({"format", "name", "description", "canvas", "sim", "mix", "solver", "strokes"});
   Scene scene;
   scene.path = path;
   const std::string format = top.string("format");
@@ -135,6 +138,7 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
   top.require(!strokes.empty() && strokes.size() <= static_cast<size_t>(kMaxSceneStrokes),
               "strokes", "must have 1.." + std::to_string(kMaxSceneStrokes) + " strokes");
   for (const JsonObject& s : strokes) {
+    s.declareKeys({"brush", "trajectory", "paint", "placement", "dry_before"});
     SceneStroke st;
     st.pointer = s.pointer();
     const std::string brush = s.string("brush");
@@ -157,6 +161,7 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
 }  // namespace
 
 void parsePaperTooth(const JsonObject& p, PaperSpec* out) {
+  p.declareKeys({"tooth_depth_mm", "tooth_scale_mm", "seed"});
   PaperSpec& paper = *out;
   paper.tooth_depth_mm = p.number("tooth_depth_mm", paper.tooth_depth_mm);
   p.require(paper.tooth_depth_mm >= 0 && paper.tooth_depth_mm <= kMaxToothDepthMm,
@@ -171,6 +176,7 @@ void parsePaperTooth(const JsonObject& p, PaperSpec* out) {
 }
 
 void parsePaintLoad(const JsonObject& p, PaintLoad* out) {
+  p.declareKeys({"mode", "paints", "amount", "tip_length", "dilution"});
   PaintLoad& load = *out;
   const std::string mode = p.string("mode", "solid");
   if (mode == "solid") {
@@ -217,6 +223,7 @@ void parsePaintLoad(const JsonObject& p, PaintLoad* out) {
 }
 
 void parseSimOptions(const JsonObject& s, SimOptions* sim) {
+  s.declareKeys({"rate_hz", "max_step_mm", "steady_step_mm"});
   sim->min_rate_hz = s.number("rate_hz", sim->min_rate_hz);
   s.require(sim->min_rate_hz >= kMinRateHz && sim->min_rate_hz <= kMaxRateHz, "rate_hz",
             "must be in [1, 10000] steps per second");

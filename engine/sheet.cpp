@@ -39,6 +39,7 @@ std::vector<std::string> pathList(const JsonObject& top, const std::string& key,
     double lift = 0;
     if (lifts && list[i].is_object()) {
       const JsonObject entry(list[i], pi, top.file());
+      entry.declareKeys({"path", "lift_mm"});
       path = entry.string("path");
       lift = entry.number("lift_mm", 0.0);
       entry.require(std::fabs(lift) <= kMaxSheetLiftMm, "lift_mm",
@@ -67,6 +68,8 @@ std::vector<std::string> pathList(const JsonObject& top, const std::string& key,
 Sheet parseSheetOnly(const nlohmann::json& root, const std::string& path,
                      const std::string& base_dir) {
   const JsonObject top(root, "", path);
+  top.declareKeys({"format", "name", "title", "brushes", "trajectories", "layout", "px_per_mm",
+                   "cell_mm", "paint", "background", "paper", "mix", "sim", "solver", "labels"});
   Sheet sheet;
   sheet.path = path;
   const std::string format = top.string("format");
@@ -120,6 +123,7 @@ Sheet parseSheetOnly(const nlohmann::json& root, const std::string& path,
   sheet.solver = parseSolverField(top, sheet.solver);
   if (top.has("labels")) {
     const JsonObject labels = top.object("labels");
+    labels.declareKeys({"font_px"});
     sheet.label_px = labels.integer("font_px", sheet.label_px);
     labels.require(sheet.label_px >= kMinSheetLabelPx && sheet.label_px <= kMaxSheetLabelPx,
                    "font_px",

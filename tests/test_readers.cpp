@@ -14,6 +14,7 @@
 
 #include "engine/brush.h"
 #include "engine/error.h"
+#include "engine/spelling.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
 #include "test_helpers.h"
@@ -371,6 +372,65 @@ TEST_CASE("unknown keys anywhere in a brush are 65 naming pointer and key", "[re
                     "unknown key 'line\\u000abreak'");
   // Keys are case-sensitive.
   CHECK_BRUSH_ERROR(brushWith("/Name", "x"), "/Name", "unknown key 'Name'");
+}
+
+TEST_CASE("a misspelt brush key is named with the key it most likely meant", "[readers]") {
+  // An optional key misspelt is unknown; the message names the declared key
+  // (spine 1 of kBrush gives no damping_nmm).
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/dampnig_nmm", {0.1, 0.1}),
+                    "brush.json: /spines/1/dampnig_nmm: unknown key 'dampnig_nmm'; did you mean "
+                    "/spines/1/damping_nmm?");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"tip_sprad", 0.5}}),
+                    "brush.json: /volume/tip_sprad: unknown key 'tip_sprad'; did you mean "
+                    "/volume/tip_spread?");
+  // A required key misspelt is named where it is, not as the correct key missing.
+  nlohmann::json doc = nlohmann::json::parse(kBrush);
+  doc["spnies"] = doc["spines"];
+  doc.erase("spines");
+  CHECK_BRUSH_ERROR(doc.dump(), "brush.json: /spnies: unknown key 'spnies'; did you mean /spines?");
+  doc = nlohmann::json::parse(kBrush);
+  doc["spines"][1]["segment_length_mm"] = doc["spines"][1]["segment_lengths_mm"];
+  doc["spines"][1].erase("segment_lengths_mm");
+  CHECK_BRUSH_ERROR(doc.dump(),
+                    "brush.json: /spines/1/segment_length_mm: unknown key 'segment_length_mm'; "
+                    "did you mean /spines/1/segment_lengths_mm?");
+  // validate lists every problem: the misspelling once, not again as unknown.
+  TempDir dir;
+  const std::string path = dir.file("brush.json");
+  std::ofstream(path) << doc.dump();
+  const std::vector<std::string> problems = checkBrush(path);
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains("/spines/1/segment_length_mm: unknown key"));
+  // No guess where nothing is close, nor for a short key two edits away, nor
+  // at a key that is present itself ("Name" beside "name").
+  CHECK_BRUSH_ERROR(brushWith("/colour", "red"), "brush.json: /colour: unknown key 'colour'");
+  CHECK(catchError([] { parseBrush(brushWith("/colour", "red"), "brush.json"); })
+            .message.find("did you mean") == std::string::npos);
+  CHECK(catchError([] { parseBrush(brushWith("/Name", "x"), "brush.json"); })
+            .message.find("did you mean") == std::string::npos);
+  CHECK(catchError([] { parseBrush(brushWith("/friction/mu", 0.1), "brush.json"); })
+            .message.find("did you mean") == std::string::npos);
+  // A legitimate key beside a missing one it resembles is no misspelling:
+  // max_separation is declared, so min_separation is reported missing.
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"max_separation", 2}}),
+                    "brush.json: /volume/min_separation: required key is missing");
+}
+
+TEST_CASE("edit distance: insertions, deletions, replacements and swaps", "[readers]") {
+  CHECK(editDistance("", "") == 0);
+  CHECK(editDistance("spines", "spines") == 0);
+  CHECK(editDistance("spine", "spines") == 1);
+  CHECK(editDistance("spnies", "spines") == 1);  // a swap is one edit
+  CHECK(editDistance("min_separation", "max_separation") == 2);
+  CHECK(editDistance("", "abc") == 3);
+  CHECK(editDistance("kitten", "sitting") == 3);
+  // Close: at most 2 edits and a third of the candidate's length.
+  CHECK(closestSpelling("segment_length_mm", {"root_mm", "segment_lengths_mm"}) ==
+        "segment_lengths_mm");
+  CHECK(closestSpelling("ix", {"id"}) == std::nullopt);
+  CHECK(closestSpelling("nmae", {"name"}) == "name");
+  CHECK(closestSpelling("width", {"width_mm"}) == std::nullopt);  // 3 edits
+  CHECK(closestSpelling("name", {"name", "nme"}) == std::nullopt);  // it is a candidate
 }
 
 TEST_CASE("required brush keys are 65 naming the missing pointer", "[readers]") {
