@@ -740,6 +740,25 @@ TEST_CASE("trajectory format line: missing or unknown version is 65 naming it", 
   CHECK_TRAJ_ERROR("# bristle-trajectory/1\n# only comments\n\n", "missing header");
 }
 
+TEST_CASE("trajectory columns separated by ';' or tabs are 65 naming the separator",
+          "[readers]") {
+  const std::vector<std::string> rows = {"0,10,0,10,1,0,0,0", "1,10,0,10,1,0,0,0"};
+  CHECK_TRAJ_ERROR(traj("t_s;x_mm;y_mm;z_mm;qw;qx;qy;qz", rows),
+                   "t.csv: line 2: columns are separated by ';'; bristle trajectories use ','");
+  CHECK_TRAJ_ERROR(traj("t_s\tx_mm\ty_mm\tz_mm\tqw\tqx\tqy\tqz", rows),
+                   "t.csv: line 2: columns are separated by tabs; bristle trajectories use ','");
+  CHECK_TRAJ_ERROR(traj("t_s x_mm y_mm z_mm qw qx qy qz", rows),
+                   "t.csv: line 2: columns are separated by spaces; bristle trajectories use ','");
+  // A data line in another separator, under a header in ','.
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,10,0,10,1,0,0,0", "1;10;0;10;1;0;0;0"}),
+                   "t.csv: line 4: columns are separated by ';'; bristle trajectories use ','");
+  // Spaces after the commas are padding, and a header of unknown words keeps
+  // its own message.
+  CHECK(parseTrajectory(traj("t_s, x_mm, y_mm, z_mm, qw, qx, qy, qz", rows), "t.csv")
+            .samples.size() == 2);
+  CHECK_TRAJ_ERROR(traj("time;x;y", rows), "t.csv: line 2, column 1 (time;x;y): unknown column");
+}
+
 TEST_CASE("trajectory header: unknown, missing, duplicate columns are 65", "[readers]") {
   const std::vector<std::string> rows = {"0,0,0,10,1,0,0,0", "1,0,0,10,1,0,0,0"};
   CHECK_TRAJ_ERROR(traj("t_s,x_mm,y_mm,z_mm,w_mm,qw,qx,qy,qz", rows),
