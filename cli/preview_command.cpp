@@ -28,6 +28,7 @@
 namespace bristle::cli {
 
 int runPreview(const PreviewArgs& args) {
+  checkPngOutputName("preview", "-o", args.output, true);
   const std::string brush_file = findBrushFile(args.brush, "");
   checkCliFiles({{"-o", args.output}}, {{"brush", brush_file}, {"--trajectory", args.trajectory}},
                 {"-o"}, {"--trajectory"});

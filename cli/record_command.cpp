@@ -143,6 +143,7 @@ std::string brushOfSession(const haptics::Session& session, const std::string& s
 }  // namespace
 
 int runRecord(const RecordArgs& args) {
+  checkPngOutputName("record", "--png", args.png, true);
   const std::string brush_file = findBrushFile(args.brush, "--brush");
   const StrokePngOptions png = sessionPngOptions(args, brush_file, args.output);
   // Every output is checked before the session file is opened (which
@@ -208,6 +209,7 @@ int runRecord(const RecordArgs& args) {
 }
 
 int runReplay(const ReplayArgs& args) {
+  checkPngOutputName("replay", "-o", args.output, true);
   checkCliFiles({{"-o", args.output}}, {{"session", args.session}}, {"-o"}, {});
   // The brush: --brush, whose hash differing from the recorded one is a
   // warning (the user chose it); else the session's own, which must be the
@@ -266,7 +268,8 @@ Subcommand registerRecord(CLI::App& app) {
                      "reads stdin)");
   record->add_option("--forces", rec->forces, "Write every servo tick's force (CSV, 1 kHz)");
   record->add_option("--png", rec->png,
-                     "Render the recorded stroke to this PNG at the end (- writes it to stdout)");
+                     "Render the recorded stroke to this PNG at the end (PNG only: .jpg ... are "
+                     "refused; - writes it to stdout)");
   record->add_option("--duration", rec->duration_s, "Stop after this many seconds (0: no limit)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 86400.0));

@@ -66,6 +66,7 @@ RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_
 }  // namespace
 
 int runRender(const RenderArgs& args) {
+  checkPngOutputName("render", "-o", args.output, true);
   if (!args.scene.empty()) return runRenderScene(args);
   if (args.brush.empty() || args.trajectory.empty())
     throw Error(ExitCode::kUsage,

@@ -54,6 +54,7 @@ std::vector<std::string> sheetWarnings(const Sheet& sheet, const render::SheetIm
 }  // namespace
 
 int runSheet(const SheetArgs& args) {
+  checkPngOutputName("sheet", "-o", args.output, true);
   checkCliFiles({{"-o", args.output}}, {{"sheet", args.sheet}}, {"-o"}, {});
   Sheet sheet = loadSheet(args.sheet);
   std::vector<NamedFile> inputs;

@@ -415,3 +415,45 @@ TEST_CASE("a number option given nan or inf is a usage error naming it", "[cli][
   CHECK_FALSE(std::filesystem::exists(dir.file("b.csv")));
   CHECK_FALSE(std::filesystem::exists(dir.file("d.png")));
 }
+
+TEST_CASE("a PNG output named for another image format is refused (64), naming the option",
+          "[cli][errors]") {
+  TempDir d;
+  // Checked before any input is read: the inputs here do not exist.
+  const struct {
+    std::string args, line;
+  } cases[] = {
+      {"render --brush round --trajectory t.csv -o x.jpg",
+       "render: -o x.jpg: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"render s.json -o x.JPEG",
+       "render: -o x.JPEG: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"sheet sh.json -o x.gif",
+       "sheet: -o x.gif: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"preview round -o x.webp",
+       "preview: -o x.webp: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"record --device none --brush round --trajectory t.csv -o r.csv --png x.tiff",
+       "record: --png x.tiff: bristle writes PNG only; use a .png name (or - for standard "
+       "output)"},
+      {"replay r.csv -o x.bmp",
+       "replay: -o x.bmp: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"compare a.png b.png --diff x.exr",
+       "compare: --diff x.exr: bristle writes PNG only; use a .png name"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.args);
+    const RunResult r = runShell(d, "'" + kBin + "' " + c.args);
+    CHECK(r.code == 64);
+    CHECK(r.err == "bristle: " + c.line + "\n");
+  }
+  // Nothing written but runShell's own files (.command.sh, .stdout, .stderr).
+  for (const auto& entry : fs::directory_iterator(d.path()))
+    CHECK(entry.path().filename().string()[0] == '.');
+  // A name with no extension, or with one that names no other image format, is
+  // written as given (a PNG).
+  for (const std::string name : {"brush", "brush.PNG", "brush.out"}) {
+    INFO(name);
+    REQUIRE(runShell(d, "'" + kBin + "' preview -q round --width 64 --height 64 -o " + name).code ==
+            0);
+    CHECK(bytesOf(d.file(name)).rfind("\x89PNG", 0) == 0);
+  }
+}

@@ -1218,6 +1218,27 @@ case("render-starts-below", "`render` of a trajectory starting with the ferrule 
 case("validate-pair-starts-below", "`validate BRUSH TRAJ`: the same pair, the same message",
      ["validate", "b.json", "t.csv"], 65, PAIR_LOW, LOW_START)
 
+# -- legal in form, but surely a mistake: refused naming what was meant --------
+case("png-output-jpg", "`render -o o.jpg`: bristle writes PNG only",
+     render("b.json", "t.csv", "o.jpg"), 64,
+     "render: -o o.jpg: bristle writes PNG only; use a .png name (or - for standard output)",
+     STROKE)
+case("diff-output-tiff", "`compare --diff d.tiff`: the difference image is a PNG too",
+     ["compare", "a.png", "a.png", "--diff", "d.tiff"], 64,
+     "compare: --diff d.tiff: bristle writes PNG only; use a .png name", PNG)
+case("traj-semicolons", "a trajectory whose columns are separated by ';' (a spreadsheet export)",
+     ["validate", "t.csv"], 65,
+     "t.csv: line 2: columns are separated by ';'; bristle trajectories use ','",
+     trajectory(text="# bristle-trajectory/1\n" + HEADER.replace(",", ";") + "\n"
+                "0;15;40;25;1;0;0;0\n1;30;40;25;1;0;0;0\n"))
+case("traj-tabs-render", "`render` of a trajectory in tab-separated columns", render(), 65,
+     "t.csv: line 2: columns are separated by tabs; bristle trajectories use ','",
+     all_of(brush(), trajectory(text="# bristle-trajectory/1\n" + HEADER.replace(",", "\t") +
+                                "\n0\t15\t40\t25\t1\t0\t0\t0\n1\t30\t40\t25\t1\t0\t0\t0\n")))
+case("brush-misspelt-required-key", "a brush whose required `spines` is spelt `spine`",
+     ["validate", "b.json"], 65, "b.json: /spine: unknown key 'spine'; did you mean /spines?",
+     brush(edit=lambda b: b.update({"spine": b.pop("spines")})))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
