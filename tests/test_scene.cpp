@@ -205,9 +205,9 @@ TEST_CASE("bad values are 65 naming the JSON pointer and the rule", "[scene]") {
        "scene.json: /strokes/1/speed: ", "unknown key 'speed'"},
       {"unknown top key", [](json& j) { j["outputs"] = json::object(); },
        "scene.json: /outputs: ", "unknown key 'outputs'"},
-      {"misspelt optional key", [](json& j) { j["strokes"][1]["dry_befor"] = true; },
-       "scene.json: /strokes/1/dry_befor: ",
-       "unknown key 'dry_befor'; did you mean /strokes/1/dry_before?"},
+      {"misspelt optional key", [](json& j) { j["strokes"][0]["dry_befor"] = true; },
+       "scene.json: /strokes/0/dry_befor: ",
+       "unknown key 'dry_befor'; did you mean /strokes/0/dry_before?"},
       {"misspelt required key",
        [](json& j) {
          j["strokes"][0]["trajectry"] = j["strokes"][0]["trajectory"];
