@@ -11,11 +11,14 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/inputs.h"
+#include "cli/run_stats.h"
 #include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
+#include "engine/input_warnings.h"
+#include "engine/simulation.h"
 #include "engine/temp_files.h"
 #include "engine/trajectory.h"
 #include "haptics/hdapi.h"
@@ -31,9 +34,11 @@ std::atomic<bool> g_interrupt{false};
 extern "C" void onSignal(int) { g_interrupt.store(true); }
 
 // Renders a session: the same function for record --png and replay, so both
-// give the same pixels.
+// give the same pixels. `warn_inputs`: tell what looks like a mistake in the
+// brush and the session (replay; record told it of the brush and the played
+// trajectory before it began).
 void renderSession(const Brush& brush, haptics::Session session, const std::string& session_path,
-                   const StrokePngOptions& png, const std::string& output) {
+                   const StrokePngOptions& png, const std::string& output, bool warn_inputs) {
   for (const std::string& w : session.warnings) printError("warning: " + w);
   // A session written by hand may give depths past first contact, as any
   // trajectory may.
@@ -49,6 +54,8 @@ void renderSession(const Brush& brush, haptics::Session session, const std::stri
     smp.erase(smp.begin(), smp.begin() + static_cast<long>(first));
   }
   validateTrajectoryForBrush(session.trajectory, brush);
+  if (warn_inputs)
+    printWarnings(strokeInputWarnings(brush, session.trajectory, strokeOptions(png).sim));
   renderStrokePng(brush, session.trajectory, png, output);
 }
 
@@ -63,7 +70,10 @@ std::unique_ptr<haptics::Device> openDevice(const RecordArgs& args, const Brush&
     // replay could render.
     Trajectory played = resolveDepths(loadTrajectoryArg(args.trajectory, brush), brush);
     validateTrajectoryForBrush(played, brush);
-    planStepTimes(played, brush, SimOptions{});
+    const double steps = plannedStepCount(played, brush, SimOptions{});
+    // Played in real time: a trajectory in milliseconds would record for hours.
+    if (const std::string w = trajectoryWarning(played, steps, &brush, SimOptions{}); !w.empty())
+      printWarnings({w});
     return std::make_unique<haptics::NoneDevice>(std::move(played));
   };
   if (args.device == "none") return none();
@@ -156,6 +166,7 @@ int runRecord(const RecordArgs& args) {
   checkCanCreate(args.output);
   if (!args.forces.empty()) checkCanCreate(args.forces);
   if (!args.png.empty()) checkCanCreateArg(args.png);
+  if (const std::string w = brushScaleWarning(brush); !w.empty()) printWarnings({w});
 
   std::unique_ptr<haptics::Device> device = openDevice(args, brush);
 
@@ -200,7 +211,8 @@ int runRecord(const RecordArgs& args) {
                     " holds it up to the error");
   }
   if (!args.png.empty()) {
-    renderSession(brush, haptics::loadSession(args.output, hash), args.output, png, args.png);
+    renderSession(brush, haptics::loadSession(args.output, hash), args.output, png, args.png,
+                  false);
     if (!args.quiet && !isStdio(args.png)) std::cout << args.png << "\n";
   }
   // With --png -, stdout holds the PNG alone.
@@ -239,7 +251,7 @@ int runReplay(const ReplayArgs& args) {
                 {"-o"}, {});
   const Brush brush = loadBrush(brush_file);
   checkCanCreateArg(args.output);
-  renderSession(brush, std::move(session), args.session, png, args.output);
+  renderSession(brush, std::move(session), args.session, png, args.output, true);
   if (!args.quiet && !isStdio(args.output)) std::cout << args.output << "\n";
   return 0;
 }

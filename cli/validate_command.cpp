@@ -12,10 +12,12 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/inputs.h"
+#include "cli/run_stats.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
+#include "engine/input_warnings.h"
 #include "engine/scene.h"
 #include "engine/simulation.h"
 #include "engine/sheet.h"
@@ -30,7 +32,7 @@ namespace {
 void validateScene(const std::string& f) {
   const Scene scene = loadScene(f);
   for (const Brush& b : scene.brushes) const BrushGeometry geometry(b);
-  for (const std::string& w : sceneWarnings(scene)) printError("warning: " + w);
+  printWarnings(sceneWarnings(scene));
   const SceneCanvas& c = scene.canvas;
   std::cout << f << ": ok (scene '" << scene.name << "', " << scene.strokes.size()
             << (scene.strokes.size() == 1 ? " stroke, " : " strokes, ") << scene.brushes.size()
@@ -43,6 +45,7 @@ void validateScene(const std::string& f) {
 void validateSheet(const std::string& f) {
   const Sheet sheet = loadSheet(f);
   for (const Brush& b : sheet.brushes) const BrushGeometry geometry(b);
+  printWarnings(sheetInputWarnings(sheet));
   const size_t nb = sheet.brushes.size(), nt = sheet.trajectories.size();
   std::cout << f << ": ok (sheet '" << sheet.name << "', " << nb
             << (nb == 1 ? " brush x " : " brushes x ") << nt
@@ -50,23 +53,30 @@ void validateSheet(const std::string& f) {
 }
 
 // Each brush with each trajectory: the checks `render` makes before its run
-// (validateTrajectoryForBrush: the same function, so the same message and
-// exit code), and a warning when the brush never comes within reach of the
-// paper (render's image would be blank).
+// (validateTrajectoryForBrush and the step limits: the same functions, so the
+// same messages and exit codes, with render's default options), a warning when
+// the brush never comes within reach of the paper (render's image would be
+// blank), and one when the pair plans over a million steps (a trajectory over
+// ten minutes was named on its own already).
 int validatePairs(const std::vector<std::pair<std::string, Brush>>& brushes,
                   const std::vector<Trajectory>& trajectories) {
   int code = 0;
   for (const auto& [path, brush] : brushes)
     for (const Trajectory& given : trajectories) {
       Trajectory t;
+      double steps = 0;
       try {
         t = resolveDepths(given, brush);
         validateTrajectoryForBrush(t, brush);
+        steps = plannedStepCount(t, brush, SimOptions{});
       } catch (const Error& e) {
         printError(e.what());
         if (code == 0) code = static_cast<int>(e.code());
         continue;
       }
+      if (t.endTime() - t.startTime() <= kLongTrajectoryS)
+        if (const std::string w = trajectoryWarning(t, steps, &brush, SimOptions{}); !w.empty())
+          printWarnings({w});
       const bool reaches = t.comesWithinReach(brush.reachMm());
       if (!reaches)
         printError("warning: " + t.path + ": the brush '" + brush.name +
@@ -94,6 +104,8 @@ int runValidate(const std::vector<std::string>& files) {
         validateSheet(f);
       } else if (csv) {
         Trajectory t = loadTrajectory(f);
+        if (const std::string w = trajectoryWarning(t, 0, nullptr, {}); !w.empty())
+          printWarnings({w});
         std::cout << f << ": ok (trajectory, " << t.samples.size() << " samples, "
                   << t.endTime() - t.startTime() << " s)\n";
         trajectories.push_back(std::move(t));
@@ -109,6 +121,7 @@ int runValidate(const std::vector<std::string>& files) {
         // Building the geometry checks what the reader cannot: the cage's
         // topology (OpenSubdiv; non-manifold cages) and the strip layout.
         const BrushGeometry geometry(b);
+        if (const std::string w = brushScaleWarning(b); !w.empty()) printWarnings({w});
         std::cout << f << ": ok (brush '" << b.name << "', " << b.spines.size() << " spines"
                   << (b.surface.present() ? ", surface" : "")
                   << (b.strips.present() ? ", " + std::to_string(b.strips.count) + " strips" : "")
@@ -138,7 +151,9 @@ Subcommand registerValidate(CLI::App& app) {
       "when its format says so, else a brush), a scene or sheet with every file it names.\n"
       "Brushes and trajectories given together are then checked in pairs as render checks\n"
       "them before its run (the same messages): a brush that starts below the paper is\n"
-      "exit 65, one that never comes within reach of it a warning. Exit: the first error's.");
+      "exit 65, one that never comes within reach of it a warning. So are a trajectory\n"
+      "over 10 minutes or a million steps and a brush whose spines and surface differ\n"
+      "tenfold in size (docs/errors.md, Warnings). Exit: the first error's.");
   validate->add_option("files", *files, "Files to check; a library brush by its name (round)")
       ->required();
   return {validate, [files] { return runValidate(*files); }};

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include "engine/brush_library.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
+#include "engine/input_warnings.h"
 #include "engine/json_reader.h"
 #include "engine/pigments.h"
 #include "engine/text_file.h"
@@ -331,8 +333,17 @@ Scene loadScene(const std::string& path) {
 
 std::vector<std::string> sceneWarnings(const Scene& scene) {
   std::vector<std::string> out;
+  auto add = [&out](const std::string& w) {
+    if (!w.empty() && std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+  };
+  for (const Brush& b : scene.brushes) add(brushScaleWarning(b));
   const double w = scene.canvas.width_mm, h = scene.canvas.height_mm;
   for (const SceneStroke& st : scene.strokes) {
+    const Brush& brush = scene.brushes[st.brush];
+    // A trajectory shared by strokes is named once, unless its brushes plan
+    // different step counts.
+    add(trajectoryWarning(st.trajectory, plannedStepCount(st.trajectory, brush, scene.sim), &brush,
+                          scene.sim));
     // No hair reaches further from the ferrule than the brush's reach: a stroke
     // whose handle never comes that close to the canvas cannot touch it.
     if (!st.trajectory.comesWithinReach(scene.brushes[st.brush].reachMm(), w, h))

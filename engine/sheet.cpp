@@ -1,5 +1,6 @@
 #include "engine/sheet.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -9,6 +10,7 @@
 #include "engine/error.h"
 #include "engine/first_contact.h"
 #include "engine/fnv1a64.h"
+#include "engine/input_warnings.h"
 #include "engine/json_reader.h"
 #include "engine/scene.h"
 #include "engine/text_file.h"
@@ -219,5 +221,20 @@ Sheet loadSheet(const std::string& path) {
 }
 
 std::uint64_t sheetInputsHash(const Sheet& sheet) { return fnv1a64Files(sheet.inputs); }
+
+std::vector<std::string> sheetInputWarnings(const Sheet& sheet) {
+  std::vector<std::string> out;
+  auto add = [&out](const std::string& w) {
+    if (!w.empty() && std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+  };
+  for (const Brush& b : sheet.brushes) add(brushScaleWarning(b));
+  for (size_t b = 0; b < sheet.brushes.size(); ++b)
+    for (size_t t = 0; t < sheet.trajectories.size(); ++t) {
+      const Trajectory cell = sheet.cellTrajectory(b, t);
+      add(trajectoryWarning(cell, plannedStepCount(cell, sheet.brushes[b], sheet.sim),
+                            &sheet.brushes[b], sheet.sim));
+    }
+  return out;
+}
 
 }  // namespace bristle
