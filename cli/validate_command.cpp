@@ -6,6 +6,7 @@
 
 #include <iostream>
 #include <memory>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -52,12 +53,36 @@ void validateSheet(const std::string& f) {
             << (nt == 1 ? " trajectory)\n" : " trajectories)\n");
 }
 
-// Each brush with each trajectory: the checks `render` makes before its run
+// The checks `render` makes of a brush with a trajectory before its run
 // (validateTrajectoryForBrush and the step limits: the same functions, so the
-// same messages and exit codes, with render's default options), a warning when
-// the brush never comes within reach of the paper (render's image would be
-// blank), and one when the pair plans over a million steps (a trajectory over
-// ten minutes was named on its own already).
+// same messages and exit codes, with render's default options): the
+// trajectory for the brush, and its planned steps in *steps.
+Trajectory checkPair(const Trajectory& given, const Brush& brush, double* steps) {
+  Trajectory t = resolveDepths(given, brush);
+  validateTrajectoryForBrush(t, brush);
+  *steps = plannedStepCount(t, brush, SimOptions{});
+  return t;
+}
+
+// The files (a brush as given, a trajectory's path) of the pairs checkPair refuses.
+std::set<std::string> refusedFiles(const std::vector<std::pair<std::string, Brush>>& brushes,
+                                   const std::vector<Trajectory>& trajectories) {
+  std::set<std::string> refused;
+  double steps = 0;
+  for (const auto& [path, brush] : brushes)
+    for (const Trajectory& given : trajectories) try {
+        checkPair(given, brush, &steps);
+      } catch (const Error&) {
+        refused.insert(path);
+        refused.insert(given.path);
+      }
+  return refused;
+}
+
+// Each brush with each trajectory: checkPair, a warning when the brush never
+// comes within reach of the paper (render's image would be blank), and one
+// when the pair plans over a million steps (a trajectory over ten minutes is
+// named on its own).
 int validatePairs(const std::vector<std::pair<std::string, Brush>>& brushes,
                   const std::vector<Trajectory>& trajectories) {
   int code = 0;
@@ -66,9 +91,7 @@ int validatePairs(const std::vector<std::pair<std::string, Brush>>& brushes,
       Trajectory t;
       double steps = 0;
       try {
-        t = resolveDepths(given, brush);
-        validateTrajectoryForBrush(t, brush);
-        steps = plannedStepCount(t, brush, SimOptions{});
+        t = checkPair(given, brush, &steps);
       } catch (const Error& e) {
         printError(e.what());
         if (code == 0) code = static_cast<int>(e.code());
@@ -93,6 +116,10 @@ int runValidate(const std::vector<std::string>& files) {
   int code = 0;
   std::vector<std::pair<std::string, Brush>> brushes;
   std::vector<Trajectory> trajectories;
+  // A brush's or a trajectory's own warning, by the file as a pair names it:
+  // told once the pairs are known, and not for a file whose pair is refused,
+  // so that a refusal stays its one line.
+  std::vector<std::pair<std::string, std::string>> file_warnings;
   for (const std::string& arg : files) {
     try {
       const bool csv = arg.size() >= 4 && arg.compare(arg.size() - 4, 4, ".csv") == 0;
@@ -104,8 +131,7 @@ int runValidate(const std::vector<std::string>& files) {
         validateSheet(f);
       } else if (csv) {
         Trajectory t = loadTrajectory(f);
-        if (const std::string w = trajectoryWarning(t, 0, nullptr, {}); !w.empty())
-          printWarnings({w});
+        file_warnings.emplace_back(f, trajectoryWarning(t, 0, nullptr, {}));
         std::cout << f << ": ok (trajectory, " << t.samples.size() << " samples, "
                   << t.endTime() - t.startTime() << " s)\n";
         trajectories.push_back(std::move(t));
@@ -121,7 +147,7 @@ int runValidate(const std::vector<std::string>& files) {
         // Building the geometry checks what the reader cannot: the cage's
         // topology (OpenSubdiv; non-manifold cages) and the strip layout.
         const BrushGeometry geometry(b);
-        if (const std::string w = brushScaleWarning(b); !w.empty()) printWarnings({w});
+        file_warnings.emplace_back(arg, brushScaleWarning(b));
         std::cout << f << ": ok (brush '" << b.name << "', " << b.spines.size() << " spines"
                   << (b.surface.present() ? ", surface" : "")
                   << (b.strips.present() ? ", " + std::to_string(b.strips.count) + " strips" : "")
@@ -133,8 +159,12 @@ int runValidate(const std::vector<std::string>& files) {
       if (code == 0) code = static_cast<int>(e.code());
     }
   }
-  if (code == 0 && !brushes.empty() && !trajectories.empty())
-    code = validatePairs(brushes, trajectories);
+  const bool pairs = code == 0 && !brushes.empty() && !trajectories.empty();
+  const std::set<std::string> refused =
+      pairs ? refusedFiles(brushes, trajectories) : std::set<std::string>();
+  for (const auto& [file, w] : file_warnings)
+    if (!w.empty() && !refused.count(file)) printWarnings({w});
+  if (pairs) code = validatePairs(brushes, trajectories);
   return code;
 }
 

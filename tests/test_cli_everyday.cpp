@@ -519,6 +519,10 @@ TEST_CASE("a trajectory in milliseconds and a brush in metres are warned of, in 
                      msWarning("") +
                      "\nbristle: warning: ms.csv: the brush 'round' never comes within reach of "
                      "the paper: render's image would be blank\n");
+  // preview, for people designing brushes, names the brush's.
+  const RunResult p = runShell(d, b + " preview -q m.json --width 64 --height 64 -o p.png");
+  CHECK(p.code == 0);
+  CHECK(p.err == "bristle: warning: " + std::string(kMetresWarning) + "\n");
   // Ten minutes is not a mistake.
   writeUpright(d, "long.csv", {0, 600}, {15, 40}, 60);
   const RunResult ok = runShell(d, b + " validate long.csv");

@@ -1239,6 +1239,17 @@ case("brush-misspelt-required-key", "a brush whose required `spines` is spelt `s
      ["validate", "b.json"], 65, "b.json: /spine: unknown key 'spine'; did you mean /spines?",
      brush(edit=lambda b: b.update({"spine": b.pop("spines")})))
 
+# -- validate plans a pair's steps, and a scene's, as render does ---------------
+case("validate-pair-span-1e7", "`validate BRUSH TRAJ` of two samples 1e7 s apart",
+     ["validate", "b.json", "t.csv"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 "
+     "simulation steps up to here, over the limit of 10000000 per trajectory", LONG)
+case("validate-scene-span-1e7", "`validate` of a scene stroke whose trajectory spans 1e7 s",
+     ["validate", "s.json"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(LONG, scene(edit=lambda s: s.update(sim={"rate_hz": 120}))))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
