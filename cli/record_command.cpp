@@ -72,9 +72,10 @@ std::unique_ptr<haptics::Device> openDevice(const RecordArgs& args, const Brush&
     validateTrajectoryForBrush(played, brush);
     const double steps = plannedStepCount(played, brush, SimOptions{});
     // Played in real time: a trajectory in milliseconds would record for hours.
-    if (const std::string w = trajectoryWarning(played, steps, &brush, SimOptions{}); !w.empty())
-      printWarnings({w});
-    return std::make_unique<haptics::NoneDevice>(std::move(played));
+    const std::string w = trajectoryWarning(played, steps, &brush, SimOptions{});
+    auto device = std::make_unique<haptics::NoneDevice>(std::move(played));
+    if (!w.empty()) printWarnings({w});
+    return device;
   };
   if (args.device == "none") return none();
   const std::string lib = haptics::hd::hdLibraryPath();
@@ -166,9 +167,10 @@ int runRecord(const RecordArgs& args) {
   checkCanCreate(args.output);
   if (!args.forces.empty()) checkCanCreate(args.forces);
   if (!args.png.empty()) checkCanCreateArg(args.png);
-  if (const std::string w = brushScaleWarning(brush); !w.empty()) printWarnings({w});
 
   std::unique_ptr<haptics::Device> device = openDevice(args, brush);
+  // Once the device (and the trajectory it plays) passed every check.
+  if (const std::string w = brushScaleWarning(brush); !w.empty()) printWarnings({w});
 
   haptics::SessionHeader header;
   header.device_model = device->model();

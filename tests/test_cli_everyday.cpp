@@ -523,6 +523,13 @@ TEST_CASE("a trajectory in milliseconds and a brush in metres are warned of, in 
   const RunResult p = runShell(d, b + " preview -q m.json --width 64 --height 64 -o p.png");
   CHECK(p.code == 0);
   CHECK(p.err == "bristle: warning: " + std::string(kMetresWarning) + "\n");
+  // record --device none plays the trajectory in real time: it says so before
+  // it begins (here for a fifth of a second).
+  const RunResult rec = runShell(d, b + " record -q --device none --brush m.json --trajectory "
+                                        "ms.csv -o r.csv --duration 0.2");
+  CHECK(rec.code == 0);
+  CHECK(rec.err == "bristle: warning: " + msWarning(", 642001 simulation steps") +
+                       "\nbristle: warning: " + kMetresWarning + "\n");
   // Ten minutes is not a mistake.
   writeUpright(d, "long.csv", {0, 600}, {15, 40}, 60);
   const RunResult ok = runShell(d, b + " validate long.csv");
