@@ -85,6 +85,12 @@ void addBatchKey(CLI::App* app, std::string& key) {
   app->add_option("--batch-key", key)->group("");
 }
 
+std::string optionName(const CLI::Option& option) {
+  if (!option.get_lnames().empty()) return "--" + option.get_lnames().front();
+  if (!option.get_snames().empty()) return "-" + option.get_snames().front();
+  return option.get_single_name();
+}
+
 namespace {
 
 class HelpFormatter : public CLI::Formatter {

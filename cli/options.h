@@ -45,6 +45,12 @@ void addPngOutput(CLI::App* app, std::string& output);
 // (batch/job_key.h). Not in --help: it is for the batch, not for people.
 void addBatchKey(CLI::App* app, std::string& key);
 
+// The name an option is known by on the command line: "--long" when it has a
+// long name, else "-s". Never empty: CLI11 2.1's Option::get_name() returns ""
+// for an option in the hidden group (--batch-key), so that name cannot tell
+// options apart.
+std::string optionName(const CLI::Option& option);
+
 // CLI11's help layout, less the blank line CLI11 2.1 adds after the options
 // when the last option group is the hidden one (--batch-key). Set on the
 // program before its subcommands are added: they take their parent's.

@@ -228,7 +228,7 @@ Subcommand registerRender(CLI::App& app) {
   addBatchKey(render, r->batch_key);
   return {render, [render, r] {
             for (const CLI::Option* o : render->get_options())
-              if (o->count() > 0 && !o->get_positional()) r->given.push_back(o->get_name());
+              if (o->count() > 0 && !o->get_positional()) r->given.push_back(optionName(*o));
             return runRender(*r);
           }};
 }
