@@ -78,8 +78,9 @@ struct PreviewArgs {
 };
 int runPreview(const PreviewArgs& args);
 
-// Lists the brushes (*.json) of a library folder.
-int runBrushes(const std::string& library_dir);
+// Lists the brushes (*.json) of the library's folders, in lookup order, each
+// name once (from the first folder holding it).
+int runBrushes(const std::vector<std::string>& library_dirs);
 
 // Lists the pigment table; swatches: auto (on a terminal), always, never.
 int runPigments(const std::string& swatches);

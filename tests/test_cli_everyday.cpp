@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -105,6 +106,39 @@ TEST_CASE("brush names: BRISTLE_BRUSH_PATH and the install's share folder", "[cl
                         ": ok (brush 'round', 7 spines, surface)\n");
   const RunResult build = runShell(d, b + " validate round");
   CHECK(build.out == kRound + ": ok (brush 'round', 7 spines, surface)\n");
+}
+
+TEST_CASE("brush names: `brushes` lists exactly the names lookup finds, from one variable",
+          "[cli][names]") {
+  TempDir d;
+  fs::create_directories(d.path() / "mine");
+  fs::copy_file(kRound, d.path() / "mine/house.json");
+  // A library name found again in BRISTLE_BRUSH_PATH is shadowed, as in lookup.
+  fs::copy_file(kRound, d.path() / "mine/flat.json");
+  const std::string b = "'" + kBin + "'";
+  const RunResult list = runShell(d, "BRISTLE_BRUSH_PATH=mine " + b + " brushes");
+  REQUIRE(list.code == 0);
+  std::vector<std::string> names;
+  std::istringstream lines(list.out);
+  for (std::string line; std::getline(lines, line);) names.push_back(line.substr(0, line.find(' ')));
+  // The seven library brushes and the house brush, each once, by the name that
+  // finds it (the file's, whatever the brush calls itself).
+  CHECK(names == std::vector<std::string>{"badger", "bright", "calligraphy", "fan", "filbert",
+                                          "flat", "round", "house"});
+  // Every name listed resolves, from the folder listed first (the library's flat).
+  const RunResult flat = runShell(d, "BRISTLE_BRUSH_PATH=mine " + b + " validate flat");
+  CHECK(flat.out == sourcePath("scenes/brushes/flat.json") + ": ok (brush 'flat', 5 spines, surface, 120 strips)\n");
+  CHECK(runShell(d, "BRISTLE_BRUSH_PATH=mine " + b + " validate house").code == 0);
+  // --library lists that folder alone.
+  const RunResult one = runShell(d, b + " brushes --library mine");
+  CHECK(std::count(one.out.begin(), one.out.end(), '\n') == 2);
+
+  // The old variable is not read, and says so in one line.
+  const RunResult old = runShell(d, "BRISTLE_BRUSHES=mine " + b + " validate house");
+  CHECK(old.code == 66);
+  CHECK_THAT(old.err, StartsWith("bristle: warning: BRISTLE_BRUSHES is no longer read; put the "
+                                 "folder in BRISTLE_BRUSH_PATH (colon-separated), which `bristle "
+                                 "brushes` and every brush name use\n"));
 }
 
 TEST_CASE("pigments: the table, with swatches only on a terminal", "[cli][pigments]") {

@@ -11,7 +11,7 @@ bristle examples and are left to their own tests.
 
 Each runs through the shell, in the order shown, in a scratch folder that holds the source tree's
 scenes/, golden/ and scripts/ (as links), build/cli/bristle (a link to the
-binary under test) and the placeholder files the examples name (T.csv, a
+binary under test) and the placeholder files the examples name (my-brushes/, T.csv, a
 session.csv, jobs.json, the images compare is shown on). An example must exit
 0, or with the code EXPECTED gives it (recording with no haptic device here is
 exit 69, as documented). An example still running after TIME_LIMIT_S (a whole
@@ -114,6 +114,8 @@ def scratch(bristle):
     (d / "build/cli/bristle").symlink_to(Path(bristle).resolve())
     env = dict(os.environ)
     env.pop("GALLIUM_DRIVER", None)
+    (d / "my-brushes").mkdir()
+    shutil.copy(SRC / "scenes/brushes/round.json", d / "my-brushes/house.json")
     lines = (SRC / "scenes/trajectories/straight-pull.csv").read_text().split("\n")
     (d / "T.csv").write_text("\n".join(lines[:60]) + "\n")
 
