@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "engine/paint_spec.h"
+
 namespace bristle::cli {
 
 struct PaintOptions {
@@ -19,7 +21,7 @@ struct PaintOptions {
   unsigned long long paper_seed = 1;
   bool impasto = false;
   int bits = 8;
-  std::string background = "#f6f1e6";  // paper
+  std::string background = kDefaultPaperColour;  // paper
 };
 
 }  // namespace bristle::cli
