@@ -118,6 +118,7 @@ int runRender(const RenderArgs& args) {
   }
 
   PartProgress progress(!args.quiet, nullptr);
+  long planned_steps = 0;
   int failed_reported = 0;
   constexpr int kMaxFailureLines = 5;  // then only the summary
   auto on_step = [&](const BrushState& st, int step, int steps) {
@@ -131,6 +132,7 @@ int runRender(const RenderArgs& args) {
                    std::to_string(st.t_s) + " s): spine " + std::to_string(s) +
                    " solve failed (" + st.spines[s].summary.message +
                    "); continuing from its last good state");
+    planned_steps = steps;
     progress.update(0, 1, step, steps);
   };
   const std::string traj_name = isStdio(args.trajectory) ? std::string(kStdinName) : args.trajectory;
@@ -145,14 +147,17 @@ int runRender(const RenderArgs& args) {
   const render::StrokeResult& result = png_result.stroke;
   if (trace) trace->commit();
   if (forces) forces->commit();
+  stats.planned_steps = planned_steps;
   writeRunStats(args.stats, stats);
   if (!args.quiet) {
+    // The planned steps first, as progress counted them; then the steps taken,
+    // which splitting a step in halves makes more.
     const SimStats& st = result.stats;
     std::fprintf(stderr,
-                 "bristle: %d steps (%d solved, %d at rest, %d stiction re-solves, %d rescued "
-                 "by the fallback solver), %ld solver iterations\n",
-                 st.steps, st.solved_steps, st.settled_steps, st.resolves, st.fallback_solves,
-                 st.iterations);
+                 "bristle: %ld planned steps; %d simulation steps (%d solved, %d at rest, %d "
+                 "stiction re-solves, %d rescued by the fallback solver), %ld solver iterations\n",
+                 planned_steps, st.steps, st.solved_steps, st.settled_steps, st.resolves,
+                 st.fallback_solves, st.iterations);
     std::fprintf(stderr,
                  "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up; %.3g of %.3g mm^3 "
                  "left on the brush\n",

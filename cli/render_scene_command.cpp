@@ -61,6 +61,7 @@ RunStats sceneStats(const Scene& scene, const render::SceneResult& result,
   RunStats stats;
   stats.painted_pixels = render::inkPixels(image8, paper);
   stats.pixels = long(image8.width) * image8.height;
+  stats.planned_steps = result.planned_steps;
   stats.sim = result.stats;
   stats.paint_laid_mm3 = result.deposited_mm3;
   stats.paint_picked_up_mm3 = result.picked_up_mm3;
@@ -131,10 +132,11 @@ int runRenderScene(const RenderArgs& args) {
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,
-                 "bristle: %d strokes, %d steps (%d solved, %d at rest, %d stiction re-solves, "
-                 "%d rescued by the fallback solver), %ld solver iterations\n",
-                 strokes, st.steps, st.solved_steps, st.settled_steps, st.resolves,
-                 st.fallback_solves, st.iterations);
+                 "bristle: %d strokes, %ld planned steps; %d simulation steps (%d solved, %d at "
+                 "rest, %d stiction re-solves, %d rescued by the fallback solver), %ld solver "
+                 "iterations\n",
+                 strokes, result.planned_steps, st.steps, st.solved_steps, st.settled_steps,
+                 st.resolves, st.fallback_solves, st.iterations);
     std::fprintf(stderr, "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up\n",
                  result.deposited_mm3, result.picked_up_mm3);
     if (!isStdio(args.output)) std::cout << args.output << "\n";

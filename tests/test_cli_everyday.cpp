@@ -184,7 +184,7 @@ TEST_CASE("'-': a trajectory from stdin, the PNG to stdout", "[cli][stdio]") {
       runShell(d, "cat short.csv | " + b + " render --brush round --trajectory - -o - > piped.png");
   REQUIRE(piped.code == 0);
   CHECK(piped.out.empty());
-  CHECK_THAT(piped.err, Contains("steps ("));
+  CHECK_THAT(piped.err, Contains(" planned steps; ") && Contains(" simulation steps ("));
   CHECK(bytesOf(d.file("piped.png")) == bytesOf(d.file("file.png")));
   CHECK_FALSE(fs::exists(d.path() / "-"));
   // ... and straight into compare, which reads "-" from stdin.
@@ -281,6 +281,14 @@ TEST_CASE("render --stats: the figures and the warnings as JSON", "[cli][stats]"
                                  .append(std::to_string(figures.at("stiction_resolves").get<long>()))
                                  .append(" stiction re-solves");
   CHECK_THAT(loud.err, Contains(solved));
+  // The plan's step count leads the summary, as progress counted it; the steps
+  // simulated are as many or more (a step redone in halves counts its pieces).
+  const long planned = figures.at("planned_steps").get<long>();
+  CHECK(planned > 0);
+  CHECK(figures.at("steps").get<long>() >= planned);
+  CHECK_THAT(loud.err, Contains("bristle: " + std::to_string(planned) + " planned steps; " +
+                                std::to_string(figures.at("steps").get<long>()) +
+                                " simulation steps ("));
   // A blot held still: the steps at rest are counted apart, and solve nothing.
   REQUIRE(runShell(d, b + " render -q --brush round --trajectory '" +
                           sourcePath("scenes/trajectories/depth/press-hold-lift.csv") +
