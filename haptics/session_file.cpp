@@ -10,6 +10,7 @@
 
 #include "engine/atomic_output.h"
 #include "engine/error.h"
+#include "engine/fnv1a64.h"
 #include "engine/text_file.h"
 
 namespace bristle::haptics {
@@ -26,21 +27,6 @@ std::int64_t monotonicNs() {
 constexpr std::int64_t kFlushEveryNs = 50'000'000;
 
 }  // namespace
-
-std::uint64_t fnv1a64(const std::string& bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;  // offset basis
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 0x100000001b3ULL;  // FNV prime
-  }
-  return h;
-}
-
-std::string hex64(std::uint64_t v) {
-  char b[17];
-  std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));
-  return b;
-}
 
 std::string brushFileHash(const std::string& brush_path) {
   return hex64(fnv1a64(readTextFile(brush_path)));

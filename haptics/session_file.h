@@ -18,10 +18,8 @@
 
 namespace bristle::haptics {
 
-// FNV-1a, 64 bit (Fowler, Noll, Vo), of bytes.
-std::uint64_t fnv1a64(const std::string& bytes);
-std::string hex64(std::uint64_t v);
-// Hash of a brush file as sessions record it; throws kNoInput if unreadable.
+// Hash of a brush file as sessions record it: hex64 of fnv1a64
+// (engine/fnv1a64.h) of its bytes; throws kNoInput if unreadable.
 std::string brushFileHash(const std::string& brush_path);
 
 struct SessionHeader {

@@ -461,12 +461,6 @@ TEST_CASE("SPSC ring: order kept, overflow dropped and counted", "[haptics][ring
 // ---------------------------------------------------------------------------
 // Session files.
 
-TEST_CASE("FNV-1a 64 matches the published test vectors", "[haptics][session]") {
-  CHECK(hex64(fnv1a64("")) == "cbf29ce484222325");
-  CHECK(hex64(fnv1a64("a")) == "af63dc4c8601ec8c");
-  CHECK(hex64(fnv1a64("foobar")) == "85944171f73967e8");
-}
-
 TEST_CASE("device frame mapping round-trips poses and forces", "[haptics][frame]") {
   DeviceMapping m;
   Pose p;
