@@ -86,25 +86,23 @@ int runPigments(const std::string& swatches);
 
 // `bristle record`: a live session with a haptic device (or a played
 // trajectory), written as it goes; `bristle replay`: its render.
-struct RecordArgs : PaintOptions {  // of the --png render
+struct RecordArgs : SessionRender {  // of the --png render
   std::string brush, output, device = "auto", trajectory, forces, png;
   double duration_s = 0;       // 0: until Ctrl-C / end of the trajectory
   double sim_rate_hz = 30;
   double session_rate_hz = 100;
-  double px_per_mm = 8;
-  SolverKind solver = SolverKind::kIpopt;       // of the --png render (as replay's)
   SolverKind live_solver = SolverKind::kSlsqp;  // of the live simulation: it must keep up
   bool quiet = false;
 };
 int runRecord(const RecordArgs& args);
 
-struct ReplayArgs : PaintOptions {
+struct ReplayArgs : SessionRender {
   std::string session, brush, output;
-  double px_per_mm = 8;
-  SolverKind solver = SolverKind::kIpopt;
+  std::vector<std::string> given;  // the options given on the command line ("--paint", ...)
   bool quiet = false;
 };
 int runReplay(const ReplayArgs& args);
+
 // `bristle sheet`: a grid of strokes, brushes x trajectories (engine/sheet.h).
 struct SheetArgs {
   std::string sheet, output;

@@ -198,11 +198,7 @@ Subcommand registerRender(CLI::App& app) {
                      "Shift the trajectory by X Y Z mm (e.g. 0 0 10 to hold a longer brush "
                      "higher)")
       ->expected(3);
-  render->add_option("--ipopt-option", r->ipopt_options,
-                     "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; "
-                     "bristle's own: friction_form=auto|epigraph|objective, timing_statistics=yes|no, "
-                     "warm_retry=yes|no (a failed warm start solved again re-centred; default yes), "
-                     "linear_solver=dense (the default; =mumps for Ipopt's own)");
+  addIpoptOption(render, r->ipopt_options);
   addPxPerMm(render, r->px_per_mm, "Canvas resolution (pixels per mm)");
   render->add_option("--max-step-mm", r->max_step_mm,
                      "Largest motion of a spine root per simulation step (mm); a step in which "

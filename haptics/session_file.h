@@ -4,13 +4,15 @@
 // written as it goes: line-buffered, and flushed at least every 100 ms, so a
 // killed process loses at most the last 100 ms and leaves a file that replays
 // up to its last complete line. Header comments record the device model, the
-// servo rate, the units and the brush's hash (FNV-1a 64 of the brush file's
-// bytes, hex), which replay checks.
+// servo rate, the units, the brush and its hash (FNV-1a 64 of the brush file's
+// bytes, hex), which replay checks, and the options of the session's render
+// (cli/session_render.h), which replay renders with.
 
 #include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/trajectory.h"
@@ -28,6 +30,9 @@ struct SessionHeader {
   double session_rate_hz = 100;
   std::string brush_path;
   std::string brush_hash;  // hex of fnv1a64
+  // "# KEY: VALUE" lines after the brush's, in order (a key may repeat); a
+  // value must hold no line break.
+  std::vector<std::pair<std::string, std::string>> options;
 };
 
 // Appends servo samples to a session file (decimated to the session rate)
@@ -62,7 +67,8 @@ class SessionWriter {
 
 struct Session {
   Trajectory trajectory;
-  std::map<std::string, std::string> header;  // "# key: value" comment lines
+  std::map<std::string, std::string> header;  // "# key: value" comment lines (the last of a key)
+  std::vector<std::pair<std::string, std::string>> comments;  // all of them, in order
   std::vector<std::string> warnings;          // one line each, for the user
 };
 

@@ -1208,6 +1208,34 @@ case("replay-recorded-brush-gone", "`replay` without `--brush`: the recorded bru
      ["replay", "r.csv", "-o", "o.png"], 66, "gone.json: cannot read: No such file or directory",
      all_of(brush(), session_of("gone.json")))
 
+
+def session_options(*lines):
+    """A setup step: a session of b.json whose header records the render
+    options `lines` ("--px-per-mm: 500"), as record writes them."""
+    def step(d):
+        write(d, "r.csv", "# bristle-trajectory/1\n# bristle record: a live session\n"
+              "# brush: b.json\n"
+              f"# brush_fnv1a64: {fnv1a64((d / 'b.json').read_bytes())}\n"
+              + "".join(f"# {line}\n" for line in lines) + HEADER + "\n"
+              + "".join(",".join(str(v) for v in [t, *HIGH, *REST]) + "\n" for t in (0, 1)))
+    return step
+
+
+case("replay-header-option-range", "`replay` of a session whose header records `--px-per-mm` "
+     "500", ["replay", "r.csv", "-o", "o.png"], 65,
+     "r.csv: header: --px-per-mm: Value 500 not in range 0.500000 to 100.000000",
+     all_of(brush(), session_options("--paint: ultramarine", "--px-per-mm: 500")))
+case("replay-header-unknown-option", "`replay` of a session whose header records an option "
+     "the render does not have", ["replay", "r.csv", "-o", "o.png"], 65,
+     "r.csv: header: --pain: not an option of the render (known: --paint, --load, --amount, "
+     "--tip-length, --mix, --paper-tooth, --paper-scale, --paper-seed, --background, --impasto, "
+     "--bits, --px-per-mm, --solver, --solver-max-iterations, --ipopt-option)",
+     all_of(brush(), session_options("--pain: ultramarine")))
+case("record-ipopt-option-newline", "`record --ipopt-option` holding a line break, which the "
+     "session's header cannot hold", RECORD + ["-o", "r.csv", "--ipopt-option", "tol=1\nx"], 64,
+     "--ipopt-option: a value holding a control character cannot go into the session's header",
+     STROKE)
+
 # -- validate checks a brush with a trajectory as render does, by the same function --
 LOW_START = all_of(brush(), trajectory(rows=[[0, 15, 40, -5, 1, 0, 0, 0],
                                              [1, 30, 40, 25, 1, 0, 0, 0]]))
