@@ -344,8 +344,7 @@ Subcommand registerReplay(CLI::App& app) {
   addSessionRenderOptions(replay, *rep, "Canvas resolution (pixels per mm)", "Spine solver");
   replay->add_flag("-q,--quiet", rep->quiet, "No output path on stdout");
   return {replay, [replay, rep] {
-            for (const CLI::Option* o : replay->get_options())
-              if (o->count() > 0 && !o->get_positional()) rep->given.push_back(o->get_name());
+            rep->given = givenOptions(replay);
             return runReplay(*rep);
           }};
 }
