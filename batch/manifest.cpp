@@ -145,15 +145,20 @@ std::string optionValue(const nlohmann::json& v) {
   return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
-// Sets each option of `options` (checked by checkOptions) on *merged as the
-// words of its command line; false removes a flag a default set.
-void mergeOptions(const nlohmann::json& options, BatchJobOptions* merged) {
+// Sets each option of `options` (checked by checkOptions; at `pointer`) on
+// *merged as the words of its command line, and its pointer in *pointers;
+// false removes a flag a default set.
+void mergeOptions(const nlohmann::json& options, const std::string& pointer,
+                  BatchJobOptions* merged, std::map<std::string, std::string>* pointers) {
   for (const auto& [name, value] : options.items()) {
+    (*pointers)[name] = pointer + "/" + name;
     if (value.is_boolean()) {
-      if (value.get<bool>())
+      if (value.get<bool>()) {
         (*merged)[name] = {};
-      else
+      } else {
         merged->erase(name);
+        pointers->erase(name);
+      }
       continue;
     }
     std::vector<std::string>& words = (*merged)[name];
@@ -187,11 +192,12 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
   root.require(format == kBatchFormat, "format", std::string("must be \"") + kBatchFormat + "\"");
 
   BatchJobOptions defaults;
+  std::map<std::string, std::string> default_pointers;
   if (root.has("defaults")) {
     const JsonObject d = root.object("defaults");
     if (d.has("options")) {
       checkOptions(d, "options", d.raw("options"));
-      mergeOptions(d.raw("options"), &defaults);
+      mergeOptions(d.raw("options"), d.childPointer("options"), &defaults, &default_pointers);
     }
     d.rejectUnknownKeys();
   }
@@ -258,10 +264,11 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
              "repeats the output of " + it->second);
 
     job.options = defaults;
+    job.option_pointers = default_pointers;
     if (o.has("options")) {
       const nlohmann::json& own = o.raw("options");
       checkOptions(o, "options", own);
-      mergeOptions(own, &job.options);
+      mergeOptions(own, o.childPointer("options"), &job.options, &job.option_pointers);
     }
     o.rejectUnknownKeys();
     manifest.jobs.push_back(std::move(job));

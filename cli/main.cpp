@@ -114,13 +114,8 @@ int main(int argc, char** argv) {
   app.footer(kFooter);
   app.set_version_flag("--version", std::string("bristle ") + bristle::kVersion);
   app.require_subcommand(0, 1);
-  // In this order in `bristle --help`.
-  const std::vector<Subcommand> commands = {
-      registerRender(app),  registerValidate(app), registerBrushes(app), registerPigments(app),
-      registerPreview(app), registerRecord(app),   registerReplay(app),  registerSheet(app),
-      registerBatch(app),   registerCompare(app),  registerImport(app)};
+  const std::vector<Subcommand> commands = registerCommands(app);
   const Subcommand help = registerHelp(app, commands);
-  requireFiniteNumbers(app);
   if (const std::optional<int> code = parse(app, argc, argv)) return *code;
 
   // SIGINT and SIGTERM remove the temporary files of unfinished outputs, then

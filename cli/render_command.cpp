@@ -63,13 +63,8 @@ RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_
   return stats;
 }
 
-}  // namespace
-
-int runRender(const RenderArgs& args) {
-  if (!args.scene.empty()) return runRenderScene(args);
-  if (args.brush.empty() || args.trajectory.empty())
-    throw Error(ExitCode::kUsage,
-                "render: give a SCENE.json, or --brush and --trajectory (see bristle render --help)");
+// The options of a stroke's render (render --brush --trajectory).
+StrokePngOptions strokePngOptionsOf(const RenderArgs& args) {
   StrokePngOptions png;
   png.solver = args.solver;
   png.solver_max_iterations = args.solver_max_iterations;
@@ -81,9 +76,25 @@ int runRender(const RenderArgs& args) {
   png.min_rate_hz = args.min_rate_hz;
   png.threads = args.threads;
   static_cast<PaintOptions&>(png) = args;
+  return png;
+}
+
+}  // namespace
+
+void checkRenderOptions(const RenderArgs& args) {
+  if (!args.scene.empty()) return checkSceneOptions(args);
+  checkStrokePngOptions(strokePngOptionsOf(args));
+}
+
+int runRender(const RenderArgs& args) {
+  if (!args.scene.empty()) return runRenderScene(args);
+  if (args.brush.empty() || args.trajectory.empty())
+    throw Error(ExitCode::kUsage,
+                "render: give a SCENE.json, or --brush and --trajectory (see bristle render --help)");
+  StrokePngOptions png = strokePngOptionsOf(args);
   const std::string brush_file = findBrushFile(args.brush, "--brush");
   png.inputs = {brush_file, args.trajectory};
-  checkStrokePngOptions(png);
+  checkRenderOptions(args);
   checkCliFiles({{"-o", args.output},
                  {"--trace", args.trace},
                  {"--forces", args.forces},
@@ -203,11 +214,7 @@ Subcommand registerRender(CLI::App& app) {
                      "Shift the trajectory by X Y Z mm (e.g. 0 0 10 to hold a longer brush "
                      "higher)")
       ->expected(3);
-  render->add_option("--ipopt-option", r->ipopt_options,
-                     "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; "
-                     "bristle's own: friction_form=auto|epigraph|objective, timing_statistics=yes|no, "
-                     "warm_retry=yes|no (a failed warm start solved again re-centred; default yes), "
-                     "linear_solver=dense (the default; =mumps for Ipopt's own)");
+  addIpoptOption(render, r->ipopt_options);
   addPxPerMm(render, r->px_per_mm, "Canvas resolution (pixels per mm)");
   render->add_option("--max-step-mm", r->max_step_mm,
                      "Largest motion of a spine root per simulation step (mm); a step in which "
@@ -231,10 +238,14 @@ Subcommand registerRender(CLI::App& app) {
   addPaintOptions(render, *r);
   render->add_flag("-q,--quiet", r->quiet, "No progress, no output path on stdout");
   addBatchKey(render, r->batch_key);
-  return {render, [render, r] {
-            for (const CLI::Option* o : render->get_options())
-              if (o->count() > 0 && !o->get_positional()) r->given.push_back(optionName(*o));
+  return {render,
+          [render, r] {
+            r->given = givenOptions(render);
             return runRender(*r);
+          },
+          [render, r] {
+            r->given = givenOptions(render);
+            checkRenderOptions(*r);
           }};
 }
 

@@ -40,19 +40,6 @@ bool warnedAbout(const std::vector<std::string>& warnings, const std::string& po
   return false;
 }
 
-void checkSceneOptions(const RenderArgs& args) {
-  for (const std::string& given : args.given) {
-    bool ok = false;
-    for (const char* allowed : kSceneOptions) ok = ok || given == allowed;
-    if (!ok)
-      throw Error(ExitCode::kUsage,
-                  "render " + args.scene + ": " + given +
-                      " cannot be used with a scene (the scene sets it); with a scene only -o, "
-                      "--trace, --stats, --impasto, --bits, --solver-max-iterations, --threads and "
-                      "--quiet are allowed");
-  }
-}
-
 // The figures and warnings of a painting: those found before the run
 // (already printed), then the ones it brought (printed as they are found).
 RunStats sceneStats(const Scene& scene, const render::SceneResult& result,
@@ -78,6 +65,19 @@ RunStats sceneStats(const Scene& scene, const render::SceneResult& result,
 }
 
 }  // namespace
+
+void checkSceneOptions(const RenderArgs& args) {
+  for (const std::string& given : args.given) {
+    bool ok = false;
+    for (const char* allowed : kSceneOptions) ok = ok || given == allowed;
+    if (!ok)
+      throw Error(ExitCode::kUsage,
+                  "render " + args.scene + ": " + given +
+                      " cannot be used with a scene (the scene sets it); with a scene only -o, "
+                      "--trace, --stats, --impasto, --bits, --solver-max-iterations, --threads and "
+                      "--quiet are allowed");
+  }
+}
 
 int runRenderScene(const RenderArgs& args) {
   checkSceneOptions(args);
