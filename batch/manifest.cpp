@@ -145,15 +145,20 @@ std::string optionValue(const nlohmann::json& v) {
   return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
-// Sets each option of `options` (checked by checkOptions) on *merged as the
-// words of its command line; false removes a flag a default set.
-void mergeOptions(const nlohmann::json& options, BatchJobOptions* merged) {
+// Sets each option of `options` (checked by checkOptions; at `pointer`) on
+// *merged as the words of its command line, and its pointer in *pointers;
+// false removes a flag a default set.
+void mergeOptions(const nlohmann::json& options, const std::string& pointer,
+                  BatchJobOptions* merged, std::map<std::string, std::string>* pointers) {
   for (const auto& [name, value] : options.items()) {
+    (*pointers)[name] = pointer + "/" + name;
     if (value.is_boolean()) {
-      if (value.get<bool>())
+      if (value.get<bool>()) {
         (*merged)[name] = {};
-      else
+      } else {
         merged->erase(name);
+        pointers->erase(name);
+      }
       continue;
     }
     std::vector<std::string>& words = (*merged)[name];
@@ -178,6 +183,50 @@ const char* batchJobKindName(BatchJobKind kind) {
   return "?";
 }
 
+namespace {
+
+// What a job renders and from which files. A preview names its brush in
+// "preview" and may take a trajectory (the brush deformed at --at); a stroke
+// is a brush with a trajectory.
+void readJobKind(const JsonObject& o, const std::string& path, const std::string& base_dir,
+                 BatchJob* job) {
+  const bool scene = o.has("scene"), sheet = o.has("sheet"), preview = o.has("preview");
+  const bool stroke = o.has("brush") || (o.has("trajectory") && !preview);
+  const int kinds = int(scene) + int(sheet) + int(stroke) + int(preview);
+  if (kinds == 0)
+    for (const char* key : {"scene", "sheet", "preview", "brush"}) o.rejectMisspellingOf(key);
+  if (kinds != 1)
+    o.fail(o.pointer(), "a job renders exactly one of: \"scene\", \"sheet\", \"preview\" "
+                        "(with an optional \"trajectory\"), or \"brush\" with \"trajectory\"");
+  const auto brushAt = [&](const std::string& key) {
+    const std::string brush = o.string(key);
+    return isBrushName(brush) ? findBrushByName(brush, path + ": " + o.childPointer(key))
+                              : resolve(base_dir, brush);
+  };
+  if (scene) {
+    job->kind = BatchJobKind::kScene;
+    job->input = resolve(base_dir, o.string("scene"));
+  } else if (sheet) {
+    job->kind = BatchJobKind::kSheet;
+    job->input = resolve(base_dir, o.string("sheet"));
+  } else if (preview) {
+    job->kind = BatchJobKind::kPreview;
+    job->brush = brushAt("preview");
+    if (o.has("trajectory")) job->trajectory = resolve(base_dir, o.string("trajectory"));
+  } else {
+    job->kind = BatchJobKind::kStroke;
+    // A misspelt "preview" beside its "trajectory" reads as a stroke here.
+    for (const char* key : {"brush", "trajectory", "preview"})
+      if (!o.has(key)) o.rejectMisspellingOf(key);
+    if (!o.has("brush") || !o.has("trajectory"))
+      o.fail(o.pointer(), "a stroke job needs both \"brush\" and \"trajectory\"");
+    job->brush = brushAt("brush");
+    job->trajectory = resolve(base_dir, o.string("trajectory"));
+  }
+}
+
+}  // namespace
+
 BatchManifest parseBatchManifest(const std::string& text, const std::string& path,
                                  const std::string& base_dir) {
   const nlohmann::json doc = parseJsonText(text, path);
@@ -188,12 +237,13 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
   root.require(format == kBatchFormat, "format", std::string("must be \"") + kBatchFormat + "\"");
 
   BatchJobOptions defaults;
+  std::map<std::string, std::string> default_pointers;
   if (root.has("defaults")) {
     const JsonObject d = root.object("defaults");
     d.declareKeys({"options"});
     if (d.has("options")) {
       checkOptions(d, "options", d.raw("options"));
-      mergeOptions(d.raw("options"), &defaults);
+      mergeOptions(d.raw("options"), d.childPointer("options"), &defaults, &default_pointers);
     }
     d.rejectUnknownKeys();
   }
@@ -212,42 +262,7 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
     job.index = static_cast<int>(i);
     job.pointer = o.pointer();
 
-    // A preview names its brush in "preview" and may take a trajectory (the
-    // brush deformed at --at); a stroke is a brush with a trajectory.
-    const bool scene = o.has("scene"), sheet = o.has("sheet"), preview = o.has("preview");
-    const bool stroke = o.has("brush") || (o.has("trajectory") && !preview);
-    const int kinds = int(scene) + int(sheet) + int(stroke) + int(preview);
-    if (kinds == 0)
-      for (const char* key : {"scene", "sheet", "preview", "brush"}) o.rejectMisspellingOf(key);
-    if (kinds != 1)
-      o.fail(o.pointer(), "a job renders exactly one of: \"scene\", \"sheet\", \"preview\" "
-                          "(with an optional \"trajectory\"), or \"brush\" with \"trajectory\"");
-    const auto brushAt = [&](const std::string& key) {
-      const std::string brush = o.string(key);
-      return isBrushName(brush) ? findBrushByName(brush, path + ": " + o.childPointer(key))
-                                : resolve(base_dir, brush);
-    };
-    if (scene) {
-      job.kind = BatchJobKind::kScene;
-      job.input = resolve(base_dir, o.string("scene"));
-    } else if (sheet) {
-      job.kind = BatchJobKind::kSheet;
-      job.input = resolve(base_dir, o.string("sheet"));
-    } else if (preview) {
-      job.kind = BatchJobKind::kPreview;
-      job.brush = brushAt("preview");
-      if (o.has("trajectory")) job.trajectory = resolve(base_dir, o.string("trajectory"));
-    } else {
-      job.kind = BatchJobKind::kStroke;
-      // A misspelt "preview" beside its "trajectory" reads as a stroke here.
-      for (const char* key : {"brush", "trajectory", "preview"})
-        if (!o.has(key)) o.rejectMisspellingOf(key);
-      if (!o.has("brush") || !o.has("trajectory"))
-        o.fail(o.pointer(), "a stroke job needs both \"brush\" and \"trajectory\"");
-      job.brush = brushAt("brush");
-      job.trajectory = resolve(base_dir, o.string("trajectory"));
-    }
-
+    readJobKind(o, path, base_dir, &job);
     job.id = o.string("id", "");
     job.output = o.string("output", "");
     if (job.id.empty() && job.output.empty())
@@ -267,10 +282,11 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
              "repeats the output of " + it->second);
 
     job.options = defaults;
+    job.option_pointers = default_pointers;
     if (o.has("options")) {
       const nlohmann::json& own = o.raw("options");
       checkOptions(o, "options", own);
-      mergeOptions(own, &job.options);
+      mergeOptions(own, o.childPointer("options"), &job.options, &job.option_pointers);
     }
     o.rejectUnknownKeys();
     manifest.jobs.push_back(std::move(job));

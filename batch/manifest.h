@@ -30,6 +30,9 @@ struct BatchJob {
                                   // preview's trajectory may be empty: at rest)
   std::string output;   // relative to the batch's output folder; defaults to id + ".png"
   BatchJobOptions options;
+  // Where each option of `options` was set: "/jobs/3/options/px-per-mm", or
+  // "/defaults/options/px-per-mm" for a default the job kept.
+  std::map<std::string, std::string> option_pointers;
 };
 
 struct BatchManifest {

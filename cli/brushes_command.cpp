@@ -7,12 +7,14 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <set>
 #include <vector>
 
 #include "cli/commands.h"
 #include "cli/inputs.h"
 #include "cli/options.h"
 #include "engine/brush.h"
+#include "engine/brush_library.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
 
@@ -41,15 +43,38 @@ BrushSize sizeOf(const Brush& b) {
 
 }  // namespace
 
-int runBrushes(const std::string& library_dir) {
+// The brush files of the library's folders in lookup order: a name is listed
+// from the first folder that holds it, as findBrushByName would take it.
+std::vector<std::filesystem::path> libraryFiles(const std::vector<std::string>& dirs) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::is_directory(library_dir, ec))
-    throw Error(ExitCode::kNoInput, library_dir + ": cannot read: not a directory");
   std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(library_dir, ec))
-    if (e.path().extension() == ".json") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
+  std::set<std::string> names;
+  bool any = false;
+  for (const std::string& dir : dirs) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) continue;
+    any = true;
+    std::vector<fs::path> here;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
+      if (e.path().extension() == ".json") here.push_back(e.path());
+    std::sort(here.begin(), here.end());
+    for (fs::path& f : here)
+      if (names.insert(f.stem().string()).second) files.push_back(std::move(f));
+  }
+  if (!any) {
+    std::string list;
+    for (const std::string& d : dirs) list += (list.empty() ? "" : ", ") + d;
+    throw Error(ExitCode::kNoInput,
+                (dirs.size() == 1 ? dirs.front() : "brush library") +
+                    ": cannot read: not a directory" +
+                    (dirs.size() == 1 ? std::string() : " (looked in " + list + ")"));
+  }
+  return files;
+}
+
+int runBrushes(const std::vector<std::string>& library_dirs) {
+  namespace fs = std::filesystem;
+  const std::vector<fs::path> files = libraryFiles(library_dirs);
   int code = 0;
   for (const fs::path& f : files) {
     try {
@@ -66,7 +91,7 @@ int runBrushes(const std::string& library_dir) {
       std::snprintf(line, sizeof line,
                     "%-12s %4.1f mm long, touches at %4.1f mm upright, %4.1f x %3.1f mm at the "
                     "ferrule, %2zu spines, %-22s",
-                    b.name.c_str(), s.length_mm, contact_mm, s.width_mm, s.thickness_mm,
+                    f.stem().c_str(), s.length_mm, contact_mm, s.width_mm, s.thickness_mm,
                     b.spines.size(), geometry.c_str());
       std::cout << line << b.description << "\n";
     } catch (const Error& e) {
@@ -78,23 +103,27 @@ int runBrushes(const std::string& library_dir) {
 }
 
 Subcommand registerBrushes(CLI::App& app) {
-  // The library: the source tree's, else the install's; BRISTLE_BRUSHES points elsewhere.
-  auto library = std::make_shared<std::string>(
-      std::getenv("BRISTLE_BRUSHES") ? std::getenv("BRISTLE_BRUSHES") : defaultBrushLibrary());
+  // The library is the folders every brush name is looked up in (cli/inputs.h),
+  // so each name listed is one that works; --library lists one folder instead.
+  auto library = std::make_shared<std::string>();
   CLI::App* brushes = app.add_subcommand("brushes", "List the brush library, one line each");
   brushes->footer(
       "Examples:\n"
       "  bristle brushes\n"
-      "  bristle brushes --library scenes/brushes\n"
+      "  bristle brushes --library my-brushes\n"
       "Each name listed works wherever a brush is taken (--brush round). A name is looked\n"
-      "up as NAME.json in the source tree's scenes/brushes, then the install's\n"
-      "share/bristle/brushes, then each folder of BRISTLE_BRUSH_PATH (colon-separated).\n"
-      "A brush that contains '/' or ends in .json is a path, used as given.");
+      "up as NAME.json in the install's share/bristle/brushes (a bristle run from its\n"
+      "build tree looks in its source tree's brushes first), then in each folder of\n"
+      "BRISTLE_BRUSH_PATH (colon-separated). A brush that contains '/' or ends in .json\n"
+      "is a path, used as given. A name found in several folders is listed once, from\n"
+      "the folder where it is found first.");
   brushes->add_option("--library", *library,
-                      "Folder of brush files (default: $BRISTLE_BRUSHES, "
-                      "else the source tree's scenes/brushes, else the "
-                      "install's share/bristle/brushes)");
-  return {brushes, [library] { return runBrushes(*library); }};
+                      "List only this folder of brush files (default: every folder a "
+                      "brush name is looked up in)");
+  return {brushes, [library] {
+            return runBrushes(library->empty() ? brushLibraryDirs()
+                                               : std::vector<std::string>{*library});
+          }};
 }
 
 }  // namespace bristle::cli

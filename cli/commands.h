@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli/paint_options.h"
@@ -25,11 +26,30 @@ struct CanvasGrid;
 namespace bristle::cli {
 
 // A registered subcommand: its CLI11 subcommand, and what runs it once its
-// options are parsed (returning the exit code).
+// options are parsed (returning the exit code). `check`, when set, holds the
+// checks the parsed options get before any file is read, those CLI11 cannot
+// make (an option a scene sets itself, a paint's name); `run` makes them too.
 struct Subcommand {
+  Subcommand(CLI::App* a, std::function<int()> r, std::function<void()> c = {})
+      : app(a), run(std::move(r)), check(std::move(c)) {}
   CLI::App* app = nullptr;
   std::function<int()> run;
+  std::function<void()> check;
 };
+// Every subcommand but `help`, registered on `app` in the order of bristle
+// --help (cli/commands.cpp); numbers given them must be finite.
+std::vector<Subcommand> registerCommands(CLI::App& app);
+
+// Parses `args` (the words after the program's name, e.g. {"render", "--brush",
+// "b.json", ...}) as bristle's command line and makes the command's checks
+// (Subcommand::check) without running it: a command line a batch job or a
+// golden would run is checked before it runs. Throws kUsage with CLI11's or
+// the check's message.
+void checkCommandLine(const std::vector<std::string>& args);
+
+// The long names ("--paint") of the options given on the command line of `app`.
+std::vector<std::string> givenOptions(const CLI::App* app);
+
 Subcommand registerRender(CLI::App& app);
 Subcommand registerValidate(CLI::App& app);
 Subcommand registerBrushes(CLI::App& app);
@@ -61,8 +81,14 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::string batch_key;  // --batch-key (hidden): from `bristle batch` (batch/job_key.h)
 };
 int runRender(const RenderArgs& args);
+// `bristle render`'s checks of its options alone (its Subcommand::check): with a
+// scene, only the options a scene leaves open; with a stroke, the paint, paper
+// and solver options as the stroke's render reads them.
+void checkRenderOptions(const RenderArgs& args);
 // A whole scene (called by runRender when args.scene is set).
 int runRenderScene(const RenderArgs& args);
+// kUsage for an option given with a scene that the scene sets itself.
+void checkSceneOptions(const RenderArgs& args);
 
 int runValidate(const std::vector<std::string>& files);
 
@@ -78,33 +104,32 @@ struct PreviewArgs {
 };
 int runPreview(const PreviewArgs& args);
 
-// Lists the brushes (*.json) of a library folder.
-int runBrushes(const std::string& library_dir);
+// Lists the brushes (*.json) of the library's folders, in lookup order, each
+// name once (from the first folder holding it).
+int runBrushes(const std::vector<std::string>& library_dirs);
 
 // Lists the pigment table; swatches: auto (on a terminal), always, never.
 int runPigments(const std::string& swatches);
 
 // `bristle record`: a live session with a haptic device (or a played
 // trajectory), written as it goes; `bristle replay`: its render.
-struct RecordArgs : PaintOptions {  // of the --png render
+struct RecordArgs : SessionRender {  // of the --png render
   std::string brush, output, device = "auto", trajectory, forces, png;
   double duration_s = 0;       // 0: until Ctrl-C / end of the trajectory
   double sim_rate_hz = 30;
   double session_rate_hz = 100;
-  double px_per_mm = 8;
-  SolverKind solver = SolverKind::kIpopt;       // of the --png render (as replay's)
   SolverKind live_solver = SolverKind::kSlsqp;  // of the live simulation: it must keep up
   bool quiet = false;
 };
 int runRecord(const RecordArgs& args);
 
-struct ReplayArgs : PaintOptions {
+struct ReplayArgs : SessionRender {
   std::string session, brush, output;
-  double px_per_mm = 8;
-  SolverKind solver = SolverKind::kIpopt;
+  std::vector<std::string> given;  // the options given on the command line ("--paint", ...)
   bool quiet = false;
 };
 int runReplay(const ReplayArgs& args);
+
 // `bristle sheet`: a grid of strokes, brushes x trajectories (engine/sheet.h).
 struct SheetArgs {
   std::string sheet, output;

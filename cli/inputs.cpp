@@ -50,15 +50,6 @@ std::vector<std::string> cliBrushLibraryDirs() {
   return dirs;
 }
 
-std::string defaultBrushLibrary() {
-  const std::vector<std::string> dirs = brushLibraryDirs();
-  for (const std::string& d : dirs) {
-    std::error_code ec;
-    if (fs::is_directory(d, ec)) return d;
-  }
-  return dirs.empty() ? std::string(BRISTLE_SOURCE_DIR "/scenes/brushes") : dirs.front();
-}
-
 std::string findBrushFile(const std::string& ref, const std::string& option) {
   if (!isBrushName(ref)) return ref;
   return findBrushByName(ref, option.empty() ? ref : option + " " + ref);

@@ -31,10 +31,6 @@ std::vector<std::string> cliBrushLibraryDirs();
 // through findBrushByName (kNoInput "OPTION NAME: no brush named ...").
 std::string findBrushFile(const std::string& ref, const std::string& option);
 
-// The first library folder that exists (for `bristle brushes`), or the source
-// tree's when none does.
-std::string defaultBrushLibrary();
-
 
 // Standard input, read whole once (readStandardInput, engine/text_file.h);
 // later calls return the same text.

@@ -3,6 +3,7 @@
 // maps errors to the exit codes of docs/design.md, "Exit codes".
 
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -103,18 +104,18 @@ int main(int argc, char** argv) {
   bristle::keepFreedHeap();
   // Brush names, on the command line and in the scenes, sheets and manifests it reads.
   bristle::setBrushLibraryDirs(cliBrushLibraryDirs());
+  // One variable names the library for listing and lookup alike; the older
+  // name is refused aloud rather than silently ignored.
+  if (std::getenv("BRISTLE_BRUSHES") != nullptr)
+    printError("warning: BRISTLE_BRUSHES is no longer read; put the folder in BRISTLE_BRUSH_PATH "
+               "(colon-separated), which `bristle brushes` and every brush name use");
   CLI::App app(kDescription, "bristle");
   useHelpFormatter(app);
   app.footer(kFooter);
   app.set_version_flag("--version", std::string("bristle ") + bristle::kVersion);
   app.require_subcommand(0, 1);
-  // In this order in `bristle --help`.
-  const std::vector<Subcommand> commands = {
-      registerRender(app),  registerValidate(app), registerBrushes(app), registerPigments(app),
-      registerPreview(app), registerRecord(app),   registerReplay(app),  registerSheet(app),
-      registerBatch(app),   registerCompare(app),  registerImport(app)};
+  const std::vector<Subcommand> commands = registerCommands(app);
   const Subcommand help = registerHelp(app, commands);
-  requireFiniteNumbers(app);
   if (const std::optional<int> code = parse(app, argc, argv)) return *code;
 
   // SIGINT and SIGTERM remove the temporary files of unfinished outputs, then

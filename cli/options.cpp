@@ -62,6 +62,23 @@ void addSolverMaxIterations(CLI::App* app, int& max_iterations) {
       ->check(CLI::Range(1, 100000));
 }
 
+void addIpoptOption(CLI::App* app, std::vector<std::string>& options) {
+  app->add_option("--ipopt-option", options,
+                  "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; "
+                  "bristle's own: friction_form=auto|epigraph|objective, timing_statistics=yes|no, "
+                  "warm_retry=yes|no (a failed warm start solved again re-centred; default yes), "
+                  "linear_solver=dense (the default; =mumps for Ipopt's own)");
+}
+
+void addSessionRenderOptions(CLI::App* app, SessionRender& r, const std::string& px_per_mm_help,
+                             const std::string& solver_help) {
+  addPxPerMm(app, r.px_per_mm, px_per_mm_help);
+  addSolver(app, r.solver, solver_help);
+  addSolverMaxIterations(app, r.solver_max_iterations);
+  addIpoptOption(app, r.ipopt_options);
+  addPaintOptions(app, r);
+}
+
 void addRenderThreads(CLI::App* app, int& threads) {
   app->add_option("--threads", threads,
                   "1: simulate and draw in turns; 2: simulate the next steps while this one is "
@@ -85,6 +102,12 @@ void addPngOutput(CLI::App* app, std::string& output) {
 
 void addBatchKey(CLI::App* app, std::string& key) {
   app->add_option("--batch-key", key)->group("");
+}
+
+std::string optionName(const CLI::Option& option) {
+  if (!option.get_lnames().empty()) return "--" + option.get_lnames().front();
+  if (!option.get_snames().empty()) return "-" + option.get_snames().front();
+  return option.get_single_name();
 }
 
 namespace {

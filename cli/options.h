@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "cli/paint_options.h"
 #include "engine/solver_pair.h"
@@ -28,6 +29,16 @@ CLI::Option* addSolver(CLI::App* app, SolverKind& kind, const std::string& help)
 // The iteration limit of the spine solvers, the same for every command that simulates.
 void addSolverMaxIterations(CLI::App* app, int& max_iterations);
 
+// --ipopt-option NAME=VALUE (repeatable), into `options`.
+void addIpoptOption(CLI::App* app, std::vector<std::string>& options);
+
+// The options of a session's render (SessionRender): --px-per-mm and --solver
+// (with the help given), --solver-max-iterations, --ipopt-option and the paint
+// options. One registration for record, replay and the reader of a session's
+// header (cli/session_render.h), so that the three hold a value to the same rules.
+void addSessionRenderOptions(CLI::App* app, SessionRender& r, const std::string& px_per_mm_help,
+                             const std::string& solver_help);
+
 // --threads 1|2 of render and sheet (render::StrokeOptions::threads); `threads`
 // stays 0, the machine's choice, unless given.
 void addRenderThreads(CLI::App* app, int& threads);
@@ -44,6 +55,12 @@ void addPngOutput(CLI::App* app, std::string& output);
 // passes each job its key, which the PNG then carries with the job's warnings
 // (batch/job_key.h). Not in --help: it is for the batch, not for people.
 void addBatchKey(CLI::App* app, std::string& key);
+
+// The name an option is known by on the command line: "--long" when it has a
+// long name, else "-s". Never empty: CLI11 2.1's Option::get_name() returns ""
+// for an option in the hidden group (--batch-key), so that name cannot tell
+// options apart.
+std::string optionName(const CLI::Option& option);
 
 // CLI11's help layout, less the blank line CLI11 2.1 adds after the options
 // when the last option group is the hidden one (--batch-key). Set on the

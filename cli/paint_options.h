@@ -4,6 +4,11 @@
 // replay given the same options paints what the live run painted.
 
 #include <string>
+#include <vector>
+
+#include "engine/solver_pair.h"
+
+#include "engine/paint_spec.h"
 
 namespace bristle::cli {
 
@@ -19,7 +24,17 @@ struct PaintOptions {
   unsigned long long paper_seed = 1;
   bool impasto = false;
   int bits = 8;
-  std::string background = "#f6f1e6";  // paper
+  std::string background = kDefaultPaperColour;  // paper
+};
+
+// The options of a session's render (`record --png`, `replay`): every one that
+// changes its pixels. record writes them into the session's header, so that
+// replay without options paints what record --png painted (cli/session_render.h).
+struct SessionRender : PaintOptions {
+  double px_per_mm = 8;
+  SolverKind solver = SolverKind::kIpopt;  // primary; the other one is the fallback
+  int solver_max_iterations = kDefaultSolverMaxIterations;
+  std::vector<std::string> ipopt_options;  // NAME=VALUE
 };
 
 }  // namespace bristle::cli

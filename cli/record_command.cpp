@@ -2,6 +2,7 @@
 //  [--trajectory T.csv] [--forces forces.csv] [--png out.png] [--duration S]`
 // and `bristle replay session.csv --brush B.json -o out.png`.
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include "cli/options.h"
 #include "cli/inputs.h"
 #include "cli/run_stats.h"
+#include "cli/session_render.h"
 #include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
@@ -114,16 +116,40 @@ const char* endText(haptics::ServoLoop::End e) {
 
 // The render of a session (record --png, replay): the same options for both,
 // checked before anything runs.
-template <class Args>
-StrokePngOptions sessionPngOptions(const Args& args, const std::string& brush_file,
+StrokePngOptions sessionPngOptions(const SessionRender& r, const std::string& brush_file,
                                    const std::string& session) {
   StrokePngOptions png;
-  static_cast<PaintOptions&>(png) = args;
-  png.solver = args.solver;
-  png.px_per_mm = args.px_per_mm;
+  static_cast<PaintOptions&>(png) = r;
+  png.solver = r.solver;
+  png.solver_max_iterations = r.solver_max_iterations;
+  png.ipopt_options = r.ipopt_options;
+  png.px_per_mm = r.px_per_mm;
   png.inputs = {brush_file, session};
   checkStrokePngOptions(png);
   return png;
+}
+
+// The render options a session's header records, read by the parser of the
+// options themselves and checked as a render checks them: a value that breaks
+// an option's rule is a data error (65) naming the session, also when replay
+// is given that option (the file is broken either way). Options the header
+// does not record keep their defaults.
+SessionRender recordedRender(const haptics::Session& session, const std::string& session_path) {
+  SessionRender r;
+  CLI::App parser;
+  addSessionRenderOptions(&parser, r, "", "");
+  requireFiniteNumbers(parser);
+  std::vector<std::string> words = sessionRenderWords(session, session_path);
+  std::reverse(words.begin(), words.end());  // CLI11 takes the words last first
+  try {
+    parser.parse(words);
+    sessionPngOptions(r, "", "");
+  } catch (const CLI::ParseError& e) {
+    throw Error(ExitCode::kDataError, session_path + ": header: " + e.what());
+  } catch (const Error& e) {
+    throw Error(ExitCode::kDataError, session_path + ": header: " + e.what());
+  }
+  return r;
 }
 
 // What a session's "# brush:" line records of --brush: a library name as
@@ -157,6 +183,7 @@ int runRecord(const RecordArgs& args) {
   checkPngOutputName("record", "--png", args.png, true);
   const std::string brush_file = findBrushFile(args.brush, "--brush");
   const StrokePngOptions png = sessionPngOptions(args, brush_file, args.output);
+  sessionRenderHeader(args);  // refused before the session starts, as the options above
   // Every output is checked before the session file is opened (which
   // truncates it): none is an input or another output, each can be created.
   checkCliFiles({{"-o", args.output}, {"--forces", args.forces}, {"--png", args.png}},
@@ -178,6 +205,7 @@ int runRecord(const RecordArgs& args) {
   header.session_rate_hz = args.session_rate_hz;
   header.brush_path = recordedBrush(args.brush, brush_file);
   header.brush_hash = hash;
+  header.options = sessionRenderHeader(args);
   haptics::SessionWriter writer(args.output, args.forces, header);
 
   haptics::LiveOptions live;
@@ -248,7 +276,11 @@ int runReplay(const ReplayArgs& args) {
                       brush_file + " (from the header) is " + hash +
                       ": it changed since the recording; give --brush to replay with it anyway");
   }
-  const StrokePngOptions png = sessionPngOptions(args, brush_file, args.session);
+  // The render: the header's options, less those given here.
+  const SessionRender render = mergeSessionRender(recordedRender(session, args.session), session,
+                                                  args, args.given, args.session,
+                                                  &session.warnings);
+  const StrokePngOptions png = sessionPngOptions(render, brush_file, args.session);
   checkCliFiles({{"-o", args.output}}, {{"session", args.session}, {"--brush", brush_file}},
                 {"-o"}, {});
   const Brush brush = loadBrush(brush_file);
@@ -267,7 +299,9 @@ Subcommand registerRecord(CLI::App& app) {
       "  bristle record --brush round -o session.csv --png live.png\n"
       "  bristle record --device none --trajectory scenes/trajectories/s-curve.csv \\\n"
       "      --brush round -o session.csv --forces forces.csv\n"
-      "The session (bristle-trajectory/1 with buttons and forces) is written as it goes.\n"
+      "The session (bristle-trajectory/1 with buttons and forces) is written as it goes;\n"
+      "its header records the brush and the options of the --png render, with which\n"
+      "bristle replay renders it again.\n"
       "Ends on Ctrl-C, --duration, or the end of --trajectory. BRISTLE_HD_LIBRARY names\n"
       "the OpenHaptics library (default libHD.so). Exit 69: device unavailable or failed.");
   record->add_option("--brush", rec->brush,
@@ -293,13 +327,12 @@ Subcommand registerRecord(CLI::App& app) {
   record->add_option("--session-rate-hz", rec->session_rate_hz, "Session rows per second")
       ->capture_default_str()
       ->check(CLI::Range(10.0, 1000.0));
-  addPxPerMm(record, rec->px_per_mm, "Resolution of --png");
-  addSolver(record, rec->solver, "Spine solver of the --png render (as replay's)");
   addSolverOption(
       record, "--live-solver", [rec](SolverKind k) { rec->live_solver = k; },
       "Spine solver of the live simulation (SLSQP keeps 30 Hz on 2 cores)",
       solverKindName(rec->live_solver));
-  addPaintOptions(record, *rec);
+  addSessionRenderOptions(record, *rec, "Resolution of --png",
+                          "Spine solver of the --png render (as replay's)");
   record->add_flag("-q,--quiet", rec->quiet, "No summary, no output paths on stdout");
   return {record, [rec] { return runRecord(*rec); }};
 }
@@ -312,20 +345,25 @@ Subcommand registerReplay(CLI::App& app) {
       "Examples:\n"
       "  bristle replay session.csv -o replay.png\n"
       "  bristle replay session.csv --brush flat -o as-flat.png\n"
+      "  bristle replay session.csv --px-per-mm 16 -o large.png\n"
+      "The render takes the options the session's header records (those of record's\n"
+      "--png: --paint, --px-per-mm, --solver, ...), so that it is the live --png byte for\n"
+      "byte. An option given here wins, with a warning when the header's differs; an\n"
+      "older session without them renders with the defaults.\n"
       "Without --brush, the brush is the one the session's header records (a library\n"
       "name, or a file's path), and it must be the same file: a hash that differs from\n"
-      "the header's brush_fnv1a64 is an error (65). With --brush, it is a warning.\n"
-      "Give the --png options of the recording (--paint, --px-per-mm, ...) to get its pixels.");
+      "the header's brush_fnv1a64 is an error (65). With --brush, it is a warning.");
   replay->add_option("session", rep->session, "Session file (from bristle record)")->required();
   replay->add_option("--brush", rep->brush,
                      "Brush, instead of the one the session's header records (a library name "
                      "or a file)");
   addPngOutput(replay, rep->output);
-  addPxPerMm(replay, rep->px_per_mm, "Canvas resolution (pixels per mm)");
-  addSolver(replay, rep->solver, "Spine solver");
-  addPaintOptions(replay, *rep);
+  addSessionRenderOptions(replay, *rep, "Canvas resolution (pixels per mm)", "Spine solver");
   replay->add_flag("-q,--quiet", rep->quiet, "No output path on stdout");
-  return {replay, [rep] { return runReplay(*rep); }};
+  return {replay, [replay, rep] {
+            rep->given = givenOptions(replay);
+            return runReplay(*rep);
+          }};
 }
 
 }  // namespace bristle::cli

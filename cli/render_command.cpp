@@ -66,6 +66,22 @@ RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_
   return stats;
 }
 
+// The options of a stroke's render (render --brush --trajectory).
+StrokePngOptions strokePngOptionsOf(const RenderArgs& args) {
+  StrokePngOptions png;
+  png.solver = args.solver;
+  png.solver_max_iterations = args.solver_max_iterations;
+  png.ipopt_options = args.ipopt_options;
+  png.px_per_mm = args.px_per_mm;
+  png.contact_band_mm = args.contact_band_mm;
+  png.max_step_mm = args.max_step_mm;
+  png.steady_step_mm = args.steady_step_mm;
+  png.min_rate_hz = args.min_rate_hz;
+  png.threads = args.threads;
+  static_cast<PaintOptions&>(png) = args;
+  return png;
+}
+
 // --offset-mm X Y Z (none when not given) moves every handle position.
 void applyOffset(const std::vector<double>& offset_mm, Trajectory* trajectory) {
   if (offset_mm.size() != 3) return;
@@ -78,26 +94,21 @@ void applyOffset(const std::vector<double>& offset_mm, Trajectory* trajectory) {
 
 }  // namespace
 
+void checkRenderOptions(const RenderArgs& args) {
+  if (!args.scene.empty()) return checkSceneOptions(args);
+  checkStrokePngOptions(strokePngOptionsOf(args));
+}
+
 int runRender(const RenderArgs& args) {
   checkPngOutputName("render", "-o", args.output, true);
   if (!args.scene.empty()) return runRenderScene(args);
   if (args.brush.empty() || args.trajectory.empty())
     throw Error(ExitCode::kUsage,
                 "render: give a SCENE.json, or --brush and --trajectory (see bristle render --help)");
-  StrokePngOptions png;
-  png.solver = args.solver;
-  png.solver_max_iterations = args.solver_max_iterations;
-  png.ipopt_options = args.ipopt_options;
-  png.px_per_mm = args.px_per_mm;
-  png.contact_band_mm = args.contact_band_mm;
-  png.max_step_mm = args.max_step_mm;
-  png.steady_step_mm = args.steady_step_mm;
-  png.min_rate_hz = args.min_rate_hz;
-  png.threads = args.threads;
-  static_cast<PaintOptions&>(png) = args;
+  StrokePngOptions png = strokePngOptionsOf(args);
   const std::string brush_file = findBrushFile(args.brush, "--brush");
   png.inputs = {brush_file, args.trajectory};
-  checkStrokePngOptions(png);
+  checkRenderOptions(args);
   checkCliFiles({{"-o", args.output},
                  {"--trace", args.trace},
                  {"--forces", args.forces},
@@ -130,6 +141,7 @@ int runRender(const RenderArgs& args) {
   input_warnings = printWarnings(std::move(input_warnings));
 
   PartProgress progress(!args.quiet, nullptr);
+  long planned_steps = 0;
   int failed_reported = 0;
   constexpr int kMaxFailureLines = 5;  // then only the summary
   auto on_step = [&](const BrushState& st, int step, int steps) {
@@ -143,6 +155,7 @@ int runRender(const RenderArgs& args) {
                    std::to_string(st.t_s) + " s): spine " + std::to_string(s) +
                    " solve failed (" + st.spines[s].summary.message +
                    "); continuing from its last good state");
+    planned_steps = steps;
     progress.update(0, 1, step, steps);
   };
   const std::string traj_name = isStdio(args.trajectory) ? std::string(kStdinName) : args.trajectory;
@@ -157,14 +170,17 @@ int runRender(const RenderArgs& args) {
   const render::StrokeResult& result = png_result.stroke;
   if (trace) trace->commit();
   if (forces) forces->commit();
+  stats.planned_steps = planned_steps;
   writeRunStats(args.stats, stats);
   if (!args.quiet) {
+    // The planned steps first, as progress counted them; then the steps taken,
+    // which splitting a step in halves makes more.
     const SimStats& st = result.stats;
     std::fprintf(stderr,
-                 "bristle: %d steps (%d solved, %d at rest, %d stiction re-solves, %d rescued "
-                 "by the fallback solver), %ld solver iterations\n",
-                 st.steps, st.solved_steps, st.settled_steps, st.resolves, st.fallback_solves,
-                 st.iterations);
+                 "bristle: %ld planned steps; %d simulation steps (%d solved, %d at rest, %d "
+                 "stiction re-solves, %d rescued by the fallback solver), %ld solver iterations\n",
+                 planned_steps, st.steps, st.solved_steps, st.settled_steps, st.resolves,
+                 st.fallback_solves, st.iterations);
     std::fprintf(stderr,
                  "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up; %.3g of %.3g mm^3 "
                  "left on the brush\n",
@@ -210,11 +226,7 @@ Subcommand registerRender(CLI::App& app) {
                      "Shift the trajectory by X Y Z mm (e.g. 0 0 10 to hold a longer brush "
                      "higher)")
       ->expected(3);
-  render->add_option("--ipopt-option", r->ipopt_options,
-                     "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; "
-                     "bristle's own: friction_form=auto|epigraph|objective, timing_statistics=yes|no, "
-                     "warm_retry=yes|no (a failed warm start solved again re-centred; default yes), "
-                     "linear_solver=dense (the default; =mumps for Ipopt's own)");
+  addIpoptOption(render, r->ipopt_options);
   addPxPerMm(render, r->px_per_mm, "Canvas resolution (pixels per mm)");
   render->add_option("--max-step-mm", r->max_step_mm,
                      "Largest motion of a spine root per simulation step (mm); a step in which "
@@ -238,10 +250,14 @@ Subcommand registerRender(CLI::App& app) {
   addPaintOptions(render, *r);
   render->add_flag("-q,--quiet", r->quiet, "No progress, no output path on stdout");
   addBatchKey(render, r->batch_key);
-  return {render, [render, r] {
-            for (const CLI::Option* o : render->get_options())
-              if (o->count() > 0 && !o->get_positional()) r->given.push_back(o->get_name());
+  return {render,
+          [render, r] {
+            r->given = givenOptions(render);
             return runRender(*r);
+          },
+          [render, r] {
+            r->given = givenOptions(render);
+            checkRenderOptions(*r);
           }};
 }
 

@@ -40,19 +40,6 @@ bool warnedAbout(const std::vector<std::string>& warnings, const std::string& po
   return false;
 }
 
-void checkSceneOptions(const RenderArgs& args) {
-  for (const std::string& given : args.given) {
-    bool ok = false;
-    for (const char* allowed : kSceneOptions) ok = ok || given == allowed;
-    if (!ok)
-      throw Error(ExitCode::kUsage,
-                  "render " + args.scene + ": " + given +
-                      " cannot be used with a scene (the scene sets it); with a scene only -o, "
-                      "--trace, --stats, --impasto, --bits, --solver-max-iterations, --threads and "
-                      "--quiet are allowed");
-  }
-}
-
 // The figures and warnings of a painting: those found before the run
 // (already printed), then the ones it brought (printed as they are found).
 RunStats sceneStats(const Scene& scene, const render::SceneResult& result,
@@ -61,6 +48,7 @@ RunStats sceneStats(const Scene& scene, const render::SceneResult& result,
   RunStats stats;
   stats.painted_pixels = render::inkPixels(image8, paper);
   stats.pixels = long(image8.width) * image8.height;
+  stats.planned_steps = result.planned_steps;
   stats.sim = result.stats;
   stats.paint_laid_mm3 = result.deposited_mm3;
   stats.paint_picked_up_mm3 = result.picked_up_mm3;
@@ -77,6 +65,19 @@ RunStats sceneStats(const Scene& scene, const render::SceneResult& result,
 }
 
 }  // namespace
+
+void checkSceneOptions(const RenderArgs& args) {
+  for (const std::string& given : args.given) {
+    bool ok = false;
+    for (const char* allowed : kSceneOptions) ok = ok || given == allowed;
+    if (!ok)
+      throw Error(ExitCode::kUsage,
+                  "render " + args.scene + ": " + given +
+                      " cannot be used with a scene (the scene sets it); with a scene only -o, "
+                      "--trace, --stats, --impasto, --bits, --solver-max-iterations, --threads and "
+                      "--quiet are allowed");
+  }
+}
 
 int runRenderScene(const RenderArgs& args) {
   checkSceneOptions(args);
@@ -131,10 +132,11 @@ int runRenderScene(const RenderArgs& args) {
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,
-                 "bristle: %d strokes, %d steps (%d solved, %d at rest, %d stiction re-solves, "
-                 "%d rescued by the fallback solver), %ld solver iterations\n",
-                 strokes, st.steps, st.solved_steps, st.settled_steps, st.resolves,
-                 st.fallback_solves, st.iterations);
+                 "bristle: %d strokes, %ld planned steps; %d simulation steps (%d solved, %d at "
+                 "rest, %d stiction re-solves, %d rescued by the fallback solver), %ld solver "
+                 "iterations\n",
+                 strokes, result.planned_steps, st.steps, st.solved_steps, st.settled_steps,
+                 st.resolves, st.fallback_solves, st.iterations);
     std::fprintf(stderr, "bristle: paint: %.3g mm^3 laid down, %.3g mm^3 picked up\n",
                  result.deposited_mm3, result.picked_up_mm3);
     if (!isStdio(args.output)) std::cout << args.output << "\n";

@@ -41,6 +41,7 @@ void writeRunStats(const std::string& path, const RunStats& s) {
   const nlohmann::json j = {
       {"painted_pixels", s.painted_pixels},
       {"pixels", s.pixels},
+      {"planned_steps", s.planned_steps},
       {"steps", s.sim.steps},
       {"solved_steps", s.sim.solved_steps},
       {"settled_steps", s.sim.settled_steps},

@@ -14,7 +14,8 @@ namespace bristle::cli {
 struct RunStats {
   long painted_pixels = 0;       // visible paint (render/compose.h, kInkLevels)
   long pixels = 0;               // of the image
-  SimStats sim;                  // steps, failed steps and spine solves, ...
+  long planned_steps = 0;        // the plan's steps, as progress counts them
+  SimStats sim;                  // steps taken (split halves too), failed steps, ...
   double paint_laid_mm3 = 0;     // paint deposited on the canvas
   double paint_picked_up_mm3 = 0;
   std::vector<std::string> warnings;  // one line each, without "warning: "

@@ -52,7 +52,7 @@ PaperSpec paperArgs(const StrokePngOptions& args) {
   Rgb c;
   if (!parseHexColour(args.background, &c))
     throw Error(ExitCode::kDataError,
-                "--background " + args.background + ": must be a colour like #f6f1e6");
+                "--background " + args.background + ": must be a colour like " + kDefaultPaperColour);
   if (!(args.paper_tooth_mm >= 0 && args.paper_tooth_mm <= 1))
     throw Error(ExitCode::kDataError, "--paper-tooth: must be in [0, 1] mm");
   if (!(args.paper_scale_mm > 0 && args.paper_scale_mm <= 100))

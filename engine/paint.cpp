@@ -370,7 +370,7 @@ PaintCanvas::PaintCanvas(const CanvasGrid& grid, const PaperSpec& paper, MixMode
   Rgb colour;
   if (!parseHexColour(paper.colour, &colour))
     throw Error(ExitCode::kDataError,
-                "paper colour '" + paper.colour + "': must be a colour like #f5f1e6");
+                "paper colour '" + paper.colour + "': must be a colour like " + kDefaultPaperColour);
   if (!(paper.tooth_depth_mm >= 0) || !(paper.tooth_scale_mm > 0))
     throw Error(ExitCode::kDataError,
                 "paper tooth: depth must be >= 0 mm and scale > 0 mm");

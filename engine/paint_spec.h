@@ -52,10 +52,15 @@ struct PaintLoadProblem {
 std::optional<PaintLoadProblem> checkPaintLoad(const PaintLoad& load,
                                                const std::string& mode_label);
 
+// The paper's colour wherever none is given: a scene's "background", a sheet's,
+// and the command line's --background. One definition, so that the same stroke
+// drawn as a one-stroke scene, a sheet cell or a render lands on the same paper.
+inline constexpr const char* kDefaultPaperColour = "#f6f1e6";
+
 // The paper's surface: a seeded height field that decides contact where the
 // brush barely touches (dry brush catches only the tooth).
 struct PaperSpec {
-  std::string colour = "#f5f1e6";
+  std::string colour = kDefaultPaperColour;
   double tooth_depth_mm = 0.03;  // peak-to-valley height of the grain
   double tooth_scale_mm = 0.4;   // feature size of the grain
   std::uint64_t seed = 1;

@@ -146,9 +146,7 @@ PaintLoad Sheet::defaultSheetPaint() {
 }
 
 PaperSpec Sheet::defaultSheetPaper() {
-  PaperSpec paper;
-  paper.colour = "#f6f1e6";  // `bristle render`'s --background
-  return paper;
+  return PaperSpec();
 }
 
 std::string Sheet::brushLabel(size_t b) const {

@@ -10,6 +10,7 @@
 
 #include "engine/atomic_output.h"
 #include "engine/error.h"
+#include "engine/fnv1a64.h"
 #include "engine/text_file.h"
 
 namespace bristle::haptics {
@@ -26,21 +27,6 @@ std::int64_t monotonicNs() {
 constexpr std::int64_t kFlushEveryNs = 50'000'000;
 
 }  // namespace
-
-std::uint64_t fnv1a64(const std::string& bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;  // offset basis
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 0x100000001b3ULL;  // FNV prime
-  }
-  return h;
-}
-
-std::string hex64(std::uint64_t v) {
-  char b[17];
-  std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));
-  return b;
-}
 
 std::string brushFileHash(const std::string& brush_path) {
   return hex64(fnv1a64(readTextFile(brush_path)));
@@ -74,10 +60,12 @@ SessionWriter::SessionWriter(const std::string& session_path, const std::string&
                "# session_rate_hz: %g\n"
                "# units: t_s s, position mm, forces N on the handle in the canvas frame\n"
                "# brush: %s\n"
-               "# brush_fnv1a64: %s\n"
-               "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz,buttons,fx_n,fy_n,fz_n\n",
+               "# brush_fnv1a64: %s\n",
                h.device_model.c_str(), h.servo_rate_hz, h.servo_rate_hz / decimation_,
                h.brush_path.c_str(), h.brush_hash.c_str());
+  for (const auto& [key, value] : h.options)
+    std::fprintf(session_, "# %s: %s\n", key.c_str(), value.c_str());
+  std::fprintf(session_, "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz,buttons,fx_n,fy_n,fz_n\n");
   if (forces_ != nullptr) std::fprintf(forces_, "t_s,fx_n,fy_n,fz_n\n");
   std::fflush(session_);
   last_flush_ns_ = monotonicNs();
@@ -147,7 +135,8 @@ Session loadSession(const std::string& path, const std::string& expected_brush_h
     }
     const size_t colon = line.find(": ");
     if (colon == std::string::npos) continue;
-    s.header[line.substr(2, colon - 2)] = line.substr(colon + 2);
+    s.comments.emplace_back(line.substr(2, colon - 2), line.substr(colon + 2));
+    s.header[s.comments.back().first] = s.comments.back().second;
   }
   if (!expected_brush_hash.empty()) {
     const auto it = s.header.find("brush_fnv1a64");

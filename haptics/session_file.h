@@ -4,13 +4,15 @@
 // written as it goes: line-buffered, and flushed at least every 100 ms, so a
 // killed process loses at most the last 100 ms and leaves a file that replays
 // up to its last complete line. Header comments record the device model, the
-// servo rate, the units and the brush's hash (FNV-1a 64 of the brush file's
-// bytes, hex), which replay checks.
+// servo rate, the units, the brush and its hash (FNV-1a 64 of the brush file's
+// bytes, hex), which replay checks, and the options of the session's render
+// (cli/session_render.h), which replay renders with.
 
 #include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/trajectory.h"
@@ -18,10 +20,8 @@
 
 namespace bristle::haptics {
 
-// FNV-1a, 64 bit (Fowler, Noll, Vo), of bytes.
-std::uint64_t fnv1a64(const std::string& bytes);
-std::string hex64(std::uint64_t v);
-// Hash of a brush file as sessions record it; throws kNoInput if unreadable.
+// Hash of a brush file as sessions record it: hex64 of fnv1a64
+// (engine/fnv1a64.h) of its bytes; throws kNoInput if unreadable.
 std::string brushFileHash(const std::string& brush_path);
 
 struct SessionHeader {
@@ -30,6 +30,9 @@ struct SessionHeader {
   double session_rate_hz = 100;
   std::string brush_path;
   std::string brush_hash;  // hex of fnv1a64
+  // "# KEY: VALUE" lines after the brush's, in order (a key may repeat); a
+  // value must hold no line break.
+  std::vector<std::pair<std::string, std::string>> options;
 };
 
 // Appends servo samples to a session file (decimated to the session rate)
@@ -64,7 +67,8 @@ class SessionWriter {
 
 struct Session {
   Trajectory trajectory;
-  std::map<std::string, std::string> header;  // "# key: value" comment lines
+  std::map<std::string, std::string> header;  // "# key: value" comment lines (the last of a key)
+  std::vector<std::pair<std::string, std::string>> comments;  // all of them, in order
   std::vector<std::string> warnings;          // one line each, for the user
 };
 

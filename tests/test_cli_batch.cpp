@@ -22,6 +22,7 @@
 using namespace bristle;
 using namespace bristle::testing;
 using Catch::Matchers::Contains;
+using Catch::Matchers::Matches;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
@@ -227,6 +228,20 @@ TEST_CASE("batch: a broken job fails alone, is logged, and sets the exit code", 
   CHECK_THAT(r.err, Contains("job 'dab1' failed (66): " + path + ": /jobs/1/brush: "));
   CHECK_THAT(r.err, Contains("job 'dab2' failed (64): --bits"));
   CHECK_THAT(r.err, Contains("1 rendered, 0 up to date, 2 failed"));
+  // stderr is no terminal here: one line per job as it ends, counted 1/3 .. 3/3.
+  std::vector<std::string> ended;
+  std::istringstream err(r.err);
+  for (std::string line; std::getline(err, line);)
+    if (line.rfind("batch: ", 0) == 0 && line.find(" jobs (shard") == std::string::npos)
+      ended.push_back(line);
+  REQUIRE(ended.size() == 3);
+  for (int k = 0; k < 3; ++k) CHECK(ended[size_t(k)].rfind("batch: " + std::to_string(k + 1) + "/3 ", 0) == 0);
+  std::sort(ended.begin(), ended.end(), [](const std::string& a, const std::string& b) {
+    return a.substr(11) < b.substr(11);
+  });
+  CHECK_THAT(ended[0], Matches("batch: [123]/3 dab0 rendered in [0-9]+\\.[0-9] s"));
+  CHECK_THAT(ended[1], Matches("batch: [123]/3 dab1 failed \\(exit 66\\)"));
+  CHECK_THAT(ended[2], Matches("batch: [123]/3 dab2 failed \\(exit 64\\)"));
 
   // The log: one line per job plus the summary.
   std::string log;
@@ -566,4 +581,38 @@ TEST_CASE("render --batch-key: the PNG carries the key, and the pixels and --hel
   // It is the batch's option, not one shown to people.
   for (const std::string command : {"render", "sheet", "preview"})
     CHECK(runBristle(command + " --help").out.find("batch-key") == std::string::npos);
+}
+
+TEST_CASE("batch: a scene job renders, with and without the scene options a job may give",
+          "[cli][batch][scene]") {
+  // A one-stroke scene over a dab: the batch passes each scene job its key
+  // (--batch-key), which must count as one of the options a scene allows.
+  TempDir dir;
+  dir.write("dab.csv", dab(2));
+  const json scene = {{"format", "bristle-scene/1"},
+                      {"name", "one dab"},
+                      {"canvas", {{"size_mm", {40, 40}}, {"px_per_mm", 4}}},
+                      {"solver", "slsqp"},
+                      {"strokes",
+                       {{{"brush", kRound},
+                         {"trajectory", "dab.csv"},
+                         {"paint", {{"paints", {"#1c2433"}}}}}}}};
+  dir.write("scene.json", scene.dump());
+  const json m = {{"format", "bristle-batch/1"},
+                  {"jobs",
+                   {{{"id", "flat"}, {"scene", "scene.json"}},
+                    {{"id", "lit"}, {"scene", "scene.json"}, {"options", {{"impasto", true}}}}}}};
+  const std::string out = dir.file("out");
+  const RunResult r = runBristle("batch '" + writeManifest(dir, m) + "' --out '" + out + "' --json");
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK(jsonLines(r.out).at("summary")["rendered"] == 2);
+  CHECK(pngsIn(out) == std::vector<std::string>{"flat.png", "lit.png"});
+  // A scene option that the scene sets is still refused, by its name.
+  const json bad = {{"format", "bristle-batch/1"},
+                    {"jobs", {{{"id", "fine"}, {"scene", "scene.json"}, {"options", {{"px-per-mm", 2}}}}}}};
+  const RunResult refused =
+      runBristle("batch '" + dir.write("bad.json", bad.dump()) + "' --out '" + out + "'");
+  CHECK(refused.code == 64);
+  CHECK_THAT(refused.err, Contains(": --px-per-mm cannot be used with a scene (the scene sets it)"));
 }

@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -107,6 +108,39 @@ TEST_CASE("brush names: BRISTLE_BRUSH_PATH and the install's share folder", "[cl
   CHECK(build.out == kRound + ": ok (brush 'round', 7 spines, surface)\n");
 }
 
+TEST_CASE("brush names: `brushes` lists exactly the names lookup finds, from one variable",
+          "[cli][names]") {
+  TempDir d;
+  fs::create_directories(d.path() / "mine");
+  fs::copy_file(kRound, d.path() / "mine/house.json");
+  // A library name found again in BRISTLE_BRUSH_PATH is shadowed, as in lookup.
+  fs::copy_file(kRound, d.path() / "mine/flat.json");
+  const std::string b = "'" + kBin + "'";
+  const RunResult list = runShell(d, "BRISTLE_BRUSH_PATH=mine " + b + " brushes");
+  REQUIRE(list.code == 0);
+  std::vector<std::string> names;
+  std::istringstream lines(list.out);
+  for (std::string line; std::getline(lines, line);) names.push_back(line.substr(0, line.find(' ')));
+  // The seven library brushes and the house brush, each once, by the name that
+  // finds it (the file's, whatever the brush calls itself).
+  CHECK(names == std::vector<std::string>{"badger", "bright", "calligraphy", "fan", "filbert",
+                                          "flat", "round", "house"});
+  // Every name listed resolves, from the folder listed first (the library's flat).
+  const RunResult flat = runShell(d, "BRISTLE_BRUSH_PATH=mine " + b + " validate flat");
+  CHECK(flat.out == sourcePath("scenes/brushes/flat.json") + ": ok (brush 'flat', 5 spines, surface, 120 strips)\n");
+  CHECK(runShell(d, "BRISTLE_BRUSH_PATH=mine " + b + " validate house").code == 0);
+  // --library lists that folder alone.
+  const RunResult one = runShell(d, b + " brushes --library mine");
+  CHECK(std::count(one.out.begin(), one.out.end(), '\n') == 2);
+
+  // The old variable is not read, and says so in one line.
+  const RunResult old = runShell(d, "BRISTLE_BRUSHES=mine " + b + " validate house");
+  CHECK(old.code == 66);
+  CHECK_THAT(old.err, StartsWith("bristle: warning: BRISTLE_BRUSHES is no longer read; put the "
+                                 "folder in BRISTLE_BRUSH_PATH (colon-separated), which `bristle "
+                                 "brushes` and every brush name use\n"));
+}
+
 TEST_CASE("pigments: the table, with swatches only on a terminal", "[cli][pigments]") {
   TempDir d;
   const std::string b = "'" + kBin + "'";
@@ -150,7 +184,7 @@ TEST_CASE("'-': a trajectory from stdin, the PNG to stdout", "[cli][stdio]") {
       runShell(d, "cat short.csv | " + b + " render --brush round --trajectory - -o - > piped.png");
   REQUIRE(piped.code == 0);
   CHECK(piped.out.empty());
-  CHECK_THAT(piped.err, Contains("steps ("));
+  CHECK_THAT(piped.err, Contains(" planned steps; ") && Contains(" simulation steps ("));
   CHECK(bytesOf(d.file("piped.png")) == bytesOf(d.file("file.png")));
   CHECK_FALSE(fs::exists(d.path() / "-"));
   // ... and straight into compare, which reads "-" from stdin.
@@ -247,6 +281,14 @@ TEST_CASE("render --stats: the figures and the warnings as JSON", "[cli][stats]"
                                  .append(std::to_string(figures.at("stiction_resolves").get<long>()))
                                  .append(" stiction re-solves");
   CHECK_THAT(loud.err, Contains(solved));
+  // The plan's step count leads the summary, as progress counted it; the steps
+  // simulated are as many or more (a step redone in halves counts its pieces).
+  const long planned = figures.at("planned_steps").get<long>();
+  CHECK(planned > 0);
+  CHECK(figures.at("steps").get<long>() >= planned);
+  CHECK_THAT(loud.err, Contains("bristle: " + std::to_string(planned) + " planned steps; " +
+                                std::to_string(figures.at("steps").get<long>()) +
+                                " simulation steps ("));
   // A blot held still: the steps at rest are counted apart, and solve nothing.
   REQUIRE(runShell(d, b + " render -q --brush round --trajectory '" +
                           sourcePath("scenes/trajectories/depth/press-hold-lift.csv") +

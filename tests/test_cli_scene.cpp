@@ -4,6 +4,7 @@
 // first); every bad input exits with its code and a one-line message, and
 // leaves no PNG behind (docs/scene-format.md).
 
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,7 @@
 
 #include "cli_runner.h"
 #include "engine/fnv1a64.h"
+#include "render/image_compare.h"
 #include "render/png_io.h"
 
 using namespace bristle;
@@ -281,4 +283,40 @@ TEST_CASE("a stroke that never touches the canvas is a warning naming the stroke
   CHECK_THAT(r.err, Contains("warning: " + scene + ": /strokes/1: the brush never comes within "
                              "reach of the canvas"));
   CHECK(exists(dir.file("s.png")));
+}
+
+TEST_CASE("a scene, a sheet and a render that name no paper colour share one paper",
+          "[cli][scene][paper]") {
+  // kDefaultPaperColour (engine/paint_spec.h): the same stroke as a one-stroke
+  // scene, a one-cell sheet or a render lands on the same paper.
+  TempDir dir;
+  std::string dab = "# bristle-trajectory/1\nt_s,x_mm,y_mm,depth_mm,qw,qx,qy,qz\n";
+  for (int i = 0; i <= 10; ++i)
+    dab += std::to_string(0.03 * i) + ",20,20," + std::to_string(i <= 5 ? 0.4 * i : 4 - 0.4 * i) +
+           ",1,0,0,0\n";
+  dir.write("dab.csv", dab);
+  const json scene = {{"format", "bristle-scene/1"},
+                      {"name", "dab"},
+                      {"canvas", {{"size_mm", {40, 40}}, {"px_per_mm", 2}}},
+                      {"solver", "slsqp"},
+                      {"strokes",
+                       {{{"brush", kRound},
+                         {"trajectory", "dab.csv"},
+                         {"paint", {{"paints", {"#1c2433"}}}}}}}};
+  const json sheet = {{"format", "bristle-sheet/1"}, {"name", "dab"},
+                      {"brushes", {kRound}},       {"trajectories", {"dab.csv"}},
+                      {"px_per_mm", 2},            {"solver", "slsqp"}};
+  const std::string q = " -q -o '";
+  REQUIRE(runBristle("render '" + dir.write("s.json", scene.dump()) + "'" + q +
+                     dir.file("scene.png") + "'").code == 0);
+  REQUIRE(runBristle("sheet '" + dir.write("sh.json", sheet.dump()) + "'" + q +
+                     dir.file("sheet.png") + "'").code == 0);
+  REQUIRE(runBristle("render --solver slsqp --px-per-mm 2 --brush '" + kRound +
+                     "' --trajectory '" + dir.file("dab.csv") + "'" + q + dir.file("render.png") +
+                     "'").code == 0);
+  const std::array<std::uint8_t, 3> paper{0xf6, 0xf1, 0xe6};
+  for (const char* png : {"scene.png", "sheet.png", "render.png"}) {
+    INFO(png);
+    CHECK(render::borderPaperColour(render::readPngRgba16(dir.file(png))) == paper);
+  }
 }

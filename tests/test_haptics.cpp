@@ -461,12 +461,6 @@ TEST_CASE("SPSC ring: order kept, overflow dropped and counted", "[haptics][ring
 // ---------------------------------------------------------------------------
 // Session files.
 
-TEST_CASE("FNV-1a 64 matches the published test vectors", "[haptics][session]") {
-  CHECK(hex64(fnv1a64("")) == "cbf29ce484222325");
-  CHECK(hex64(fnv1a64("a")) == "af63dc4c8601ec8c");
-  CHECK(hex64(fnv1a64("foobar")) == "85944171f73967e8");
-}
-
 TEST_CASE("device frame mapping round-trips poses and forces", "[haptics][frame]") {
   DeviceMapping m;
   Pose p;
@@ -557,6 +551,15 @@ int lineCount(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
 
+// The complete rows of a session file: its lines less the comments, the column
+// header and a last line not yet ended.
+int sessionRows(const std::string& text) {
+  std::istringstream in(text.substr(0, text.rfind('\n') + 1));
+  int rows = -1;  // the column header
+  for (std::string line; std::getline(in, line);) rows += line.rfind('#', 0) != 0;
+  return std::max(rows, 0);
+}
+
 }  // namespace
 
 TEST_CASE("record through the stand-in libHD, replay: the same PNG", "[haptics][cli]") {
@@ -604,37 +607,112 @@ TEST_CASE("record through the stand-in libHD, replay: the same PNG", "[haptics][
   CHECK(lineCount(bristle::testing::readAll(dir.file("f.csv"))) >= 801);
 }
 
-TEST_CASE("record --png and replay take render's paint options", "[haptics][cli]") {
-  TempDir dir;
-  const std::string stroke = shortStroke(dir);
-  const std::string brush = sourcePath("scenes/brushes/round.json");
-  const std::string paint = " --paint cadmium-red --paper-tooth 0 --background '#ffffff'";
-  const RunResult rec = runBristle("record -q --device none --trajectory " + stroke +
-                                   " --brush " + brush + " -o " + dir.file("s.csv") + " --png " +
-                                   dir.file("live.png") + paint);
+namespace {
+
+// A session recorded from the short stroke with options that are not the
+// defaults: paint and paper, a low resolution, SLSQP with its own limit (each
+// keeps the renders short). *png gets record's --png.
+std::string recordWithOptions(const TempDir& dir, const std::string& png) {
+  const RunResult rec = runBristle(
+      "record -q --device none --trajectory " + shortStroke(dir) + " --brush " +
+      sourcePath("scenes/brushes/round.json") + " -o " + dir.file("s.csv") + " --png " + png +
+      " --paint cadmium-red --paper-tooth 0 --background '#ffffff' --px-per-mm 4 --solver slsqp"
+      " --solver-max-iterations 150");
   INFO(rec.err);
   REQUIRE(rec.code == 0);
-  const RunResult same = runBristle("replay -q " + dir.file("s.csv") + " --brush " + brush +
-                                    " -o " + dir.file("same.png") + paint);
-  REQUIRE(same.code == 0);
-  const RunResult plain = runBristle("replay -q " + dir.file("s.csv") + " --brush " + brush +
-                                     " -o " + dir.file("plain.png"));
-  REQUIRE(plain.code == 0);
-  const render::Image8 live = render::readPngRgba8(dir.file("live.png"));
-  CHECK(live.pixels == render::readPngRgba8(dir.file("same.png")).pixels);
-  CHECK(live.pixels != render::readPngRgba8(dir.file("plain.png")).pixels);
-  // Red paint on white paper: some pixel is strongly red (R high, G and B low).
-  bool red = false;
-  for (size_t i = 0; i + 3 < live.pixels.size(); i += 4)
-    red = red || (live.pixels[i] > 150 && live.pixels[i + 1] < 100 && live.pixels[i + 2] < 100);
-  CHECK(red);
+  return dir.file("s.csv");
+}
+
+std::string pngTextOf(const std::string& png, const std::string& key) {
+  for (const auto& [k, v] : render::readPngText(png))
+    if (k == key) return v;
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("replay alone renders record --png's PNG byte for byte, with the header's options",
+          "[haptics][cli]") {
+  TempDir dir;
+  const std::string session = recordWithOptions(dir, dir.file("live.png"));
+  const Session s = loadSession(session);
+  CHECK(s.header.at("--paint") == "cadmium-red");
+  CHECK(s.header.at("--paper-tooth") == "0");
+  CHECK(s.header.at("--background") == "#ffffff");
+  CHECK(s.header.at("--px-per-mm") == "4");
+  CHECK(s.header.at("--solver") == "slsqp");
+  CHECK(s.header.at("--solver-max-iterations") == "150");
+  CHECK(s.header.at("--amount") == "1");  // a default is recorded too
+  CHECK(s.header.count("--ipopt-option") == 0);  // none given
+
+  const RunResult rep = runBristle("replay -q " + session + " -o " + dir.file("replay.png"));
+  INFO(rep.err);
+  REQUIRE(rep.code == 0);
+  CHECK(rep.err.empty());
+  const std::string live = bristle::testing::readAll(dir.file("live.png"));
+  CHECK(!live.empty());
+  CHECK(live == bristle::testing::readAll(dir.file("replay.png")));
+  // The header's paint and resolution made it, not the defaults.
+  CHECK(pngTextOf(dir.file("replay.png"), "bristle:paint") == "cadmium-red load=solid mix=km");
+  CHECK(pngTextOf(dir.file("replay.png"), "bristle:canvas").find(" px_per_mm=4.000000 ") !=
+        std::string::npos);
+}
+
+TEST_CASE("an option given to replay wins over the header's, with a one-line warning",
+          "[haptics][cli]") {
+  TempDir dir;
+  const std::string session = recordWithOptions(dir, dir.file("live.png"));
+  // --solver as the header records it: nothing overridden, no warning.
+  const RunResult rep = runBristle("replay -q " + session + " -o " + dir.file("big.png") +
+                                   " --px-per-mm 8 --solver slsqp");
+  REQUIRE(rep.code == 0);
+  CHECK(rep.err == "bristle: warning: " + session + ": --px-per-mm 8 overrides the header's 4\n");
+  CHECK(pngTextOf(dir.file("big.png"), "bristle:canvas").find(" px_per_mm=8.000000 ") !=
+        std::string::npos);
+  CHECK(pngTextOf(dir.file("big.png"), "bristle:paint") == "cadmium-red load=solid mix=km");
+  // The solver the header records is the one replay uses: Ipopt paints other bytes.
+  const RunResult ipopt = runBristle("replay -q " + session + " -o " + dir.file("ipopt.png") +
+                                     " --solver ipopt --ipopt-option tol=1e-8");
+  REQUIRE(ipopt.code == 0);
+  CHECK(ipopt.err == "bristle: warning: " + session + ": --solver ipopt overrides the header's "
+                     "slsqp\nbristle: warning: " + session + ": --ipopt-option tol=1e-8 "
+                     "overrides the header's (none)\n");
+  CHECK(bristle::testing::readAll(dir.file("ipopt.png")) !=
+        bristle::testing::readAll(dir.file("live.png")));
   // A bad paint is refused before the session starts, like render's.
-  const RunResult bad = runBristle("record -q --device none --trajectory " + stroke +
-                                   " --brush " + brush + " -o " + dir.file("b.csv") +
-                                   " --png " + dir.file("b.png") + " --paint cadmium-rd");
+  const RunResult bad = runBristle("record -q --device none --trajectory " + shortStroke(dir) +
+                                   " --brush round -o " + dir.file("b.csv") + " --png " +
+                                   dir.file("b.png") + " --paint cadmium-rd");
   CHECK(bad.code == 65);
   CHECK(bad.err.find("cadmium-rd") != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(dir.file("b.csv")));
+}
+
+TEST_CASE("a session without render options in its header replays with the defaults",
+          "[haptics][cli]") {
+  TempDir dir;
+  const std::string session = recordWithOptions(dir, dir.file("live.png"));
+  // An older session: its header ends at the brush's hash.
+  std::istringstream in(bristle::testing::readAll(session));
+  std::string old;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("# --", 0) != 0) old += line + "\n";
+  const std::string old_session = dir.write("old.csv", old);
+  // Given options: nothing in the header to override, so no warning; the
+  // rest as `bristle render` takes them by default, on the same files.
+  const std::string fast = " --px-per-mm 4 --solver slsqp";
+  const RunResult rep =
+      runBristle("replay -q " + old_session + " -o " + dir.file("old.png") + fast);
+  INFO(rep.err);
+  REQUIRE(rep.code == 0);
+  CHECK(rep.err.empty());
+  const RunResult ren = runBristle("render -q --brush " + sourcePath("scenes/brushes/round.json") +
+                                   " --trajectory " + old_session + " -o " +
+                                   dir.file("render.png") + fast);
+  REQUIRE(ren.code == 0);
+  CHECK(bristle::testing::readAll(dir.file("old.png")) ==
+        bristle::testing::readAll(dir.file("render.png")));
+  CHECK(pngTextOf(dir.file("old.png"), "bristle:paint") == "#1c2433 load=solid mix=km");
 }
 
 TEST_CASE("forces never exceed the stand-in device's nominal maximum", "[haptics][cli]") {
@@ -805,7 +883,7 @@ TEST_CASE("a killed recording leaves a session that replays", "[haptics][cli]") 
   int rows = 0;
   for (int i = 0; i < 400 && rows < 150; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(25));
-    rows = lineCount(bristle::testing::readAll(session)) - 9;
+    rows = sessionRows(bristle::testing::readAll(session));
   }
   ::kill(pid, SIGKILL);
   int status = 0;
@@ -834,7 +912,7 @@ TEST_CASE("Ctrl-C ends a recording cleanly: exit 0, complete session", "[haptics
   int rows = 0;
   for (int i = 0; i < 400 && rows < 100; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(25));
-    rows = lineCount(bristle::testing::readAll(session)) - 9;
+    rows = sessionRows(bristle::testing::readAll(session));
   }
   ::kill(pid, SIGINT);
   int status = 0;

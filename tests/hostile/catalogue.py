@@ -347,6 +347,8 @@ def deep_key(file_step, key, text_of):
 
 
 DEEP_MSG = "arrays and objects nest deeper than the limit of 64 levels"
+KNOWN_FORMATS = ("known: bristle-brush/1, bristle-scene/1, bristle-sheet/1, bristle-batch/1, "
+                 "bristle-golden/1; a trajectory is a bristle-trajectory/1 CSV")
 case("deep-brush-name-validate", "a brush whose `name` is 100,000 nested arrays",
      ["validate", "b.json"], 65, "b.json: line 3, column 73: " + DEEP_MSG,
      deep_brush_name)
@@ -359,8 +361,8 @@ case("deep-brush-65-levels", "a brush nested 65 levels deep (one more than the l
      ["validate", "b.json"], 65, "b.json: line 1, column 65: " + DEEP_MSG,
      brush(text=deep(65)))
 case("deep-brush-64-levels", "a brush nested 64 levels deep: within the limit, refused for "
-     "what it is", ["validate", "b.json"], 65, "b.json: /: must be a JSON object",
-     brush(text=deep(64)))
+     "what it is", ["validate", "b.json"], 65, "b.json: /: must be a JSON object whose "
+     "\"format\" names its kind (" + KNOWN_FORMATS + ")", brush(text=deep(64)))
 case("deep-brackets-in-strings", "a brush with a key whose value is a string of 100,000 `[`: "
      "not nesting", ["validate", "b.json"], 65, "b.json: /x: unknown key 'x'",
      brush(edit=lambda b: b.update(x="[" * DEEP)))
@@ -1207,6 +1209,52 @@ case("replay-recorded-brush-changed", "`replay` without `--brush`: the recorded 
 case("replay-recorded-brush-gone", "`replay` without `--brush`: the recorded brush file is gone",
      ["replay", "r.csv", "-o", "o.png"], 66, "gone.json: cannot read: No such file or directory",
      all_of(brush(), session_of("gone.json")))
+
+
+def session_options(*lines):
+    """A setup step: a session of b.json whose header records the render
+    options `lines` ("--px-per-mm: 500"), as record writes them."""
+    def step(d):
+        write(d, "r.csv", "# bristle-trajectory/1\n# bristle record: a live session\n"
+              "# brush: b.json\n"
+              f"# brush_fnv1a64: {fnv1a64((d / 'b.json').read_bytes())}\n"
+              + "".join(f"# {line}\n" for line in lines) + HEADER + "\n"
+              + "".join(",".join(str(v) for v in [t, *HIGH, *REST]) + "\n" for t in (0, 1)))
+    return step
+
+
+case("replay-header-option-range", "`replay` of a session whose header records `--px-per-mm` "
+     "500", ["replay", "r.csv", "-o", "o.png"], 65,
+     "r.csv: header: --px-per-mm: Value 500 not in range 0.500000 to 100.000000",
+     all_of(brush(), session_options("--paint: ultramarine", "--px-per-mm: 500")))
+case("replay-header-unknown-option", "`replay` of a session whose header records an option "
+     "the render does not have", ["replay", "r.csv", "-o", "o.png"], 65,
+     "r.csv: header: --pain: not an option of the render (known: --paint, --load, --amount, "
+     "--tip-length, --mix, --paper-tooth, --paper-scale, --paper-seed, --background, --impasto, "
+     "--bits, --px-per-mm, --solver, --solver-max-iterations, --ipopt-option)",
+     all_of(brush(), session_options("--pain: ultramarine")))
+case("record-ipopt-option-newline", "`record --ipopt-option` holding a line break, which the "
+     "session's header cannot hold", RECORD + ["-o", "r.csv", "--ipopt-option", "tol=1\nx"], 64,
+     "--ipopt-option: a value holding a control character cannot go into the session's header",
+     STROKE)
+
+
+# -- validate tells a JSON file's kind by its "format", and checks a manifest's jobs --
+case("validate-no-format", "`validate` of JSON with no `format`: its kind is unknown",
+     ["validate", "b.json"], 65, "b.json: /format: required key is missing: it names the "
+     "file's kind (" + KNOWN_FORMATS + ")", brush(edit=lambda b: b.pop("format")))
+case("validate-unknown-format", "`validate` of JSON whose `format` is no bristle format",
+     ["validate", "b.json"], 65, "b.json: /format = \"bristle-paint/1\": unknown format ("
+     + KNOWN_FORMATS + ")", brush(edit=lambda b: b.update(format="bristle-paint/1")))
+case("validate-manifest-missing-brush", "`validate` of a batch manifest whose job names a "
+     "missing brush", ["validate", "m.json"], 66,
+     "m.json: /jobs/0/brush: b.json: cannot read: No such file or directory",
+     all_of(trajectory(), manifest()))
+case("validate-manifest-option-refused", "`validate` of a batch manifest whose stroke job sets "
+     "an option `render --brush` does not take", ["validate", "m.json"], 65,
+     "m.json: /jobs/0/options/at: bristle render refuses it: The following argument was not "
+     "expected: --at", all_of(STROKE, manifest(edit=lambda m: m["jobs"][0].update(
+         options={"at": 1.2}))))
 
 # -- validate checks a brush with a trajectory as render does, by the same function --
 LOW_START = all_of(brush(), trajectory(rows=[[0, 15, 40, -5, 1, 0, 0, 0],

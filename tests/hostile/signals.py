@@ -8,7 +8,8 @@ waits until its temporary output exists, sends the signal, and checks:
   - no temporary file (NAME.tmp-PID) and no output is left, and the inputs are
     unchanged (catalogue.py's snapshot).
 The progress case checks that with stderr a pipe a long render prints whole
-"bristle: progress: ..." lines at the interval BRISTLE_PROGRESS_SECONDS sets.
+"bristle: progress: ..." lines at the interval BRISTLE_PROGRESS_SECONDS sets,
+with the plan's fixed step total and the time left.
 
   signals.py --list                 the case ids
   signals.py --bristle BIN ID...    runs cases
@@ -93,7 +94,8 @@ def run_signal_case(bristle, cid):
     return problems
 
 
-PROGRESS = re.compile(r"bristle: progress: step (\d+)/(\d+) \( *\d+%\) after (\d+) s")
+PROGRESS = re.compile(r"bristle: progress: step (\d+)/(\d+) \( *\d+%\) after (\d+) s"
+                      r"(, about \d+(\.\d)? (s|min|h) left)?")
 
 
 def run_progress_case(bristle):
@@ -110,10 +112,16 @@ def run_progress_case(bristle):
         rest = p.stderr.read().decode(errors="replace")
         p.wait()
         problems = []
-        for line in lines:
-            m = PROGRESS.fullmatch(line.rstrip("\n"))
+        matches = [PROGRESS.fullmatch(line.rstrip("\n")) for line in lines]
+        for line, m in zip(lines, matches):
             if not m or not line.endswith("\n"):
                 problems.append(f"not a progress line: {line!r}")
+        if all(matches):
+            # The plan's total stays put, and after 2 s the time left is shown.
+            if matches[0].group(2) != matches[1].group(2):
+                problems.append(f"the step total changed: {lines!r}")
+            if not matches[1].group(4):
+                problems.append(f"no time left on the second line: {lines[1]!r}")
         if "\r" in rest or "\r" in "".join(lines):
             problems.append("a carriage return on a non-terminal")
         if p.returncode != -signal.SIGINT:

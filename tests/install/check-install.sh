@@ -53,6 +53,17 @@ for c in render preview validate brushes pigments record replay sheet batch comp
   grep -q "^ *bristle $c\$" man.txt || fail "the man page has no section 'bristle $c'"
 done
 grep -q -- "--trajectory" man.txt || fail "the man page lacks the render options"
+# EXAMPLES one per line (help2man alone folds them into one paragraph), with
+# the install's paths: an installed user has no source tree.
+sed -n '/^EXAMPLES/,/^[A-Z]/p' man.txt > examples.txt
+for e in "bristle brushes" "bristle pigments" "bristle preview fan -o fan.png"; do
+  grep -q "^[[:space:]]*$e\$" examples.txt || fail "the man page's EXAMPLES lack the line '$e'"
+done
+grep -q "/share/bristle/trajectories/s-curve.csv" examples.txt ||
+  fail "the man page's EXAMPLES do not use the installed scenes"
+! grep -q "scenes/" man.txt || fail "the man page names source-tree paths: $(grep -m1 scenes/ man.txt)"
+grep -q "^ENVIRONMENT" man.txt && grep -q "BRISTLE_BRUSH_PATH" man.txt ||
+  fail "the man page has no ENVIRONMENT section naming BRISTLE_BRUSH_PATH"
 # find_package(bristle): an outside project links the installed libraries.
 cmake -S "$src/tests/install/consumer" -B consumer -DCMAKE_PREFIX_PATH="$tmp/prefix" \
   -DCMAKE_BUILD_TYPE=Release >consumer.log 2>&1 || fail "configuring the consumer: $(tail -5 consumer.log)"
