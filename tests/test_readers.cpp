@@ -740,7 +740,7 @@ TEST_CASE("trajectory format line: missing or unknown version is 65 naming it", 
   CHECK_TRAJ_ERROR("# bristle-trajectory/1\n# only comments\n\n", "missing header");
 }
 
-TEST_CASE("trajectory columns separated by ';' or tabs are 65 naming the separator",
+TEST_CASE("trajectory columns separated by semicolons or tabs are 65 naming the separator",
           "[readers]") {
   const std::vector<std::string> rows = {"0,10,0,10,1,0,0,0", "1,10,0,10,1,0,0,0"};
   CHECK_TRAJ_ERROR(traj("t_s;x_mm;y_mm;z_mm;qw;qx;qy;qz", rows),
