@@ -40,6 +40,12 @@ inline constexpr std::size_t kMaxRecordingSamples = 1'000'000;
 // memory, and a drawable element takes at least a few samples, so an SVG
 // near the sample limit has far fewer.
 inline constexpr std::size_t kMaxSvgTags = 1'000'000;
+// The most path segments (each move, line, curve and arc of a `d`, each point
+// of a `points` list) an SVG may hold, all its elements together: lib2geom
+// holds a path whole at ~500 bytes a segment while it is parsed, transformed
+// and measured, so the count is kept as the data is read and the file is
+// refused at the first segment over it, before that segment is allocated.
+inline constexpr std::size_t kMaxSvgSegments = 1'000'000;
 
 // One pen event. Positions are in the source's units (screen or SVG user
 // units) and its axes (y down for all three formats).
@@ -77,6 +83,7 @@ struct SvgOptions {
   // The default pressure profile "u:p ..." (fraction of arc length : pressure),
   // overridden per element by data-bristle-pressure.
   std::string pressure_profile = "0:0.15 0.15:0.6 0.85:0.6 1:0.15";
+  std::size_t max_segments = kMaxSvgSegments;  // the limit above (smaller in tests)
 };
 
 // Which format `text` (the bytes of `path`, "stdin" for standard input) is in,

@@ -2,7 +2,6 @@
 
 #include <2geom/bezier-curve.h>
 #include <2geom/elliptical-arc.h>
-#include <2geom/sbasis-geometric.h>
 #include <2geom/transforms.h>
 #include <gsl/gsl_errno.h>
 
@@ -233,10 +232,6 @@ UnitBox unitBox(const Geom::Path& path) {
 // circle still measures 1.4e-7 short, from lib2geom's polynomial form of an
 // elliptical arc, not from the integral.)
 constexpr double kLengthTolUnit = 1e-9;
-// The arc-length parametrisation's tolerance in the unit box: 1e-8 of the
-// path's extent keeps samples within 1e-6 of a 100-unit circle's radius (the
-// test "import: lib2geom's arc length of a circle is 2 pi r").
-constexpr double kSampleTolUnit = 1e-8;
 
 bool pathWithinLimits(const Geom::Path& path) {
   if (!withinLimits(path.initialPoint())) return false;
@@ -264,27 +259,81 @@ double pathLength(const Geom::Path& path) {
   return length * box.extent;
 }
 
+namespace {
+
+// Arc length along one curve against its time, tabulated: the chords between
+// `steps` + 1 points at equal time steps, summed and scaled to the curve's
+// measured length. Only points on the curve are evaluated (no polynomial
+// refit of the whole path, and no integral per entry), so any curve lib2geom
+// holds can be tabulated; a length maps back to a time by interpolating.
+std::vector<double> lengthTable(const Geom::Curve& unit_curve, double length, std::size_t steps) {
+  std::vector<double> table(steps + 1, 0.0);
+  Geom::Point prev = unit_curve.initialPoint();
+  for (std::size_t k = 1; k <= steps; ++k) {
+    const Geom::Point p = unit_curve.pointAt(static_cast<double>(k) / static_cast<double>(steps));
+    table[k] = table[k - 1] + Geom::distance(prev, p);
+    prev = p;
+  }
+  const double chords = table.back();
+  for (double& v : table) v = chords > 0 ? v * length / chords : 0;
+  return table;
+}
+
+// The time at which a curve has come `along` of its tabulated arc length.
+double timeAtLength(const std::vector<double>& table, double along) {
+  const std::size_t steps = table.size() - 1;
+  const auto it = std::upper_bound(table.begin(), table.end(), along);
+  if (it == table.begin()) return 0;
+  if (it == table.end()) return 1;
+  const std::size_t k = static_cast<std::size_t>(it - table.begin()) - 1;
+  const double span = table[k + 1] - table[k];
+  const double f = span > 0 ? (along - table[k]) / span : 0;
+  return (static_cast<double>(k) + f) / static_cast<double>(steps);
+}
+
+}  // namespace
+
 std::vector<Geom::Point> samplePath(const Geom::Path& path, double segments) {
   quietGsl();
   const std::size_t n =
       std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(std::max(segments, 1.0))) + 1);
-  const UnitBox box = unitBox(path);
-  const Geom::Affine from_unit = box.to_unit.inverse();
-  // Degenerate pieces (zero-length segments) have no direction to follow:
-  // the arc-length parametrisation is made without them.
-  const Geom::Path unit = path * box.to_unit;
-  Geom::Path solid(unit.initialPoint());
-  for (const Geom::Curve& c : unit)
-    if (c.length(kLengthTolUnit) > 0) solid.append(c);
-  const Geom::Piecewise<Geom::D2<Geom::SBasis>> by_length =
-      Geom::arc_length_parametrization(solid.toPwSb(), 3, kSampleTolUnit);
-  const double total = by_length.domain().max();
+  // Each curve is measured on its own, in the unit box (relative tolerance);
+  // a curve of no length or no finite length has no direction and is passed
+  // over. Points are evaluated on the path itself, at the curve's time.
+  const Geom::Path unit = path * unitBox(path).to_unit;
+  std::vector<double> lengths(path.size(), 0.0);
+  double total = 0;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const double len = unit[i].length(kLengthTolUnit);
+    lengths[i] = std::isfinite(len) && len > 0 ? len : 0;
+    total += lengths[i];
+  }
   std::vector<Geom::Point> out;
   out.reserve(n);
   out.push_back(path.initialPoint());
-  for (std::size_t k = 1; k + 1 < n; ++k)
-    out.push_back(by_length(total * static_cast<double>(k) / static_cast<double>(n - 1)) *
-                  from_unit);
+  std::size_t i = 0;
+  double start = 0;  // arc length where curve i begins
+  std::vector<double> table;
+  std::size_t table_of = path.size();  // the curve `table` belongs to
+  for (std::size_t k = 1; k + 1 < n && total > 0; ++k) {
+    const double s = total * static_cast<double>(k) / static_cast<double>(n - 1);
+    while (i + 1 < path.size() && (lengths[i] == 0 || s > start + lengths[i])) start += lengths[i++];
+    const double along = std::clamp(s - start, 0.0, lengths[i]);
+    double t = lengths[i] > 0 ? along / lengths[i] : 0;
+    if (!dynamic_cast<const Geom::LineSegment*>(&path[i]) && lengths[i] > 0) {
+      if (table_of != i) {
+        // Eight entries a sample on the curve, 32 to 8192: interpolation then
+        // errs far below the sample spacing.
+        const double on_curve = static_cast<double>(n - 1) * lengths[i] / total;
+        const double steps = std::clamp(std::ceil(8 * on_curve), 32.0, 8192.0);
+        table = lengthTable(unit[i], lengths[i], static_cast<std::size_t>(steps));
+        table_of = i;
+      }
+      t = timeAtLength(table, along);
+    }
+    out.push_back(path[i].pointAt(t));
+  }
+  while (out.size() + 1 < n) out.push_back(path.initialPoint());  // a path of no length
   out.push_back(path.finalPoint());
   return out;
 }

@@ -60,8 +60,10 @@ bool pathWithinLimits(const Geom::Path& path);
 // finite when lib2geom cannot measure it.
 double pathLength(const Geom::Path& path);
 // Points along the path at equal arc-length steps, the ends included:
-// max(2, ceil(segments) + 1) of them (lib2geom's arc-length parametrisation,
-// in the same unit box).
+// max(2, ceil(segments) + 1) of them. Each curve is measured on its own (in
+// the same unit box) and a length along it found by its own table of chords,
+// so straight, collinear, zero-length and very long paths all sample; curves
+// of no length are passed over, and a path of no length repeats its start.
 std::vector<Geom::Point> samplePath(const Geom::Path& path, double segments);
 
 }  // namespace bristle::input

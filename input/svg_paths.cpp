@@ -11,6 +11,7 @@
 #include <2geom/path.h>
 #include <2geom/pathvector.h>
 #include <2geom/sbasis-geometric.h>
+#include <2geom/path-sink.h>
 #include <2geom/svg-path-parser.h>
 #include <2geom/transforms.h>
 
@@ -195,18 +196,81 @@ std::string shapePathData(const pugi::xml_node& n, const std::string& name,
   return d;
 }
 
+// The path segments an SVG has used of its limit (kMaxSvgSegments).
+struct SegmentBudget {
+  std::size_t used = 0, limit = 0;
+  // Takes `count` more, or refuses the file naming the element and the limit.
+  void take(std::size_t count, const std::string& path, const std::string& where) {
+    used += count;
+    if (used > limit)
+      throw dataError(path, where,
+                      "the SVG's paths hold more than " + std::to_string(limit) +
+                          " segments, the limit for an SVG (its paths are held in memory whole)");
+  }
+};
+
+// lib2geom's path builder, each move, line, curve and arc counted against the
+// budget before the builder allocates it.
+class CountingBuilder : public Geom::PathBuilder {
+ public:
+  CountingBuilder(SegmentBudget* budget, const std::string& path, const std::string& where)
+      : budget_(budget), path_(path), where_(where + ": d") {}
+  void moveTo(const Geom::Point& p) override { take(), PathBuilder::moveTo(p); }
+  void lineTo(const Geom::Point& p) override { take(), PathBuilder::lineTo(p); }
+  void quadTo(const Geom::Point& c, const Geom::Point& p) override {
+    take(), PathBuilder::quadTo(c, p);
+  }
+  void curveTo(const Geom::Point& c0, const Geom::Point& c1, const Geom::Point& p) override {
+    take(), PathBuilder::curveTo(c0, c1, p);
+  }
+  void arcTo(Geom::Coord rx, Geom::Coord ry, Geom::Coord angle, bool large_arc, bool sweep,
+             const Geom::Point& p) override {
+    take(), PathBuilder::arcTo(rx, ry, angle, large_arc, sweep, p);
+  }
+
+ private:
+  void take() { budget_->take(1, path_, where_); }
+  SegmentBudget* budget_;
+  const std::string& path_;
+  std::string where_;
+};
+
+// Path data as lib2geom parses it, counted against the budget.
+Geom::PathVector parsePathData(const char* d, SegmentBudget* budget, const std::string& path,
+                               const std::string& where) {
+  CountingBuilder builder(budget, path, where);
+  try {
+    Geom::parse_svg_path(d, builder);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw dataError(path, where, "d: malformed path data (" + std::string(e.what()) + ")");
+  }
+  builder.flush();
+  return builder.peek();
+}
+
+// The items of a number list, counted without storing them.
+std::size_t countItems(const char* text) {
+  std::size_t items = 0;
+  bool in_item = false;
+  for (const char* c = text; *c; ++c) {
+    const bool sep = *c == ' ' || *c == '\t' || *c == '\n' || *c == '\r' || *c == ',';
+    if (!sep && !in_item) ++items;
+    in_item = !sep;
+  }
+  return items;
+}
+
 // The strokes of one drawing element, in root user units.
 void addStrokes(const pugi::xml_node& n, const std::string& name, const Geom::Affine& ctm,
-                const std::string& where, const std::string& path, Geom::PathVector* out) {
+                const std::string& where, const std::string& path, SegmentBudget* budget,
+                Geom::PathVector* out) {
   Geom::PathVector pv;
   if (name == "path") {
-    const char* d = n.attribute("d").value();
-    try {
-      pv = Geom::parse_svg_path(d);
-    } catch (const std::exception& e) {
-      throw dataError(path, where, "d: malformed path data (" + std::string(e.what()) + ")");
-    }
+    pv = parsePathData(n.attribute("d").value(), budget, path, where);
   } else if (name == "line") {
+    budget->take(2, path, where);
     Geom::Path p(Geom::Point(numberAttribute(n, "x1", 0, path, where),
                              numberAttribute(n, "y1", 0, path, where)));
     p.appendNew<Geom::LineSegment>(Geom::Point(numberAttribute(n, "x2", 0, path, where),
@@ -214,10 +278,11 @@ void addStrokes(const pugi::xml_node& n, const std::string& name, const Geom::Af
     pv.push_back(p);
   } else if (name == "circle" || name == "ellipse" || name == "rect") {
     const std::string d = shapePathData(n, name, path, where);
-    if (!d.empty()) pv = Geom::parse_svg_path(d.c_str());
-  } else {  // polyline, polygon
-    const std::vector<double> pts =
-        parseNumberList(n.attribute("points").value(), path, where + ": points");
+    if (!d.empty()) pv = parsePathData(d.c_str(), budget, path, where);
+  } else {  // polyline, polygon: each point a segment (the first the move)
+    const char* points = n.attribute("points").value();
+    budget->take((countItems(points) + 1) / 2, path, where + ": points");
+    const std::vector<double> pts = parseNumberList(points, path, where + ": points");
     if (pts.size() % 2 != 0)
       throw dataError(path, where, "points: holds an odd count of numbers (" +
                                        std::to_string(pts.size()) + "): must be x,y pairs");
@@ -280,6 +345,7 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
                       std::size_t max_samples) {
   SvgWalk walk;
   double samples = 0;
+  SegmentBudget budget{0, options.max_segments};
   std::vector<Frame> stack;
   for (pugi::xml_node c = root.last_child(); c; c = c.previous_sibling())
     stack.push_back({c, Geom::identity(), ""});
@@ -330,7 +396,7 @@ SvgWalk gatherStrokes(const pugi::xml_node& root, int root_line, const LineIndex
           *pressure == '\0' ? options.pressure_profile : std::string(pressure), path,
           where + ": data-bristle-pressure"));
     Geom::PathVector pv;
-    addStrokes(n, name, ctm, where, path, &pv);
+    addStrokes(n, name, ctm, where, path, &budget, &pv);
     for (const Geom::Path& p : pv) {
       if (!pathWithinLimits(p))
         throw dataError(path, where,

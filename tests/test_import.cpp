@@ -273,8 +273,8 @@ TEST_CASE("import: lib2geom's arc length of a circle is 2 pi r", "[import][svg]"
   REQUIRE(pv.size() == 1);
   CHECK(pathLength(pv[0]) == Approx(2 * M_PI * 25).epsilon(kLengthRel));
   // Samples at equal arc length lie on the circle, 2 pi r / n apart along it:
-  // each chord is 2 r sin(pi / n). The arc-length parametrisation is fitted to
-  // 1e-6, so chords agree to 1e-4 mm.
+  // each chord is 2 r sin(pi / n). Each arc's own table of chord lengths maps
+  // length to time, so chords agree to 1e-4 mm.
   constexpr double kChordTolMm = 1e-4;
   const int n = 40;
   const std::vector<Geom::Point> pts = samplePath(pv[0], n);
@@ -315,7 +315,7 @@ TEST_CASE("import: a circle of any size measures 2 pi r, and beyond the limits i
     CHECK(pathLength(pv[0]) == Approx(2 * M_PI * r).epsilon(1e-6));
     const std::vector<Geom::Point> pts = samplePath(pv[0], 8);
     REQUIRE(pts.size() == 9u);
-    for (const Geom::Point& p : pts)  // on the circle, to the parametrisation's 1e-6 of 2r
+    for (const Geom::Point& p : pts)  // on the circle (lib2geom's own point on each arc)
       CHECK(Geom::distance(p, Geom::Point(r, r)) == Approx(r).margin(4e-6 * r));
   }
   // Past +-1e9 user units (the limit on positions) or not finite: refused
@@ -328,6 +328,118 @@ TEST_CASE("import: a circle of any size measures 2 pi r, and beyond the limits i
     CHECK(e.code() == ExitCode::kDataError);
     CHECK_THAT(e.what(), Contains("<path>") && Contains("beyond +-1e9 user units"));
   }
+}
+
+namespace {
+
+// An SVG of one <polyline> through (0, 0), (1, 0), ... (points - 1, 0).
+std::string straightPolyline(int points) {
+  std::string pts;
+  for (int k = 0; k < points; ++k) pts += std::to_string(k) + ",0 ";
+  return "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 100 60'><polyline points='" + pts +
+         "'/></svg>";
+}
+
+}  // namespace
+
+TEST_CASE("import: straight, collinear, zero-length and long paths sample evenly",
+          "[import][svg]") {
+  // Each case: path data, its length, and where a sample at arc length s lies
+  // (all on y = 0). Samples must be evenly spaced along the length.
+  struct Case {
+    const char* d;
+    double length;
+    double (*x_at)(double s);
+  };
+  const Case cases[] = {
+      // Collinear and evenly spaced: lib2geom's global arc-length
+      // parametrisation came back empty for 1,001 such segments.
+      {"M0 0 L1 0 L2 0 L3 0 L4 0 L5 0 L6 0 L7 0 L8 0 L9 0 L10 0", 10, [](double s) { return s; }},
+      // Zero-length segments before, between and after: passed over.
+      {"M0 0 L0 0 L4 0 L4 0 L4 0 L10 0 L10 0", 10, [](double s) { return s; }},
+      // Turning back along the same line: 10 out, 5 back.
+      {"M0 0 L10 0 L5 0", 15, [](double s) { return s <= 10 ? s : 20 - s; }},
+      // A cubic whose first control points coincide with its start (no
+      // tangent there) and a straight cubic: both still along x.
+      {"M0 0 C0 0 0 0 10 0", 10, nullptr},
+  };
+  for (const Case& c : cases) {
+    INFO(c.d);
+    const Geom::PathVector pv = Geom::parse_svg_path(c.d);
+    REQUIRE(pv.size() == 1);
+    CHECK(pathLength(pv[0]) == Approx(c.length).margin(1e-9));
+    const int n = 20;
+    const std::vector<Geom::Point> pts = samplePath(pv[0], n);
+    REQUIRE(pts.size() == n + 1);
+    for (int k = 0; k <= n; ++k) {
+      INFO("sample " << k);
+      CHECK(pts[k].y() == 0);
+      if (c.x_at) CHECK(pts[k].x() == Approx(c.x_at(c.length * k / n)).margin(1e-9));
+      if (k > 0 && !c.x_at) CHECK(pts[k].x() > pts[k - 1].x());
+    }
+  }
+  // A path of no length at all repeats its start (the reader skips it first).
+  const std::vector<Geom::Point> none = samplePath(Geom::parse_svg_path("M3 4 L3 4 L3 4")[0], 4);
+  REQUIRE(none.size() == 5u);
+  for (const Geom::Point& p : none) CHECK(p == Geom::Point(3, 4));
+  // 200,000 unit segments: every sample where its length puts it.
+  Geom::Path line(Geom::Point(0, 0));
+  for (int k = 1; k <= 200'000; ++k) line.appendNew<Geom::LineSegment>(Geom::Point(k, 0));
+  const std::vector<Geom::Point> far = samplePath(line, 1000);
+  REQUIRE(far.size() == 1001u);
+  for (int k = 0; k <= 1000; ++k) CHECK(far[k].x() == Approx(200.0 * k).margin(1e-6));
+}
+
+TEST_CASE("import: a straight polyline of 1002 points imports along x", "[import][svg]") {
+  // The 1,001 unit segments of the polyline crashed the import (lib2geom's
+  // arc-length parametrisation of the whole path came back empty).
+  const Recording rec = readRecording(straightPolyline(1002), "x.svg", Format::kSvg);
+  double x0 = 1e300, x1 = -1e300;
+  for (const PenSample& s : rec.samples) {
+    CHECK(s.y == 0);
+    x0 = std::min(x0, s.x);
+    x1 = std::max(x1, s.x);
+  }
+  CHECK(x0 == 0);
+  CHECK(x1 == 1001);
+  // Evenly spaced along it: 1001 units at 25.4/96 mm a unit, every 0.5 mm.
+  std::vector<double> down;
+  for (const PenSample& s : rec.samples)
+    if (s.down) down.push_back(s.x);
+  const double step = 1001.0 / (std::ceil(1001 * 25.4 / 96 / 0.5));
+  REQUIRE(down.size() == static_cast<std::size_t>(std::ceil(1001 * 25.4 / 96 / 0.5)) + 1);
+  for (std::size_t k = 0; k < down.size(); ++k) CHECK(down[k] == Approx(k * step).margin(1e-9));
+}
+
+TEST_CASE("import: an SVG's path segments are limited before they are held",
+          "[import][svg][errors]") {
+  // A 45 MB path of 5,000,000 segments took 2.4 GB and ended in bad_alloc:
+  // segments are counted as the data is read, over all the file's elements.
+  SvgOptions options;
+  options.max_segments = 10;
+  auto refusal = [&](const std::string& body) {
+    const std::string svg = "<svg xmlns='http://www.w3.org/2000/svg'>" + body + "</svg>";
+    return errorOf([&] { readRecording(svg, "big.svg", Format::kSvg, options); });
+  };
+  const char* over =
+      "the SVG's paths hold more than 10 segments, the limit for an SVG (its paths are held in "
+      "memory whole)";
+  // 1 move and 10 lines: one over.
+  const Error d = refusal("<path id='p' d='M0 0 h1 h1 h1 h1 h1 h1 h1 h1 h1 h1'/>");
+  CHECK(d.code() == ExitCode::kDataError);
+  CHECK(std::string(d.what()) == std::string("big.svg: <path id=\"p\"> (line 1): d: ") + over);
+  // 11 points (each a segment, the first the move).
+  const Error pts = refusal("<polyline points='0,0 1,0 2,0 3,0 4,0 5,0 6,0 7,0 8,0 9,0 10,0'/>");
+  CHECK(std::string(pts.what()) == std::string("big.svg: <polyline> (line 1): points: ") + over);
+  // Counted over the file: 5 lines of 2 segments are 10, a sixth is over.
+  const Error lines = refusal("<line x2='1'/><line x2='1'/><line x2='1'/><line x2='1'/>"
+                              "<line x2='1'/><line id='l6' x2='1'/>");
+  CHECK(std::string(lines.what()) == std::string("big.svg: <line id=\"l6\"> (line 1): ") + over);
+  // At the limit it reads: 1 move and 9 lines.
+  CHECK_NOTHROW(readRecording("<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 h1 h1 h1 h1 "
+                              "h1 h1 h1 h1 h1'/></svg>",
+                              "ok.svg", Format::kSvg, options));
+  CHECK(kMaxSvgSegments == 1'000'000);
 }
 
 TEST_CASE("import: SVG transforms, units and pressure profiles", "[import][svg]") {

@@ -399,6 +399,69 @@ TEST_CASE("import cli: bad input is exit 65 naming the place and the rule", "[im
   CHECK(!std::filesystem::exists(dir.file("o.png")));
 }
 
+TEST_CASE("import cli: a straight polyline of 1002 points imports and renders along x",
+          "[import][cli][svg]") {
+  // 1,001 collinear unit segments crashed import and render with SIGSEGV
+  // (lib2geom's arc-length parametrisation of the whole path came back empty).
+  TempDir dir;
+  std::string pts;
+  for (int k = 0; k <= 1001; ++k) pts += std::to_string(k) + ",0 ";
+  const std::string svg =
+      dir.write("x.svg", "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 100 60'>\n"
+                         "<polyline points='" + pts + "'/>\n</svg>\n");
+  bristleOk("import -q '" + svg + "' -o '" + dir.file("x.csv") + "'");
+  // A CSS px a unit (no width or height), placed with the default 10 mm
+  // margin: x from 10 mm over 1001 px, y one constant (the margin).
+  const double end = 10 + 1001 * 25.4 / 96;
+  const Trajectory t = loadTrajectory(dir.file("x.csv"));
+  REQUIRE(!t.samples.empty());
+  double x0 = 1e300, x1 = -1e300;
+  for (const TrajectorySample& s : t.samples) {
+    x0 = std::min(x0, s.pose.position_mm.x());
+    x1 = std::max(x1, s.pose.position_mm.x());
+    CHECK(s.pose.position_mm.y() == Approx(10).margin(1e-6));
+  }
+  CHECK(x0 == Approx(10).margin(1e-6));
+  CHECK(x1 == Approx(end).margin(1e-6));
+  // Rendered straight from the SVG: paint along y = 10 mm, at both ends.
+  const std::string png = dir.file("x.png");
+  bristleOk("render -q --brush round --trajectory '" + svg + "' -o '" + png +
+            "' --px-per-mm 2 --solver slsqp");
+  const std::vector<Point> ink = inkedPoints(loadCoveragePng(png));
+  REQUIRE(!ink.empty());
+  const double width = brushWidthMm(loadBrush(sourcePath("scenes/brushes/round.json")));
+  for (const Point& p : ink) CHECK(std::fabs(p.y - 10) <= width);
+  CHECK(distanceToInk({10, 10}, ink) <= width);
+  CHECK(distanceToInk({(10 + end) / 2, 10}, ink) <= width);
+  CHECK(distanceToInk({end, 10}, ink) <= width);
+}
+
+TEST_CASE("import cli: an SVG of over 1000000 path segments is refused in one line",
+          "[import][cli][svg]") {
+  // A move and 1,000,000 lines (4 MB): refused at the segment over the limit,
+  // before it is held (5,000,000 took 2.4 GB and ended in bad_alloc).
+  TempDir dir;
+  std::string d = "M0 0";
+  d.reserve(4 * input::kMaxSvgSegments + 8);
+  for (std::size_t k = 0; k < input::kMaxSvgSegments; ++k) d += " h.1";
+  const std::string svg = dir.write(
+      "long.svg", "<svg xmlns='http://www.w3.org/2000/svg'>\n<path id='long' d='" + d +
+                      "'/>\n</svg>\n");
+  const std::string line = "bristle: " + svg +
+                           ": <path id=\"long\"> (line 2): d: the SVG's paths hold more than "
+                           "1000000 segments, the limit for an SVG (its paths are held in memory "
+                           "whole)\n";
+  for (const std::string& cmd :
+       {"import '" + svg + "' -o '" + dir.file("o.csv") + "'",
+        "render --brush round --trajectory '" + svg + "' -o '" + dir.file("o.png") + "'"}) {
+    const RunResult r = runBristle(cmd);
+    CHECK(r.code == 65);
+    CHECK(r.err == line);
+  }
+  CHECK(!std::filesystem::exists(dir.file("o.csv")));
+  CHECK(!std::filesystem::exists(dir.file("o.png")));
+}
+
 TEST_CASE("import cli: 10^7 samples are refused at the limit in bounded memory",
           "[import][cli]") {
   // 10,000,000 event lines of 8 bytes (80 MB, under the 256 MiB file limit):

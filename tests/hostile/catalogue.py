@@ -1266,6 +1266,32 @@ case("render-starts-below", "`render` of a trajectory starting with the ferrule 
 case("validate-pair-starts-below", "`validate BRUSH TRAJ`: the same pair, the same message",
      ["validate", "b.json", "t.csv"], 65, PAIR_LOW, LOW_START)
 
+# -- SVG path data: segments counted as they are read, refused before they are held --
+def svg(name, body):
+    """A setup step: an SVG of `body` in a 100 x 60 viewBox."""
+    return lambda d: write(d, name, '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 '
+                           '60">\n' + body + '\n</svg>\n')
+
+
+SEGMENTS = ("the SVG's paths hold more than 1000000 segments, the limit for an SVG (its paths "
+            "are held in memory whole)")
+case("svg-path-segments-over-limit", "an SVG `<path>` of a move and 1,000,000 tiny lines "
+     "(1,000,001 segments)", ["import", "l.svg", "-o", "o.csv"], 65,
+     'l.svg: <path id="long"> (line 2): d: ' + SEGMENTS,
+     svg("l.svg", '<path id="long" d="M0 0' + " h.1" * 1000000 + '"/>'))
+case("svg-path-segments-render", "the same SVG given to `render --trajectory`",
+     ["render", "--brush", "round", "--trajectory", "l.svg", "-o", "o.png"], 65,
+     'l.svg: <path id="long"> (line 2): d: ' + SEGMENTS,
+     svg("l.svg", '<path id="long" d="M0 0' + " h.1" * 1000000 + '"/>'))
+case("svg-polyline-segments-over-limit", "an SVG `<polyline>` of 1,000,001 points",
+     ["import", "l.svg", "-o", "o.csv"], 65, "l.svg: <polyline> (line 2): points: " + SEGMENTS,
+     svg("l.svg", '<polyline points="' + "0,0 " * 1000001 + '"/>'))
+case("svg-segments-over-limit-across-paths", "an SVG of 1,001 `<path>`s of 1,000 segments each",
+     ["import", "l.svg", "-o", "o.csv"], 65,
+     'l.svg: <path id="p1001"> (line 1002): d: ' + SEGMENTS,
+     svg("l.svg", "\n".join('<path id="p%d" d="M0 0%s"/>' % (k, " h.1" * 999)
+                            for k in range(1, 1002))))
+
 # -- legal in form, but surely a mistake: refused naming what was meant --------
 case("png-output-jpg", "`render -o o.jpg`: bristle writes PNG only",
      render("b.json", "t.csv", "o.jpg"), 64,
