@@ -183,11 +183,56 @@ const char* batchJobKindName(BatchJobKind kind) {
   return "?";
 }
 
+namespace {
+
+// What a job renders and from which files. A preview names its brush in
+// "preview" and may take a trajectory (the brush deformed at --at); a stroke
+// is a brush with a trajectory.
+void readJobKind(const JsonObject& o, const std::string& path, const std::string& base_dir,
+                 BatchJob* job) {
+  const bool scene = o.has("scene"), sheet = o.has("sheet"), preview = o.has("preview");
+  const bool stroke = o.has("brush") || (o.has("trajectory") && !preview);
+  const int kinds = int(scene) + int(sheet) + int(stroke) + int(preview);
+  if (kinds == 0)
+    for (const char* key : {"scene", "sheet", "preview", "brush"}) o.rejectMisspellingOf(key);
+  if (kinds != 1)
+    o.fail(o.pointer(), "a job renders exactly one of: \"scene\", \"sheet\", \"preview\" "
+                        "(with an optional \"trajectory\"), or \"brush\" with \"trajectory\"");
+  const auto brushAt = [&](const std::string& key) {
+    const std::string brush = o.string(key);
+    return isBrushName(brush) ? findBrushByName(brush, path + ": " + o.childPointer(key))
+                              : resolve(base_dir, brush);
+  };
+  if (scene) {
+    job->kind = BatchJobKind::kScene;
+    job->input = resolve(base_dir, o.string("scene"));
+  } else if (sheet) {
+    job->kind = BatchJobKind::kSheet;
+    job->input = resolve(base_dir, o.string("sheet"));
+  } else if (preview) {
+    job->kind = BatchJobKind::kPreview;
+    job->brush = brushAt("preview");
+    if (o.has("trajectory")) job->trajectory = resolve(base_dir, o.string("trajectory"));
+  } else {
+    job->kind = BatchJobKind::kStroke;
+    // A misspelt "preview" beside its "trajectory" reads as a stroke here.
+    for (const char* key : {"brush", "trajectory", "preview"})
+      if (!o.has(key)) o.rejectMisspellingOf(key);
+    if (!o.has("brush") || !o.has("trajectory"))
+      o.fail(o.pointer(), "a stroke job needs both \"brush\" and \"trajectory\"");
+    job->brush = brushAt("brush");
+    job->trajectory = resolve(base_dir, o.string("trajectory"));
+  }
+}
+
+}  // namespace
+
 BatchManifest parseBatchManifest(const std::string& text, const std::string& path,
                                  const std::string& base_dir) {
   const nlohmann::json doc = parseJsonText(text, path);
   if (!doc.is_object()) throw dataError(path, "/", "a batch manifest is a JSON object");
   JsonObject root(doc, "", path);
+  root.declareKeys({"format", "defaults", "jobs"});
   const std::string format = root.string("format");
   root.require(format == kBatchFormat, "format", std::string("must be \"") + kBatchFormat + "\"");
 
@@ -195,6 +240,7 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
   std::map<std::string, std::string> default_pointers;
   if (root.has("defaults")) {
     const JsonObject d = root.object("defaults");
+    d.declareKeys({"options"});
     if (d.has("options")) {
       checkOptions(d, "options", d.raw("options"));
       mergeOptions(d.raw("options"), d.childPointer("options"), &defaults, &default_pointers);
@@ -211,40 +257,12 @@ BatchManifest parseBatchManifest(const std::string& text, const std::string& pat
   std::map<std::string, std::string> ids, outputs;  // value -> pointer of first use
   for (size_t i = 0; i < jobs.size(); ++i) {
     const JsonObject& o = jobs[i];
+    o.declareKeys({"scene", "sheet", "preview", "brush", "trajectory", "id", "output", "options"});
     BatchJob job;
     job.index = static_cast<int>(i);
     job.pointer = o.pointer();
 
-    // A preview names its brush in "preview" and may take a trajectory (the
-    // brush deformed at --at); a stroke is a brush with a trajectory.
-    const bool scene = o.has("scene"), sheet = o.has("sheet"), preview = o.has("preview");
-    const bool stroke = o.has("brush") || (o.has("trajectory") && !preview);
-    if (int(scene) + int(sheet) + int(stroke) + int(preview) != 1)
-      o.fail(o.pointer(), "a job renders exactly one of: \"scene\", \"sheet\", \"preview\" "
-                          "(with an optional \"trajectory\"), or \"brush\" with \"trajectory\"");
-    const auto brushAt = [&](const std::string& key) {
-      const std::string brush = o.string(key);
-      return isBrushName(brush) ? findBrushByName(brush, path + ": " + o.childPointer(key))
-                                : resolve(base_dir, brush);
-    };
-    if (scene) {
-      job.kind = BatchJobKind::kScene;
-      job.input = resolve(base_dir, o.string("scene"));
-    } else if (sheet) {
-      job.kind = BatchJobKind::kSheet;
-      job.input = resolve(base_dir, o.string("sheet"));
-    } else if (preview) {
-      job.kind = BatchJobKind::kPreview;
-      job.brush = brushAt("preview");
-      if (o.has("trajectory")) job.trajectory = resolve(base_dir, o.string("trajectory"));
-    } else {
-      job.kind = BatchJobKind::kStroke;
-      if (!o.has("brush") || !o.has("trajectory"))
-        o.fail(o.pointer(), "a stroke job needs both \"brush\" and \"trajectory\"");
-      job.brush = brushAt("brush");
-      job.trajectory = resolve(base_dir, o.string("trajectory"));
-    }
-
+    readJobKind(o, path, base_dir, &job);
     job.id = o.string("id", "");
     job.output = o.string("output", "");
     if (job.id.empty() && job.output.empty())

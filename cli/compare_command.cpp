@@ -271,6 +271,7 @@ void addResultJson(const ImageComparison& c, std::int64_t pixels,
 }  // namespace
 
 int runCompare(const CompareArgs& args) {
+  checkPngOutputName("compare", "--diff", args.diff, false);
   const CompareTolerance tolerance = toleranceOf(args);
   checkCliFiles({{"--diff", args.diff}}, {{"a", args.a}, {"b", args.b}}, {}, {"a", "b"});
   render::PngFormat fa, fb;
@@ -353,7 +354,8 @@ Subcommand registerCompare(CLI::App& app) {
       "one px/mm; a PNG without the text is refused (65). See docs/golden-tests.md.");
   compare->add_option("a", cmp->a, "First PNG (the reference); - reads stdin")->required();
   compare->add_option("b", cmp->b, "Second PNG; - reads stdin")->required();
-  compare->add_option("--diff", cmp->diff, "Write the amplified difference image (PNG)");
+  compare->add_option("--diff", cmp->diff,
+                      "Write the amplified difference image (PNG only: .jpg ... are refused)");
   compare->add_option("--align", cmp->align,
                       "canvas: compare two renders where their canvases overlap, by the "
                       "bristle:canvas text each PNG carries")

@@ -19,12 +19,15 @@ std::string resolve(const std::string& base_dir, const std::string& p) {
 
 // One golden of /goldens, by the rules of scripts/golden.py's load_manifest.
 Golden readGolden(const JsonObject& o, const std::string& base_dir) {
+  o.declareKeys({"name", "scene", "brush", "trajectory", "options", "tolerance"});
   Golden g;
   g.pointer = o.pointer();
   g.name = o.string("name");
   static const std::regex kName("[a-z0-9][a-z0-9-]*");
   o.require(std::regex_match(g.name, kName), "name",
             "must be lower-case letters, digits and '-', starting with a letter or digit");
+  for (const char* key : {"scene", "brush", "trajectory"})  // "brsh": say so, not "needs"
+    if (!o.has(key)) o.rejectMisspellingOf(key);
   const bool scene = o.has("scene");
   if (scene == (o.has("brush") || o.has("trajectory")))
     o.fail(g.pointer, "needs either \"scene\" or both \"brush\" and \"trajectory\"");
@@ -62,6 +65,7 @@ Golden readGolden(const JsonObject& o, const std::string& base_dir) {
 GoldenManifest loadGoldenManifest(const std::string& path) {
   const nlohmann::json doc = parseJsonText(readTextFile(path), path);
   const JsonObject root(doc, "", path);
+  root.declareKeys({"format", "description", "goldens"});
   root.require(root.string("format") == kGoldenFormat, "format",
                std::string("must be \"") + kGoldenFormat + "\"");
   root.string("description", "");

@@ -3,6 +3,7 @@
 #include "cli/commands.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 
@@ -125,6 +126,23 @@ void checkCliFiles(const std::vector<NamedFile>& outputs, const std::vector<Name
 
 void checkCanCreateArg(const std::string& path) {
   if (!isStdio(path)) checkCanCreate(path);
+}
+
+void checkPngOutputName(const std::string& command, const std::string& option,
+                        const std::string& path, bool stdout_ok) {
+  // Raster and vector image formats a user may expect an image tool to write.
+  static const char* const kOtherImages[] = {
+      ".jpg", ".jpeg", ".jpe", ".jfif", ".gif", ".bmp",  ".dib",  ".tif", ".tiff",
+      ".webp", ".exr", ".hdr", ".svg",  ".svgz", ".ppm", ".pgm",  ".pbm", ".pnm",
+      ".tga", ".ico",  ".heic", ".heif", ".avif", ".jxl", ".jp2",  ".psd", ".pdf", ".eps"};
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* other : kOtherImages)
+    if (ext == other)
+      throw Error(ExitCode::kUsage, command + ": " + option + " " + path +
+                                        ": bristle writes PNG only; use a .png name" +
+                                        (stdout_ok ? " (or - for standard output)" : ""));
 }
 
 }  // namespace bristle::cli

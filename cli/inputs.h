@@ -57,4 +57,12 @@ void checkCliFiles(const std::vector<NamedFile>& outputs, const std::vector<Name
 // checkCanCreate (engine/atomic_output.h) for a file; nothing for "-".
 void checkCanCreateArg(const std::string& path);
 
+// Refuses (kUsage) a PNG output named with another image format's extension
+// (x.jpg, x.tiff, x.webp, ...; any case): bristle writes PNG only, and a PNG
+// under such a name is a file other programs misread. A name with no
+// extension or any other one is written as given. `stdout_ok`: the option
+// takes "-", which the message then offers.
+void checkPngOutputName(const std::string& command, const std::string& option,
+                        const std::string& path, bool stdout_ok);
+
 }  // namespace bristle::cli

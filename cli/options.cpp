@@ -95,7 +95,9 @@ CLI::Option* addPxPerMm(CLI::App* app, double& px_per_mm, const std::string& hel
 }
 
 void addPngOutput(CLI::App* app, std::string& output) {
-  app->add_option("-o,--output", output, "Output PNG; - writes it to stdout")->required();
+  app->add_option("-o,--output", output,
+                  "Output PNG (PNG only: .jpg, .tif ... are refused); - writes it to stdout")
+      ->required();
 }
 
 void addBatchKey(CLI::App* app, std::string& key) {

@@ -13,11 +13,13 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/inputs.h"
+#include "cli/run_stats.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
+#include "engine/input_warnings.h"
 #include "engine/simulation.h"
 #include "engine/trajectory.h"
 #include "render/png_io.h"
@@ -28,11 +30,14 @@
 namespace bristle::cli {
 
 int runPreview(const PreviewArgs& args) {
+  checkPngOutputName("preview", "-o", args.output, true);
   const std::string brush_file = findBrushFile(args.brush, "");
   checkCliFiles({{"-o", args.output}}, {{"brush", brush_file}, {"--trajectory", args.trajectory}},
                 {"-o"}, {"--trajectory"});
   const Brush brush = loadBrush(brush_file);
   BrushGeometry geometry(brush);
+  std::vector<std::string> warnings;
+  if (std::string w = brushScaleWarning(brush); !w.empty()) warnings.push_back(std::move(w));
   // The simulation of `bristle render --brush --trajectory` with its defaults and
   // the same --px-per-mm, stepped as that render steps.
   render::StrokeOptions options;
@@ -62,6 +67,7 @@ int runPreview(const PreviewArgs& args) {
     st = render::strokeStateAt(brush, &traj, options, args.at_s);
   }
   const double t_s = st.t_s;
+  warnings = printWarnings(std::move(warnings));
 
   render::PreviewScene scene;
   geometry.buildSurface(st, &scene.surface);
@@ -93,7 +99,7 @@ int runPreview(const PreviewArgs& args) {
   opt.height_px = args.height_px;
   const render::Image8 image = render::renderPreview(scene, opt);
   render::PngText text = {{"Software", "bristle preview"}, {"bristle:brush", brush.name}};
-  for (auto& entry : batchPngText(args.batch_key, {})) text.push_back(std::move(entry));
+  for (auto& entry : batchPngText(args.batch_key, warnings)) text.push_back(std::move(entry));
   render::writePng(args.output, image, text);
   if (!args.quiet && !isStdio(args.output)) std::cout << args.output << "\n";
   return 0;

@@ -12,12 +12,15 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/inputs.h"
+#include "cli/run_stats.h"
 #include "cli/session_render.h"
 #include "cli/stroke_png.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
+#include "engine/input_warnings.h"
+#include "engine/simulation.h"
 #include "engine/temp_files.h"
 #include "engine/trajectory.h"
 #include "haptics/hdapi.h"
@@ -33,9 +36,11 @@ std::atomic<bool> g_interrupt{false};
 extern "C" void onSignal(int) { g_interrupt.store(true); }
 
 // Renders a session: the same function for record --png and replay, so both
-// give the same pixels.
+// give the same pixels. `warn_inputs`: tell what looks like a mistake in the
+// brush and the session (replay; record told it of the brush and the played
+// trajectory before it began).
 void renderSession(const Brush& brush, haptics::Session session, const std::string& session_path,
-                   const StrokePngOptions& png, const std::string& output) {
+                   const StrokePngOptions& png, const std::string& output, bool warn_inputs) {
   for (const std::string& w : session.warnings) printError("warning: " + w);
   // A session written by hand may give depths past first contact, as any
   // trajectory may.
@@ -51,6 +56,8 @@ void renderSession(const Brush& brush, haptics::Session session, const std::stri
     smp.erase(smp.begin(), smp.begin() + static_cast<long>(first));
   }
   validateTrajectoryForBrush(session.trajectory, brush);
+  if (warn_inputs)
+    printWarnings(strokeInputWarnings(brush, session.trajectory, strokeOptions(png).sim));
   renderStrokePng(brush, session.trajectory, png, output);
 }
 
@@ -65,8 +72,12 @@ std::unique_ptr<haptics::Device> openDevice(const RecordArgs& args, const Brush&
     // replay could render.
     Trajectory played = resolveDepths(loadTrajectoryArg(args.trajectory, brush), brush);
     validateTrajectoryForBrush(played, brush);
-    planStepTimes(played, brush, SimOptions{});
-    return std::make_unique<haptics::NoneDevice>(std::move(played));
+    const double steps = plannedStepCount(played, brush, SimOptions{});
+    // Played in real time: a trajectory in milliseconds would record for hours.
+    const std::string w = trajectoryWarning(played, steps, &brush, SimOptions{});
+    auto device = std::make_unique<haptics::NoneDevice>(std::move(played));
+    if (!w.empty()) printWarnings({w});
+    return device;
   };
   if (args.device == "none") return none();
   const std::string lib = haptics::hd::hdLibraryPath();
@@ -169,6 +180,7 @@ std::string brushOfSession(const haptics::Session& session, const std::string& s
 }  // namespace
 
 int runRecord(const RecordArgs& args) {
+  checkPngOutputName("record", "--png", args.png, true);
   const std::string brush_file = findBrushFile(args.brush, "--brush");
   const StrokePngOptions png = sessionPngOptions(args, brush_file, args.output);
   sessionRenderHeader(args);  // refused before the session starts, as the options above
@@ -184,6 +196,8 @@ int runRecord(const RecordArgs& args) {
   if (!args.png.empty()) checkCanCreateArg(args.png);
 
   std::unique_ptr<haptics::Device> device = openDevice(args, brush);
+  // Once the device (and the trajectory it plays) passed every check.
+  if (const std::string w = brushScaleWarning(brush); !w.empty()) printWarnings({w});
 
   haptics::SessionHeader header;
   header.device_model = device->model();
@@ -227,7 +241,8 @@ int runRecord(const RecordArgs& args) {
                     " holds it up to the error");
   }
   if (!args.png.empty()) {
-    renderSession(brush, haptics::loadSession(args.output, hash), args.output, png, args.png);
+    renderSession(brush, haptics::loadSession(args.output, hash), args.output, png, args.png,
+                  false);
     if (!args.quiet && !isStdio(args.png)) std::cout << args.png << "\n";
   }
   // With --png -, stdout holds the PNG alone.
@@ -236,6 +251,7 @@ int runRecord(const RecordArgs& args) {
 }
 
 int runReplay(const ReplayArgs& args) {
+  checkPngOutputName("replay", "-o", args.output, true);
   checkCliFiles({{"-o", args.output}}, {{"session", args.session}}, {"-o"}, {});
   // The brush: --brush, whose hash differing from the recorded one is a
   // warning (the user chose it); else the session's own, which must be the
@@ -269,7 +285,7 @@ int runReplay(const ReplayArgs& args) {
                 {"-o"}, {});
   const Brush brush = loadBrush(brush_file);
   checkCanCreateArg(args.output);
-  renderSession(brush, std::move(session), args.session, png, args.output);
+  renderSession(brush, std::move(session), args.session, png, args.output, true);
   if (!args.quiet && !isStdio(args.output)) std::cout << args.output << "\n";
   return 0;
 }
@@ -300,7 +316,8 @@ Subcommand registerRecord(CLI::App& app) {
                      "reads stdin)");
   record->add_option("--forces", rec->forces, "Write every servo tick's force (CSV, 1 kHz)");
   record->add_option("--png", rec->png,
-                     "Render the recorded stroke to this PNG at the end (- writes it to stdout)");
+                     "Render the recorded stroke to this PNG at the end (PNG only: .jpg ... are "
+                     "refused; - writes it to stdout)");
   record->add_option("--duration", rec->duration_s, "Stop after this many seconds (0: no limit)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 86400.0));

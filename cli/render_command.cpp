@@ -46,10 +46,13 @@ void warnFailedSolves(const SimStats& stats) {
 
 namespace {
 
-// The figures and warnings of a stroke (printed as they are found).
-RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_name) {
+// The figures and warnings of a stroke: those found before the run (already
+// printed), then the ones it brought (printed as they are found).
+RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_name,
+                     const std::vector<std::string>& before) {
   const render::StrokeResult& result = png_result.stroke;
   RunStats stats;
+  stats.warnings = before;
   stats.painted_pixels = png_result.ink_pixels;
   stats.pixels = png_result.pixels;
   stats.sim = result.stats;
@@ -79,6 +82,16 @@ StrokePngOptions strokePngOptionsOf(const RenderArgs& args) {
   return png;
 }
 
+// --offset-mm X Y Z (none when not given) moves every handle position.
+void applyOffset(const std::vector<double>& offset_mm, Trajectory* trajectory) {
+  if (offset_mm.size() != 3) return;
+  const Eigen::Vector3d offset(offset_mm[0], offset_mm[1], offset_mm[2]);
+  if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");
+  if (offset.cwiseAbs().maxCoeff() > kMaxPositionMm)
+    throw Error(ExitCode::kUsage, "--offset-mm: must be within +-100000 mm (the limit)");
+  for (TrajectorySample& s : trajectory->samples) s.pose.position_mm += offset;
+}
+
 }  // namespace
 
 void checkRenderOptions(const RenderArgs& args) {
@@ -87,6 +100,7 @@ void checkRenderOptions(const RenderArgs& args) {
 }
 
 int runRender(const RenderArgs& args) {
+  checkPngOutputName("render", "-o", args.output, true);
   if (!args.scene.empty()) return runRenderScene(args);
   if (args.brush.empty() || args.trajectory.empty())
     throw Error(ExitCode::kUsage,
@@ -106,15 +120,11 @@ int runRender(const RenderArgs& args) {
   // Depths past first contact become this brush's ferrule heights before any
   // offset moves the handle.
   Trajectory trajectory = resolveDepths(loadTrajectoryArg(args.trajectory, brush), brush);
-  if (args.offset_mm.size() == 3) {
-    const Eigen::Vector3d offset(args.offset_mm[0], args.offset_mm[1], args.offset_mm[2]);
-    if (!offset.allFinite()) throw Error(ExitCode::kUsage, "--offset-mm: must be finite");
-    if (offset.cwiseAbs().maxCoeff() > kMaxPositionMm)
-      throw Error(ExitCode::kUsage, "--offset-mm: must be within +-100000 mm (the limit)");
-    for (TrajectorySample& s : trajectory.samples) s.pose.position_mm += offset;
-  }
+  applyOffset(args.offset_mm, &trajectory);
   validateTrajectoryForBrush(trajectory, brush);
   render::canvasForStroke(brush, trajectory, strokeOptions(png));  // fails early if too large
+  std::vector<std::string> input_warnings =
+      strokeInputWarnings(brush, trajectory, strokeOptions(png).sim);
 
   // Fail before the long run if an output cannot be created; each output is
   // written to a temporary file and renamed only when everything succeeded.
@@ -127,6 +137,8 @@ int runRender(const RenderArgs& args) {
     forces->stream() << "t_s,fx_n,fy_n,fz_n\n";
     forces->stream().precision(9);
   }
+  // Every check passed: what looks like a mistake is told before the long run.
+  input_warnings = printWarnings(std::move(input_warnings));
 
   PartProgress progress(!args.quiet, nullptr);
   long planned_steps = 0;
@@ -152,7 +164,7 @@ int runRender(const RenderArgs& args) {
   // PNG carries them with its key.
   const StrokePngResult png_result =
       renderStrokePng(brush, trajectory, png, args.output, on_step, [&](const StrokePngResult& r) {
-        stats = strokeStats(r, traj_name);
+        stats = strokeStats(r, traj_name, input_warnings);
         return batchPngText(args.batch_key, stats.warnings);
       });
   const render::StrokeResult& result = png_result.stroke;

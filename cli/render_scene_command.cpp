@@ -92,11 +92,11 @@ int runRenderScene(const RenderArgs& args) {
   }
   checkCliFiles({{"-o", args.output}, {"--trace", args.trace}, {"--stats", args.stats}}, inputs,
                 {"-o"}, {});
-  const std::vector<std::string> warnings = sceneWarnings(scene);
-  for (const std::string& w : warnings) printError("warning: " + w);
+  std::vector<std::string> warnings = sceneWarnings(scene);
 
   checkCanCreateArg(args.output);
   if (!args.stats.empty()) checkCanCreate(args.stats);
+  warnings = printWarnings(std::move(warnings));
   std::unique_ptr<AtomicOutput> trace;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
 

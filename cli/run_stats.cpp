@@ -4,12 +4,28 @@
 
 #include "cli/commands.h"
 #include "engine/atomic_output.h"
+#include "engine/input_warnings.h"
 
 namespace bristle::cli {
 
 void RunStats::warn(const std::string& w) {
   printError("warning: " + w);
   warnings.push_back(w);
+}
+
+std::vector<std::string> printWarnings(std::vector<std::string> warnings) {
+  for (const std::string& w : warnings) printError("warning: " + w);
+  return warnings;
+}
+
+std::vector<std::string> strokeInputWarnings(const Brush& brush, const Trajectory& trajectory,
+                                             const SimOptions& options) {
+  const double steps = plannedStepCount(trajectory, brush, options);
+  std::vector<std::string> out;
+  for (std::string w : {brushScaleWarning(brush), trajectoryWarning(trajectory, steps, &brush,
+                                                                    options)})
+    if (!w.empty()) out.push_back(std::move(w));
+  return out;
 }
 
 std::string failedSolvesWarning(const SimStats& stats) {

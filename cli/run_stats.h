@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/brush.h"
 #include "engine/simulation.h"
+#include "engine/trajectory.h"
 
 namespace bristle::cli {
 
@@ -21,6 +23,18 @@ struct RunStats {
   // Prints "bristle: warning: W" on stderr and keeps W.
   void warn(const std::string& w);
 };
+
+// Prints each warning as "bristle: warning: W" and returns them, for the
+// run's stats and its PNG text.
+std::vector<std::string> printWarnings(std::vector<std::string> warnings);
+
+// The warnings about a single stroke's inputs (engine/input_warnings.h): the
+// brush's scale, the trajectory's length and its steps planned with
+// `options`, which throws as the render would at a step limit. Not printed:
+// a command prints them once every check before its run has passed, so that
+// a refusal stays its one line.
+std::vector<std::string> strokeInputWarnings(const Brush& brush, const Trajectory& trajectory,
+                                             const SimOptions& options);
 
 // The warning about steps whose solve failed ("" when none did).
 std::string failedSolvesWarning(const SimStats& stats);

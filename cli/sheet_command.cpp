@@ -33,10 +33,13 @@ std::string fmt(double v) {
   return buf;
 }
 
-// The sheet's warnings (printed as they are found): cells without paint or
-// larger than their cell, failed solves.
-std::vector<std::string> sheetWarnings(const Sheet& sheet, const render::SheetImage& result) {
+// The sheet's warnings: those about its inputs, found and printed before the
+// run, then (printed as they are found) cells without paint or larger than
+// their cell, failed solves.
+std::vector<std::string> sheetWarnings(const Sheet& sheet, const render::SheetImage& result,
+                                       const std::vector<std::string>& before) {
   RunStats stats;
+  stats.warnings = before;  // printed before the run
   for (const render::SheetCell& c : result.cells) {
     const std::string where = sheet.path + ": brush '" + sheet.brushLabel(c.brush) +
                               "' on trajectory '" + sheet.trajectoryLabel(c.trajectory) + "'";
@@ -54,6 +57,7 @@ std::vector<std::string> sheetWarnings(const Sheet& sheet, const render::SheetIm
 }  // namespace
 
 int runSheet(const SheetArgs& args) {
+  checkPngOutputName("sheet", "-o", args.output, true);
   checkCliFiles({{"-o", args.output}}, {{"sheet", args.sheet}}, {"-o"}, {});
   Sheet sheet = loadSheet(args.sheet);
   std::vector<NamedFile> inputs;
@@ -66,7 +70,9 @@ int runSheet(const SheetArgs& args) {
   // Command-line overrides of the sheet's own settings (a quick, coarse proof).
   if (args.px_per_mm > 0) sheet.px_per_mm = args.px_per_mm;
   if (args.solver) sheet.solver = *args.solver;
+  const std::vector<std::string> input_warnings = sheetInputWarnings(sheet);
   checkCanCreateArg(args.output);
+  printWarnings(input_warnings);
 
   PartProgress progress(!args.quiet, "cell");
   render::SheetRenderOptions options;
@@ -88,7 +94,7 @@ int runSheet(const SheetArgs& args) {
                       ", cells " + fmt(result.cell_width_mm) + " x " +
                       fmt(result.cell_height_mm) + " mm at " + fmt(sheet.px_per_mm) + " px/mm"});
   // Before the write, so that a batch job's PNG carries them with its key.
-  const std::vector<std::string> warnings = sheetWarnings(sheet, result);
+  const std::vector<std::string> warnings = sheetWarnings(sheet, result, input_warnings);
   for (auto& entry : batchPngText(args.batch_key, warnings)) text.push_back(std::move(entry));
   render::writePng(args.output, result.image, text);
   if (!args.quiet) {

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -18,10 +19,12 @@
 #include "cli/golden_manifest.h"
 #include "cli/inputs.h"
 #include "cli/options.h"
+#include "cli/run_stats.h"
 #include "engine/brush.h"
 #include "engine/brush_geometry.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
+#include "engine/input_warnings.h"
 #include "engine/json_reader.h"
 #include "engine/scene.h"
 #include "engine/sheet.h"
@@ -101,7 +104,7 @@ Scene checkedScene(const std::string& f) {
 
 void validateScene(const std::string& f) {
   const Scene scene = checkedScene(f);
-  for (const std::string& w : sceneWarnings(scene)) printError("warning: " + w);
+  printWarnings(sceneWarnings(scene));
   const SceneCanvas& c = scene.canvas;
   std::cout << f << ": ok (scene '" << scene.name << "', " << counted(scene.strokes.size(), "stroke")
             << ", " << counted(scene.brushes.size(), "brush", "brushes") << ", " << c.width_mm
@@ -113,6 +116,7 @@ void validateScene(const std::string& f) {
 void validateSheet(const std::string& f) {
   const Sheet sheet = loadSheet(f);
   for (const Brush& b : sheet.brushes) const BrushGeometry geometry(b);
+  printWarnings(sheetInputWarnings(sheet));
   const size_t nb = sheet.brushes.size(), nt = sheet.trajectories.size();
   std::cout << f << ": ok (sheet '" << sheet.name << "', " << nb
             << (nb == 1 ? " brush x " : " brushes x ") << nt
@@ -225,9 +229,15 @@ int validateGolden(const std::string& f) {
   return 0;
 }
 
+// A brush's or a trajectory's own warning (engine/input_warnings.h), by the
+// file as a pair names it: told once the pairs are known, and not for a file
+// whose pair is refused, so that a refusal stays its one line.
+using FileWarnings = std::vector<std::pair<std::string, std::string>>;
+
 // A brush given alone: every problem of the file at once, one line each.
 int validateBrush(const std::string& arg, const std::string& f,
-                  std::vector<std::pair<std::string, Brush>>* brushes) {
+                  std::vector<std::pair<std::string, Brush>>* brushes,
+                  FileWarnings* file_warnings) {
   const std::vector<std::string> problems = checkBrush(f);
   for (const std::string& p : problems) printError(p);
   if (!problems.empty()) return static_cast<int>(ExitCode::kDataError);
@@ -237,27 +247,57 @@ int validateBrush(const std::string& arg, const std::string& f,
             << (b.strips.present() ? ", " + std::to_string(b.strips.count) + " strips" : "")
             << ")\n";
   brushes->emplace_back(arg, b);
+  file_warnings->emplace_back(arg, brushScaleWarning(b));
   return 0;
 }
 
-// Each brush with each trajectory: the checks `render` makes before its run
-// (validateTrajectoryForBrush: the same function, so the same message and
-// exit code), and a warning when the brush never comes within reach of the
-// paper (render's image would be blank).
+// The checks `render` makes of a brush with a trajectory before its run
+// (validateTrajectoryForBrush and the step limits: the same functions, so the
+// same messages and exit codes, with render's default options): the
+// trajectory for the brush, and its planned steps in *steps.
+Trajectory checkPair(const Trajectory& given, const Brush& brush, double* steps) {
+  Trajectory t = resolveDepths(given, brush);
+  validateTrajectoryForBrush(t, brush);
+  *steps = plannedStepCount(t, brush, SimOptions{});
+  return t;
+}
+
+// The files (a brush as given, a trajectory's path) of the pairs checkPair refuses.
+std::set<std::string> refusedFiles(const std::vector<std::pair<std::string, Brush>>& brushes,
+                                   const std::vector<Trajectory>& trajectories) {
+  std::set<std::string> refused;
+  double steps = 0;
+  for (const auto& [path, brush] : brushes)
+    for (const Trajectory& given : trajectories) try {
+        checkPair(given, brush, &steps);
+      } catch (const Error&) {
+        refused.insert(path);
+        refused.insert(given.path);
+      }
+  return refused;
+}
+
+// Each brush with each trajectory: checkPair, a warning when the brush never
+// comes within reach of the paper (render's image would be blank), and one
+// when the pair plans over a million steps (a trajectory over ten minutes is
+// named on its own).
 int validatePairs(const std::vector<std::pair<std::string, Brush>>& brushes,
                   const std::vector<Trajectory>& trajectories) {
   int code = 0;
   for (const auto& [path, brush] : brushes)
     for (const Trajectory& given : trajectories) {
       Trajectory t;
+      double steps = 0;
       try {
-        t = resolveDepths(given, brush);
-        validateTrajectoryForBrush(t, brush);
+        t = checkPair(given, brush, &steps);
       } catch (const Error& e) {
         printError(e.what());
         if (code == 0) code = static_cast<int>(e.code());
         continue;
       }
+      if (t.endTime() - t.startTime() <= kLongTrajectoryS)
+        if (const std::string w = trajectoryWarning(t, steps, &brush, SimOptions{}); !w.empty())
+          printWarnings({w});
       const bool reaches = t.comesWithinReach(brush.reachMm());
       if (!reaches)
         printError("warning: " + t.path + ": the brush '" + brush.name +
@@ -274,6 +314,7 @@ int runValidate(const std::vector<std::string>& files) {
   int code = 0;
   std::vector<std::pair<std::string, Brush>> brushes;
   std::vector<Trajectory> trajectories;
+  FileWarnings file_warnings;
   for (const std::string& arg : files) {
     try {
       const bool csv = arg.size() >= 4 && arg.compare(arg.size() - 4, 4, ".csv") == 0;
@@ -283,12 +324,13 @@ int runValidate(const std::vector<std::string>& files) {
       switch (kind) {
         case FileKind::kTrajectory: {
           Trajectory t = loadTrajectory(f);
+          file_warnings.emplace_back(f, trajectoryWarning(t, 0, nullptr, {}));
           std::cout << f << ": ok (trajectory, " << t.samples.size() << " samples, "
                     << t.endTime() - t.startTime() << " s)\n";
           trajectories.push_back(std::move(t));
           break;
         }
-        case FileKind::kBrush: file_code = validateBrush(arg, f, &brushes); break;
+        case FileKind::kBrush: file_code = validateBrush(arg, f, &brushes, &file_warnings); break;
         case FileKind::kScene: validateScene(f); break;
         case FileKind::kSheet: validateSheet(f); break;
         case FileKind::kBatch: file_code = validateBatch(f); break;
@@ -300,8 +342,12 @@ int runValidate(const std::vector<std::string>& files) {
       if (code == 0) code = static_cast<int>(e.code());
     }
   }
-  if (code == 0 && !brushes.empty() && !trajectories.empty())
-    code = validatePairs(brushes, trajectories);
+  const bool pairs = code == 0 && !brushes.empty() && !trajectories.empty();
+  const std::set<std::string> refused =
+      pairs ? refusedFiles(brushes, trajectories) : std::set<std::string>();
+  for (const auto& [file, w] : file_warnings)
+    if (!w.empty() && !refused.count(file)) printWarnings({w});
+  if (pairs) code = validatePairs(brushes, trajectories);
   return code;
 }
 
@@ -323,7 +369,9 @@ Subcommand registerValidate(CLI::App& app) {
       "its command takes them) or a golden manifest (each golden's files and options).\n"
       "Brushes and trajectories given together are then checked in pairs as render checks\n"
       "them before its run (the same messages): a brush that starts below the paper is\n"
-      "exit 65, one that never comes within reach of it a warning. Exit: the first error's.");
+      "exit 65, one that never comes within reach of it a warning. So are a trajectory\n"
+      "over 10 minutes or a million steps and a brush whose spines and surface differ\n"
+      "tenfold in size (docs/errors.md, Warnings). Exit: the first error's.");
   validate->add_option("files", *files, "Files to check; a library brush by its name (round)")
       ->required();
   return {validate, [files] { return runValidate(*files); }};

@@ -38,6 +38,8 @@ std::vector<double> positiveArray(const JsonObject& o, const std::string& key, s
 }
 
 SpineSpec parseSpine(const JsonObject& o) {
+  o.declareKeys({"root_mm", "segment_lengths_mm", "stiffness_nmm_per_rad", "damping_nmm",
+                 "width_mm", "thickness_mm", "rest_angles_rad"});
   SpineSpec s;
   const std::vector<double> root = o.numbers("root_mm");
   o.require(root.size() == 3, "root_mm", "must be [x, y, z]");
@@ -92,6 +94,7 @@ SpineSpec parseSpine(const JsonObject& o) {
 }
 
 void parseSurface(const JsonObject& o, const std::vector<SpineSpec>& spines, SurfaceSpec* out) {
+  o.declareKeys({"cage_vertices_mm", "faces", "skin", "refinement_level"});
   SurfaceSpec& sf = *out;
   const nlohmann::json& verts = o.raw("cage_vertices_mm");
   const std::string vp = o.childPointer("cage_vertices_mm");
@@ -170,6 +173,8 @@ void parseSurface(const JsonObject& o, const std::vector<SpineSpec>& spines, Sur
 }
 
 void parseStrips(const JsonObject& o, StripSpec* out) {
+  o.declareKeys({"count", "root_width_mm", "tip_width_mm", "seed", "placement", "length_jitter",
+                 "clumps", "clumping"});
   StripSpec& st = *out;
   st.count = o.integer("count");
   o.require(st.count >= 1 && st.count <= kMaxStrips, "count",
@@ -197,6 +202,7 @@ void parseStrips(const JsonObject& o, StripSpec* out) {
 }
 
 void parseFriction(const JsonObject& f, FrictionSpec* out) {
+  f.declareKeys({"mu_static", "mu_kinetic", "anisotropy"});
   FrictionSpec& fr = *out;
   fr.mu_static = f.number("mu_static");
   f.require(fr.mu_static >= 0 && fr.mu_static <= kMaxFriction, "mu_static", "must be in [0, 2]");
@@ -206,6 +212,7 @@ void parseFriction(const JsonObject& f, FrictionSpec* out) {
   f.require(fr.mu_kinetic <= fr.mu_static, "mu_kinetic", "must not exceed mu_static");
   if (f.has("anisotropy")) {
     const JsonObject a = f.object("anisotropy");
+    a.declareKeys({"strength", "exponent"});
     fr.anisotropy_strength = a.number("strength");
     a.require(fr.anisotropy_strength >= 0 && fr.anisotropy_strength <= 1, "strength",
               "must be in [0, 1] (C_eta, paper eq. 14)");
@@ -228,6 +235,8 @@ void requireRootSpread(const JsonObject& top, const std::vector<SpineSpec>& spin
 }
 
 void parseVolume(const JsonObject& v, VolumeSpec* out) {
+  v.declareKeys({"min_separation", "stiffness_n_per_mm", "max_separation", "cohesion_n_per_mm",
+                 "tip_spread"});
   VolumeSpec& vol = *out;
   vol.min_separation = v.number("min_separation");
   v.require(vol.min_separation > 0 && vol.min_separation < 1, "min_separation",
@@ -270,6 +279,8 @@ Brush parseBrush(const std::string& text, const std::string& path,
                  std::vector<std::string>* problems) {
   const nlohmann::json doc = parseJsonText(text, path);
   const JsonObject top(doc, "", path);
+  top.declareKeys({"format", "name", "description", "spines", "friction", "surface", "strips",
+                   "volume", "solver", "paint"});
   Brush b;
   b.path = path;
   // With `problems`, each independent part (the header, every spine, each
@@ -322,6 +333,7 @@ Brush parseBrush(const std::string& text, const std::string& path,
   if (top.has("volume")) part([&] { parseVolume(top.object("volume"), &b.volume); });
   if (top.has("solver")) part([&] {
     const JsonObject h = top.object("solver");
+    h.declareKeys({"friction_form"});
     b.solver.friction_form = h.string("friction_form", "");
     const std::string& f = b.solver.friction_form;
     h.require(f.empty() || parseFrictionForm(f).has_value(), "friction_form",
@@ -330,6 +342,7 @@ Brush parseBrush(const std::string& text, const std::string& path,
   });
   if (top.has("paint")) part([&] {
     const JsonObject p = top.object("paint");
+    p.declareKeys({"capacity"});
     b.paint_capacity = p.number("capacity", 1.0);
     p.require(b.paint_capacity > 0, "capacity", "must be > 0");
     p.rejectUnknownKeys();

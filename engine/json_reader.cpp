@@ -1,8 +1,11 @@
 #include "engine/json_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
+#include "engine/spelling.h"
 #include "engine/text_file.h"
 
 namespace bristle {
@@ -164,16 +167,33 @@ std::string JsonObject::childPointer(const std::string& key) const {
   return pointer_ + "/" + escapePointerToken(key);
 }
 
-bool JsonObject::has(const std::string& key) const { return node_.contains(key); }
+void JsonObject::declareKeys(std::initializer_list<const char*> keys) const {
+  for (const char* k : keys) declared_.emplace_back(k);
+}
+
+void JsonObject::checkDeclared(const std::string& key) const {
+  if (!declared_.empty() && std::find(declared_.begin(), declared_.end(), key) == declared_.end())
+    throw std::logic_error(file_ + ": " + childPointer(key) +
+                           ": the reader asks for a key it did not declare");
+}
+
+bool JsonObject::has(const std::string& key) const {
+  checkDeclared(key);
+  return node_.contains(key);
+}
 
 void JsonObject::fail(const std::string& pointer, const std::string& rule) const {
   throw dataError(file_, pointer, rule);
 }
 
 const nlohmann::json& JsonObject::get(const std::string& key) const {
+  checkDeclared(key);
   used_.insert(key);
   auto it = node_.find(key);
-  if (it == node_.end()) fail(childPointer(key), "required key is missing");
+  if (it == node_.end()) {
+    rejectMisspellingOf(key);
+    fail(childPointer(key), "required key is missing");
+  }
   return *it;
 }
 
@@ -255,10 +275,48 @@ void JsonObject::requireAt(bool ok, const std::string& pointer, const nlohmann::
   if (!ok) fail(pointer + " = " + shortDump(value), rule);
 }
 
+std::string JsonObject::unknownKeyRule(const std::string& key, const std::string& meant) const {
+  return "unknown key '" + printable(key) + "'" +
+         (meant.empty() ? std::string() : "; did you mean " + childPointer(meant) + "?");
+}
+
 void JsonObject::rejectUnknownKeys() const {
-  for (auto it = node_.begin(); it != node_.end(); ++it)
-    if (!used_.count(it.key()))
-      fail(childPointer(it.key()), "unknown key '" + printable(it.key()) + "'");
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    if (used_.count(it.key())) continue;
+    // A key that is present is no misspelling of it ("Name" beside "name").
+    std::vector<std::string> absent;
+    if (declared_.empty()) {
+      for (const std::string& k : used_) absent.push_back(k);
+    } else {
+      absent = declared_;
+    }
+    absent.erase(std::remove_if(absent.begin(), absent.end(),
+                                [this](const std::string& k) { return node_.contains(k); }),
+                 absent.end());
+    fail(childPointer(it.key()),
+         unknownKeyRule(it.key(), closestSpelling(it.key(), absent).value_or("")));
+  }
+}
+
+void JsonObject::rejectMisspellingOf(const std::string& key) const {
+  // Undeclared, a key not read yet may be a legitimate one: no guess.
+  if (declared_.empty()) return;
+  std::string typo;
+  int nearest = 0;
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    const std::string& k = it.key();
+    if (used_.count(k) || std::find(declared_.begin(), declared_.end(), k) != declared_.end() ||
+        !closestSpelling(k, {key}))
+      continue;
+    const int d = editDistance(k, key);
+    if (typo.empty() || d < nearest) {
+      typo = k;
+      nearest = d;
+    }
+  }
+  if (typo.empty()) return;
+  used_.insert(typo);  // reported here; a reader that goes on does not report it again
+  fail(childPointer(typo), unknownKeyRule(typo, key));
 }
 
 double checkedElement(const JsonObject& obj, const std::string& key, size_t index, double value,

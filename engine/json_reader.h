@@ -6,6 +6,7 @@
 // The readers' own header, shared with batch/ (the manifest reader) and not
 // installed: nlohmann-json stays out of the engine's installed API.
 
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -36,6 +37,14 @@ class JsonObject {
  public:
   JsonObject(const nlohmann::json& node, std::string pointer, std::string file);
 
+  // Every key the object may hold, declared by its reader before it reads any.
+  // They are what a misspelt key is matched against ("did you mean", at a
+  // required key that is missing and at an unknown key): a key not yet read
+  // may still be one of them, so without the list a legitimate key could be
+  // taken for a typo (min_separation is missing, max_separation is not).
+  // Asking for an undeclared key is a bug in the reader (std::logic_error).
+  void declareKeys(std::initializer_list<const char*> keys) const;
+
   bool has(const std::string& key) const;
   const std::string& pointer() const { return pointer_; }
   const std::string& file() const { return file_; }
@@ -57,17 +66,25 @@ class JsonObject {
   void require(bool ok, const std::string& key, const std::string& rule) const;
   void requireAt(bool ok, const std::string& pointer, const nlohmann::json& value,
                  const std::string& rule) const;
-  // Throws for the first key that no getter asked for.
+  // Throws for the first key that no getter asked for, suggesting the declared
+  // key it most likely misspells (engine/spelling.h).
   void rejectUnknownKeys() const;
+  // Throws for a present, undeclared key that misspells `key` (a required key
+  // that is missing): "/spnies: unknown key 'spnies'; did you mean /spines?".
+  // Nothing when there is none; the required getters call it themselves.
+  void rejectMisspellingOf(const std::string& key) const;
   [[noreturn]] void fail(const std::string& pointer, const std::string& rule) const;
 
  private:
   const nlohmann::json& get(const std::string& key) const;
+  void checkDeclared(const std::string& key) const;
+  std::string unknownKeyRule(const std::string& key, const std::string& meant) const;
 
   const nlohmann::json& node_;
   std::string pointer_;
   std::string file_;
   mutable std::set<std::string> used_;
+  mutable std::vector<std::string> declared_;  // in the reader's order
 };
 
 // Checks each element of a number array and names /pointer/index on failure.

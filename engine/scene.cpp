@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include "engine/brush_library.h"
 #include "engine/error.h"
 #include "engine/first_contact.h"
+#include "engine/input_warnings.h"
 #include "engine/json_reader.h"
 #include "engine/pigments.h"
 #include "engine/text_file.h"
@@ -67,6 +69,7 @@ void requireReadable(const std::string& scene, const std::string& pointer,
 }
 
 void parsePlacement(const JsonObject& o, Placement* out) {
+  o.declareKeys({"offset_mm", "rotate_deg"});
   if (o.has("offset_mm")) {
     const std::vector<double> off = o.numbers("offset_mm");
     o.require(off.size() == 2, "offset_mm", "must be [x, y] in mm");
@@ -82,6 +85,7 @@ void parsePlacement(const JsonObject& o, Placement* out) {
 }
 
 void parseCanvas(const JsonObject& c, SceneCanvas* out) {
+  c.declareKeys({"size_mm", "px_per_mm", "background", "paper"});
   SceneCanvas& cv = *out;
   const std::vector<double> size = c.numbers("size_mm");
   c.require(size.size() == 2, "size_mm", "must be [width, height] in mm");
@@ -116,6 +120,7 @@ void parseCanvas(const JsonObject& c, SceneCanvas* out) {
 Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
                      const std::string& base_dir) {
   const JsonObject top(root, "", path);
+  top.declareKeys({"format", "name", "description", "canvas", "sim", "mix", "solver", "strokes"});
   Scene scene;
   scene.path = path;
   const std::string format = top.string("format");
@@ -135,6 +140,7 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
   top.require(!strokes.empty() && strokes.size() <= static_cast<size_t>(kMaxSceneStrokes),
               "strokes", "must have 1.." + std::to_string(kMaxSceneStrokes) + " strokes");
   for (const JsonObject& s : strokes) {
+    s.declareKeys({"brush", "trajectory", "paint", "placement", "dry_before"});
     SceneStroke st;
     st.pointer = s.pointer();
     const std::string brush = s.string("brush");
@@ -157,6 +163,7 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
 }  // namespace
 
 void parsePaperTooth(const JsonObject& p, PaperSpec* out) {
+  p.declareKeys({"tooth_depth_mm", "tooth_scale_mm", "seed"});
   PaperSpec& paper = *out;
   paper.tooth_depth_mm = p.number("tooth_depth_mm", paper.tooth_depth_mm);
   p.require(paper.tooth_depth_mm >= 0 && paper.tooth_depth_mm <= kMaxToothDepthMm,
@@ -171,6 +178,7 @@ void parsePaperTooth(const JsonObject& p, PaperSpec* out) {
 }
 
 void parsePaintLoad(const JsonObject& p, PaintLoad* out) {
+  p.declareKeys({"mode", "paints", "amount", "tip_length", "dilution"});
   PaintLoad& load = *out;
   const std::string mode = p.string("mode", "solid");
   if (mode == "solid") {
@@ -217,6 +225,7 @@ void parsePaintLoad(const JsonObject& p, PaintLoad* out) {
 }
 
 void parseSimOptions(const JsonObject& s, SimOptions* sim) {
+  s.declareKeys({"rate_hz", "max_step_mm", "steady_step_mm"});
   sim->min_rate_hz = s.number("rate_hz", sim->min_rate_hz);
   s.require(sim->min_rate_hz >= kMinRateHz && sim->min_rate_hz <= kMaxRateHz, "rate_hz",
             "must be in [1, 10000] steps per second");
@@ -324,8 +333,17 @@ Scene loadScene(const std::string& path) {
 
 std::vector<std::string> sceneWarnings(const Scene& scene) {
   std::vector<std::string> out;
+  auto add = [&out](const std::string& w) {
+    if (!w.empty() && std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+  };
+  for (const Brush& b : scene.brushes) add(brushScaleWarning(b));
   const double w = scene.canvas.width_mm, h = scene.canvas.height_mm;
   for (const SceneStroke& st : scene.strokes) {
+    const Brush& brush = scene.brushes[st.brush];
+    // A trajectory shared by strokes is named once, unless its brushes plan
+    // different step counts.
+    add(trajectoryWarning(st.trajectory, plannedStepCount(st.trajectory, brush, scene.sim), &brush,
+                          scene.sim));
     // No hair reaches further from the ferrule than the brush's reach: a stroke
     // whose handle never comes that close to the canvas cannot touch it.
     if (!st.trajectory.comesWithinReach(scene.brushes[st.brush].reachMm(), w, h))

@@ -79,8 +79,11 @@ Scene loadScene(const std::string& path);
 Scene parseScene(const std::string& text, const std::string& path_for_messages,
                  const std::string& base_dir);
 
-// Strokes that cannot touch the canvas (warnings, one line each, naming the
-// stroke): the handle never comes within the brush's reach of the canvas.
+// What is legal but likely a mistake, one line each: a brush whose spines and
+// surface differ in scale, a stroke's trajectory that lasts over 10 minutes
+// or plans over a million steps (engine/input_warnings.h), a stroke that
+// cannot touch the canvas (the handle never comes within the brush's reach of
+// it). Planning the steps throws as the render would at a step limit.
 std::vector<std::string> sceneWarnings(const Scene& scene);
 
 // Whether a JSON text declares itself a scene ("format": "bristle-scene/...");

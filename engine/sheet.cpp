@@ -1,5 +1,6 @@
 #include "engine/sheet.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -9,6 +10,7 @@
 #include "engine/error.h"
 #include "engine/first_contact.h"
 #include "engine/fnv1a64.h"
+#include "engine/input_warnings.h"
 #include "engine/json_reader.h"
 #include "engine/scene.h"
 #include "engine/text_file.h"
@@ -39,6 +41,7 @@ std::vector<std::string> pathList(const JsonObject& top, const std::string& key,
     double lift = 0;
     if (lifts && list[i].is_object()) {
       const JsonObject entry(list[i], pi, top.file());
+      entry.declareKeys({"path", "lift_mm"});
       path = entry.string("path");
       lift = entry.number("lift_mm", 0.0);
       entry.require(std::fabs(lift) <= kMaxSheetLiftMm, "lift_mm",
@@ -67,6 +70,8 @@ std::vector<std::string> pathList(const JsonObject& top, const std::string& key,
 Sheet parseSheetOnly(const nlohmann::json& root, const std::string& path,
                      const std::string& base_dir) {
   const JsonObject top(root, "", path);
+  top.declareKeys({"format", "name", "title", "brushes", "trajectories", "layout", "px_per_mm",
+                   "cell_mm", "paint", "background", "paper", "mix", "sim", "solver", "labels"});
   Sheet sheet;
   sheet.path = path;
   const std::string format = top.string("format");
@@ -120,6 +125,7 @@ Sheet parseSheetOnly(const nlohmann::json& root, const std::string& path,
   sheet.solver = parseSolverField(top, sheet.solver);
   if (top.has("labels")) {
     const JsonObject labels = top.object("labels");
+    labels.declareKeys({"font_px"});
     sheet.label_px = labels.integer("font_px", sheet.label_px);
     labels.require(sheet.label_px >= kMinSheetLabelPx && sheet.label_px <= kMaxSheetLabelPx,
                    "font_px",
@@ -213,5 +219,20 @@ Sheet loadSheet(const std::string& path) {
 }
 
 std::uint64_t sheetInputsHash(const Sheet& sheet) { return fnv1a64Files(sheet.inputs); }
+
+std::vector<std::string> sheetInputWarnings(const Sheet& sheet) {
+  std::vector<std::string> out;
+  auto add = [&out](const std::string& w) {
+    if (!w.empty() && std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+  };
+  for (const Brush& b : sheet.brushes) add(brushScaleWarning(b));
+  for (size_t b = 0; b < sheet.brushes.size(); ++b)
+    for (size_t t = 0; t < sheet.trajectories.size(); ++t) {
+      const Trajectory cell = sheet.cellTrajectory(b, t);
+      add(trajectoryWarning(cell, plannedStepCount(cell, sheet.brushes[b], sheet.sim),
+                            &sheet.brushes[b], sheet.sim));
+    }
+  return out;
+}
 
 }  // namespace bristle

@@ -86,6 +86,13 @@ Sheet parseSheet(const std::string& text, const std::string& path_for_messages,
 // can no longer be read.
 std::uint64_t sheetInputsHash(const Sheet& sheet);
 
+// What is legal but likely a mistake, one line each (engine/input_warnings.h):
+// a brush whose spines and surface differ in scale, a cell's trajectory that
+// lasts over 10 minutes or plans over a million steps (a trajectory named once
+// for all its cells when they say the same). Planning the steps throws as the
+// render would at a step limit.
+std::vector<std::string> sheetInputWarnings(const Sheet& sheet);
+
 // Whether a JSON text declares itself a sheet ("format": "bristle-sheet/...");
 // false for anything else, malformed JSON included.
 bool looksLikeSheet(const std::string& text);

@@ -878,43 +878,67 @@ double rootMotionBoundMm(const Brush& brush, const Pose& a, const Pose& b) {
          rotationAngleRad(a.rotation, b.rotation) * root_radius;
 }
 
+namespace {
+
+std::string stepCountText(double v) {
+  std::ostringstream ss;
+  ss.precision(v < 1e15 ? 15 : 3);
+  ss << v;
+  return ss.str();
+}
+
+// The steps planned between samples k and k + 1, added to *planned (the
+// steps up to sample k); throws when they pass a limit. Counted as doubles,
+// before any becomes an integer or a step time.
+double segmentSteps(const Trajectory& traj, const Brush& brush, const SimOptions& options,
+                    size_t k, double* planned) {
+  const TrajectorySample& a = traj.samples[k];
+  const TrajectorySample& b = traj.samples[k + 1];
+  const double dt = b.t_s - a.t_s;
+  const double moved = rootMotionBoundMm(brush, a.pose, b.pose);
+  const double n = std::max({1.0, std::ceil(moved / options.max_step_mm),
+                             std::ceil(dt * options.min_rate_hz - 1e-9)});
+  auto where = [&] {
+    return "line " + std::to_string(b.line) + ", column " + std::to_string(traj.t_column) +
+           " (t_s)";
+  };
+  if (!std::isfinite(n) || (n > 1 && n > kMaxStepsPerSecond * dt))
+    throw dataError(traj.path, where(),
+                    "the " + stepCountText(dt) + " s since the previous sample plan " +
+                        stepCountText(n) +
+                        " simulation steps, over the limit of 1000000 steps per second of "
+                        "gesture (the handle moves " + stepCountText(moved) + " mm)");
+  *planned += n;
+  if (*planned > kMaxPlannedSteps)
+    throw dataError(traj.path, where(),
+                    "the trajectory plans " + stepCountText(*planned) +
+                        " simulation steps up to here, over the limit of 10000000 per "
+                        "trajectory");
+  return n;
+}
+
+}  // namespace
+
 std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,
                                   const SimOptions& options) {
   requireHeights(traj);
-  auto count = [](double v) {
-    std::ostringstream ss;
-    ss.precision(v < 1e15 ? 15 : 3);
-    ss << v;
-    return ss.str();
-  };
   std::vector<double> times{traj.samples.front().t_s};
   double planned = 1;
   for (size_t k = 0; k + 1 < traj.samples.size(); ++k) {
-    const TrajectorySample& a = traj.samples[k];
-    const TrajectorySample& b = traj.samples[k + 1];
-    const double dt = b.t_s - a.t_s;
-    const double moved = rootMotionBoundMm(brush, a.pose, b.pose);
-    const double n = std::max({1.0, std::ceil(moved / options.max_step_mm),
-                               std::ceil(dt * options.min_rate_hz - 1e-9)});
-    // Checked as doubles, before any becomes an integer or a step time.
-    const std::string where = "line " + std::to_string(b.line) + ", column " +
-                              std::to_string(traj.t_column) + " (t_s)";
-    if (!std::isfinite(n) || (n > 1 && n > kMaxStepsPerSecond * dt))
-      throw dataError(traj.path, where,
-                      "the " + count(dt) + " s since the previous sample plan " + count(n) +
-                          " simulation steps, over the limit of 1000000 steps per second of "
-                          "gesture (the handle moves " + count(moved) + " mm)");
-    planned += n;
-    if (planned > kMaxPlannedSteps)
-      throw dataError(traj.path, where,
-                      "the trajectory plans " + count(planned) +
-                          " simulation steps up to here, over the limit of 10000000 per "
-                          "trajectory");
-    const int steps = static_cast<int>(n);
-    for (int i = 1; i < steps; ++i) times.push_back(a.t_s + dt * i / steps);
-    times.push_back(b.t_s);
+    const int steps = static_cast<int>(segmentSteps(traj, brush, options, k, &planned));
+    const double t0 = traj.samples[k].t_s, dt = traj.samples[k + 1].t_s - t0;
+    for (int i = 1; i < steps; ++i) times.push_back(t0 + dt * i / steps);
+    times.push_back(traj.samples[k + 1].t_s);
   }
   return times;
+}
+
+double plannedStepCount(const Trajectory& traj, const Brush& brush, const SimOptions& options) {
+  requireHeights(traj);
+  double planned = 1;
+  for (size_t k = 0; k + 1 < traj.samples.size(); ++k)
+    segmentSteps(traj, brush, options, k, &planned);
+  return planned;
 }
 
 void validateTrajectoryForBrush(const Trajectory& traj, const Brush& brush) {

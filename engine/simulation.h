@@ -349,6 +349,10 @@ double rootMotionBoundMm(const Brush& brush, const Pose& a, const Pose& b);
 // kMaxStepsPerSecond, before the steps are allocated.
 std::vector<double> planStepTimes(const Trajectory& trajectory, const Brush& brush,
                                   const SimOptions& options);
+// How many step times planStepTimes returns, with its checks and messages,
+// without storing them.
+double plannedStepCount(const Trajectory& trajectory, const Brush& brush,
+                        const SimOptions& options);
 
 // Throws kDataError naming the trajectory line when the brush would start inside
 // the canvas or its ferrule would pass below it. A trajectory in press depths

@@ -46,6 +46,44 @@ std::vector<std::string> splitCsv(std::string_view line) {
   return out;
 }
 
+// The separator other than ',' that a line seems to use, named for a message
+// ("';'", "tabs"), or "" for none. Spreadsheets set to a European locale
+// write ';', others write tabs; such a line reads as one cell. A header is
+// taken to use one when one of its pieces is a column name; a data line, when
+// it splits into the header's `fields` pieces. A line holding a ',' uses ','
+// (a space after it is padding).
+std::string otherSeparator(std::string_view line, size_t fields) {
+  if (line.find(',') != std::string_view::npos) return "";
+  static const std::pair<char, const char*> kSeparators[] = {
+      {';', "';'"}, {'\t', "tabs"}, {'|', "'|'"}, {' ', "spaces"}};
+  for (const auto& [sep, name] : kSeparators) {
+    if (line.find(sep) == std::string_view::npos) continue;
+    std::vector<std::string> pieces;
+    size_t start = 0;
+    for (size_t i = 0; i <= line.size(); ++i)
+      if (i == line.size() || line[i] == sep) {
+        if (std::string piece = trim(line.substr(start, i - start)); !piece.empty())
+          pieces.push_back(std::move(piece));
+        start = i + 1;
+      }
+    if (fields > 0 && pieces.size() == fields) return name;
+    for (const std::string& piece : pieces)
+      if (fields == 0 && (std::find(kRequired.begin(), kRequired.end(), piece) != kRequired.end() ||
+                          std::find(kOptional.begin(), kOptional.end(), piece) != kOptional.end()))
+        return name;
+  }
+  return "";
+}
+
+// Refuses a line whose columns are not separated by ',' (otherSeparator).
+void rejectOtherSeparator(std::string_view line, size_t fields, const std::string& path,
+                          int line_no) {
+  const std::string sep = otherSeparator(line, fields);
+  if (!sep.empty())
+    throw dataError(path, "line " + std::to_string(line_no),
+                    "columns are separated by " + sep + "; bristle trajectories use ','");
+}
+
 // "line 7" or "line 7, column 3 (z_mm)": where a message points.
 std::string place(int line_no, int column = 0, const std::string& name = "") {
   std::string w = "line " + std::to_string(line_no);
@@ -198,6 +236,7 @@ Trajectory parseTrajectory(const std::string& text, const std::string& path) {
     if (line[0] == '#') continue;
     const std::vector<std::string> cells = splitCsv(line);
     if (column_of.empty()) {
+      rejectOtherSeparator(line, 0, path, line_no);
       column_of = parseHeader(cells, path, line_no);
       for (size_t c = 0; c < column_of.size(); ++c) {
         if (column_of[c] == kT) traj.t_column = static_cast<int>(c) + 1;
@@ -205,6 +244,7 @@ Trajectory parseTrajectory(const std::string& text, const std::string& path) {
       }
       continue;
     }
+    if (cells.size() != column_of.size()) rejectOtherSeparator(line, column_of.size(), path, line_no);
     traj.samples.push_back(parseRow(cells, column_of, path, line_no,
                                     traj.samples.empty() ? nullptr : &traj.samples.back()));
   }

@@ -163,6 +163,16 @@ TEST_CASE("batch manifest: every broken rule is a data error naming its field", 
        "/jobs/0/options/frobnicate", "unknown option 'frobnicate' (known: amount, "},
       {R"({"id": "a\u0007", "scene": "s.json"})", "/jobs/0/id", "no control character"},
       {R"({"id": "a", "scene": "s.json", "colour": "red"})", "/jobs/0/colour", "unknown"},
+      // A misspelt key is named with the key it most likely meant, also where
+      // the job's kind or its brush is missing.
+      {R"({"id": "a", "secne": "s.json"})", "/jobs/0/secne",
+       "unknown key 'secne'; did you mean /jobs/0/scene?"},
+      {R"({"id": "a", "brsh": "b.json", "trajectory": "t.csv"})", "/jobs/0/brsh",
+       "unknown key 'brsh'; did you mean /jobs/0/brush?"},
+      {R"({"id": "a", "previw": "b.json", "trajectory": "t.csv"})", "/jobs/0/previw",
+       "unknown key 'previw'; did you mean /jobs/0/preview?"},
+      {R"({"id": "a", "scene": "s.json", "ouptut": "x.png"})", "/jobs/0/ouptut",
+       "unknown key 'ouptut'; did you mean /jobs/0/output?"},
   };
   for (const Case& c : cases) {
     INFO(c.jobs);

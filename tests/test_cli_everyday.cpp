@@ -457,3 +457,154 @@ TEST_CASE("a number option given nan or inf is a usage error naming it", "[cli][
   CHECK_FALSE(std::filesystem::exists(dir.file("b.csv")));
   CHECK_FALSE(std::filesystem::exists(dir.file("d.png")));
 }
+
+TEST_CASE("a PNG output named for another image format is refused (64), naming the option",
+          "[cli][errors]") {
+  TempDir d;
+  // Checked before any input is read: the inputs here do not exist.
+  const struct {
+    std::string args, line;
+  } cases[] = {
+      {"render --brush round --trajectory t.csv -o x.jpg",
+       "render: -o x.jpg: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"render s.json -o x.JPEG",
+       "render: -o x.JPEG: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"sheet sh.json -o x.gif",
+       "sheet: -o x.gif: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"preview round -o x.webp",
+       "preview: -o x.webp: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"record --device none --brush round --trajectory t.csv -o r.csv --png x.tiff",
+       "record: --png x.tiff: bristle writes PNG only; use a .png name (or - for standard "
+       "output)"},
+      {"replay r.csv -o x.bmp",
+       "replay: -o x.bmp: bristle writes PNG only; use a .png name (or - for standard output)"},
+      {"compare a.png b.png --diff x.exr",
+       "compare: --diff x.exr: bristle writes PNG only; use a .png name"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.args);
+    const RunResult r = runShell(d, "'" + kBin + "' " + c.args);
+    CHECK(r.code == 64);
+    CHECK(r.err == "bristle: " + c.line + "\n");
+  }
+  // Nothing written but runShell's own files (.command.sh, .stdout, .stderr).
+  for (const auto& entry : fs::directory_iterator(d.path()))
+    CHECK(entry.path().filename().string()[0] == '.');
+  // A name with no extension, or with one that names no other image format, is
+  // written as given (a PNG).
+  for (const std::string name : {"brush", "brush.PNG", "brush.out"}) {
+    INFO(name);
+    REQUIRE(runShell(d, "'" + kBin + "' preview -q round --width 64 --height 64 -o " + name).code ==
+            0);
+    CHECK(bytesOf(d.file(name)).rfind("\x89PNG", 0) == 0);
+  }
+}
+
+namespace {
+
+// A trajectory of the handle held upright at height z, at x = 15 then 40 mm,
+// over the times given: in the air (z = 60) it renders in a moment.
+void writeUpright(const TempDir& d, const std::string& name, const std::vector<double>& t,
+                  const std::vector<double>& x, double z) {
+  std::ofstream out(d.file(name));
+  out << "# bristle-trajectory/1\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
+  for (size_t i = 0; i < t.size(); ++i) out << t[i] << ',' << x[i] << ",40," << z << ",1,0,0,0\n";
+}
+
+// The round brush with its spines in metres (roots, lengths and widths a
+// thousandth) and its surface left in millimetres.
+void writeBrushInMetres(const TempDir& d, const std::string& name) {
+  nlohmann::json doc = nlohmann::json::parse(readAll(kRound));
+  for (auto& spine : doc["spines"])
+    for (const char* key : {"root_mm", "segment_lengths_mm", "width_mm", "thickness_mm"})
+      if (spine.contains(key))
+        for (auto& v : spine[key]) v = v.get<double>() / 1000;
+  std::ofstream(d.file(name)) << doc.dump();
+}
+
+const char* const kMsWarning =
+    "ms.csv: t_s spans 5350 s (89 min%s); were the times in milliseconds?";
+const char* const kMetresWarning =
+    "m.json: /spines span 0.02 mm but /surface/cage_vertices_mm spans 20.1 mm (1006 times "
+    "larger); both are in mm: were they written in different units?";
+
+std::string msWarning(const std::string& steps) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, kMsWarning, steps.c_str());
+  return buf;
+}
+
+}  // namespace
+
+TEST_CASE("a trajectory in milliseconds and a brush in metres are warned of, in --stats too",
+          "[cli][warnings]") {
+  TempDir d;
+  // A 5.35 s stroke written in milliseconds, in the air; at 1 step a second
+  // it plans 5351 steps (642,001 at the default 120 Hz).
+  writeUpright(d, "ms.csv", {0, 5350}, {15, 40}, 60);
+  writeBrushInMetres(d, "m.json");
+  const std::string b = "'" + kBin + "'";
+  const RunResult r = runShell(d, b + " render -q --brush m.json --trajectory ms.csv -o o.png "
+                                      "--stats s.json --min-rate-hz 1 --px-per-mm 1 --solver slsqp");
+  REQUIRE(r.code == 0);
+  const std::string blank = "the brush never touched the canvas (ms.csv): the image is blank";
+  const std::string ms = msWarning(", 5351 simulation steps");
+  CHECK(r.err == "bristle: warning: " + std::string(kMetresWarning) + "\nbristle: warning: " + ms +
+                     "\nbristle: warning: " + blank + "\n");
+  const nlohmann::json stats = nlohmann::json::parse(readAll(d.file("s.json")));
+  CHECK(stats.at("warnings") == nlohmann::json({kMetresWarning, ms, blank}));
+  // validate says the same before any run: the brush alone, the trajectory
+  // alone (no brush, no steps); the pair then adds only what is news.
+  const RunResult v = runShell(d, b + " validate m.json ms.csv");
+  CHECK(v.code == 0);
+  CHECK(v.err == "bristle: warning: " + std::string(kMetresWarning) + "\nbristle: warning: " +
+                     msWarning("") +
+                     "\nbristle: warning: ms.csv: the brush 'round' never comes within reach of "
+                     "the paper: render's image would be blank\n");
+  // preview, for people designing brushes, names the brush's.
+  const RunResult p = runShell(d, b + " preview -q m.json --width 64 --height 64 -o p.png");
+  CHECK(p.code == 0);
+  CHECK(p.err == "bristle: warning: " + std::string(kMetresWarning) + "\n");
+  // record --device none plays the trajectory in real time: it says so before
+  // it begins (here for a fifth of a second).
+  const RunResult rec = runShell(d, b + " record -q --device none --brush m.json --trajectory "
+                                        "ms.csv -o r.csv --duration 0.2");
+  CHECK(rec.code == 0);
+  CHECK(rec.err == "bristle: warning: " + msWarning(", 642001 simulation steps") +
+                       "\nbristle: warning: " + kMetresWarning + "\n");
+  // Ten minutes is not a mistake.
+  writeUpright(d, "long.csv", {0, 600}, {15, 40}, 60);
+  const RunResult ok = runShell(d, b + " validate long.csv");
+  CHECK(ok.code == 0);
+  CHECK(ok.err.empty());
+}
+
+TEST_CASE("validate warns of a pair planning over a million steps, and of a scene's and a "
+          "sheet's trajectory in milliseconds",
+          "[cli][warnings]") {
+  TempDir d;
+  const std::string b = "'" + kBin + "'";
+  // 300 m of travel in 15 s: 1,200,001 steps of 0.25 mm.
+  writeUpright(d, "far.csv", {0, 5, 10, 15}, {0, 100000, 0, 100000}, 60);
+  const RunResult far = runShell(d, b + " validate round far.csv");
+  CHECK(far.code == 0);
+  CHECK_THAT(far.err,
+             StartsWith("bristle: warning: far.csv: the trajectory plans 1200001 simulation steps, "
+                        "over 1000000 (an hour or more of solving): the spine roots travel 300000 "
+                        "mm at most 0.25 mm a step; were x_mm, y_mm and z_mm in micrometres?\n"));
+  // A scene and a sheet plan at their own rates (120 and 60 steps a second).
+  writeUpright(d, "ms.csv", {0, 5350}, {15, 40}, 25);
+  std::ofstream(d.file("s.json")) << R"({"format": "bristle-scene/1", "name": "s",
+      "canvas": {"size_mm": [60, 60]},
+      "strokes": [{"brush": "round", "trajectory": "ms.csv", "paint": {"paints": ["sumi-ink"]}}]})";
+  const RunResult scene = runShell(d, b + " validate s.json");
+  CHECK(scene.code == 0);
+  CHECK_THAT(scene.err, StartsWith("bristle: warning: " +
+                                   msWarning(", 642001 simulation steps") + "\n"));
+  std::ofstream(d.file("sh.json")) << R"({"format": "bristle-sheet/1", "name": "sh",
+      "brushes": ["round", "flat"], "trajectories": ["ms.csv"], "sim": {"rate_hz": 60}})";
+  const RunResult sheet = runShell(d, b + " validate sh.json");
+  CHECK(sheet.code == 0);
+  // One line for both brushes: the trajectory and its steps are the same.
+  CHECK(sheet.err == "bristle: warning: " + msWarning(", 321001 simulation steps") + "\n");
+}

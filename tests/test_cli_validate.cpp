@@ -187,4 +187,15 @@ TEST_CASE("validate: a broken golden manifest gives one line naming the golden's
   CHECK(r.code == 65);
   CHECK(r.err == "bristle: " + m + ": /goldens/0/tolerance = \"close\": must be exact, strict or "
                  "loose\n");
+  // A misspelt key is named with the key it most likely meant.
+  for (const auto& [key, meant] : {std::pair{"tolerence", "tolerance"}, {"trajectry", "trajectory"}}) {
+    bad = round_pull;
+    bad[key] = bad[meant];
+    bad.erase(meant);
+    m = goldenOf(bad);
+    r = runBristle("validate " + shellQuoted(m));
+    CHECK(r.code == 65);
+    CHECK(r.err == "bristle: " + m + ": /goldens/0/" + key + ": unknown key '" + key +
+                       "'; did you mean /goldens/0/" + meant + "?\n");
+  }
 }

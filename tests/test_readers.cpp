@@ -14,6 +14,7 @@
 
 #include "engine/brush.h"
 #include "engine/error.h"
+#include "engine/spelling.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
 #include "test_helpers.h"
@@ -373,6 +374,65 @@ TEST_CASE("unknown keys anywhere in a brush are 65 naming pointer and key", "[re
   CHECK_BRUSH_ERROR(brushWith("/Name", "x"), "/Name", "unknown key 'Name'");
 }
 
+TEST_CASE("a misspelt brush key is named with the key it most likely meant", "[readers]") {
+  // An optional key misspelt is unknown; the message names the declared key
+  // (spine 1 of kBrush gives no damping_nmm).
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/dampnig_nmm", {0.1, 0.1}),
+                    "brush.json: /spines/1/dampnig_nmm: unknown key 'dampnig_nmm'; did you mean "
+                    "/spines/1/damping_nmm?");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"tip_sprad", 0.5}}),
+                    "brush.json: /volume/tip_sprad: unknown key 'tip_sprad'; did you mean "
+                    "/volume/tip_spread?");
+  // A required key misspelt is named where it is, not as the correct key missing.
+  nlohmann::json doc = nlohmann::json::parse(kBrush);
+  doc["spnies"] = doc["spines"];
+  doc.erase("spines");
+  CHECK_BRUSH_ERROR(doc.dump(), "brush.json: /spnies: unknown key 'spnies'; did you mean /spines?");
+  doc = nlohmann::json::parse(kBrush);
+  doc["spines"][1]["segment_length_mm"] = doc["spines"][1]["segment_lengths_mm"];
+  doc["spines"][1].erase("segment_lengths_mm");
+  CHECK_BRUSH_ERROR(doc.dump(),
+                    "brush.json: /spines/1/segment_length_mm: unknown key 'segment_length_mm'; "
+                    "did you mean /spines/1/segment_lengths_mm?");
+  // validate lists every problem: the misspelling once, not again as unknown.
+  TempDir dir;
+  const std::string path = dir.file("brush.json");
+  std::ofstream(path) << doc.dump();
+  const std::vector<std::string> problems = checkBrush(path);
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains("/spines/1/segment_length_mm: unknown key"));
+  // No guess where nothing is close, nor for a short key two edits away, nor
+  // at a key that is present itself ("Name" beside "name").
+  CHECK_BRUSH_ERROR(brushWith("/colour", "red"), "brush.json: /colour: unknown key 'colour'");
+  CHECK(catchError([] { parseBrush(brushWith("/colour", "red"), "brush.json"); })
+            .message.find("did you mean") == std::string::npos);
+  CHECK(catchError([] { parseBrush(brushWith("/Name", "x"), "brush.json"); })
+            .message.find("did you mean") == std::string::npos);
+  CHECK(catchError([] { parseBrush(brushWith("/friction/mu", 0.1), "brush.json"); })
+            .message.find("did you mean") == std::string::npos);
+  // A legitimate key beside a missing one it resembles is no misspelling:
+  // max_separation is declared, so min_separation is reported missing.
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"max_separation", 2}}),
+                    "brush.json: /volume/min_separation: required key is missing");
+}
+
+TEST_CASE("edit distance: insertions, deletions, replacements and swaps", "[readers]") {
+  CHECK(editDistance("", "") == 0);
+  CHECK(editDistance("spines", "spines") == 0);
+  CHECK(editDistance("spine", "spines") == 1);
+  CHECK(editDistance("spnies", "spines") == 1);  // a swap is one edit
+  CHECK(editDistance("min_separation", "max_separation") == 2);
+  CHECK(editDistance("", "abc") == 3);
+  CHECK(editDistance("kitten", "sitting") == 3);
+  // Close: at most 2 edits and a third of the candidate's length.
+  CHECK(closestSpelling("segment_length_mm", {"root_mm", "segment_lengths_mm"}) ==
+        "segment_lengths_mm");
+  CHECK(closestSpelling("ix", {"id"}) == std::nullopt);
+  CHECK(closestSpelling("nmae", {"name"}) == "name");
+  CHECK(closestSpelling("width", {"width_mm"}) == std::nullopt);  // 3 edits
+  CHECK(closestSpelling("name", {"name", "nme"}) == std::nullopt);  // it is a candidate
+}
+
 TEST_CASE("required brush keys are 65 naming the missing pointer", "[readers]") {
   for (const char* p : {"/name", "/spines", "/spines/0/root_mm", "/spines/1/segment_lengths_mm",
                         "/spines/0/stiffness_nmm_per_rad", "/spines/1/width_mm",
@@ -678,6 +738,25 @@ TEST_CASE("trajectory format line: missing or unknown version is 65 naming it", 
   CHECK_TRAJ_ERROR("", "t.csv: line 1", "bristle-trajectory/1");
   CHECK_TRAJ_ERROR("# bristle-trajectory/1\n", "missing header");
   CHECK_TRAJ_ERROR("# bristle-trajectory/1\n# only comments\n\n", "missing header");
+}
+
+TEST_CASE("trajectory columns separated by semicolons or tabs are 65 naming the separator",
+          "[readers]") {
+  const std::vector<std::string> rows = {"0,10,0,10,1,0,0,0", "1,10,0,10,1,0,0,0"};
+  CHECK_TRAJ_ERROR(traj("t_s;x_mm;y_mm;z_mm;qw;qx;qy;qz", rows),
+                   "t.csv: line 2: columns are separated by ';'; bristle trajectories use ','");
+  CHECK_TRAJ_ERROR(traj("t_s\tx_mm\ty_mm\tz_mm\tqw\tqx\tqy\tqz", rows),
+                   "t.csv: line 2: columns are separated by tabs; bristle trajectories use ','");
+  CHECK_TRAJ_ERROR(traj("t_s x_mm y_mm z_mm qw qx qy qz", rows),
+                   "t.csv: line 2: columns are separated by spaces; bristle trajectories use ','");
+  // A data line in another separator, under a header in ','.
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,10,0,10,1,0,0,0", "1;10;0;10;1;0;0;0"}),
+                   "t.csv: line 4: columns are separated by ';'; bristle trajectories use ','");
+  // Spaces after the commas are padding, and a header of unknown words keeps
+  // its own message.
+  CHECK(parseTrajectory(traj("t_s, x_mm, y_mm, z_mm, qw, qx, qy, qz", rows), "t.csv")
+            .samples.size() == 2);
+  CHECK_TRAJ_ERROR(traj("time;x;y", rows), "t.csv: line 2, column 1 (time;x;y): unknown column");
 }
 
 TEST_CASE("trajectory header: unknown, missing, duplicate columns are 65", "[readers]") {

@@ -205,6 +205,16 @@ TEST_CASE("bad values are 65 naming the JSON pointer and the rule", "[scene]") {
        "scene.json: /strokes/1/speed: ", "unknown key 'speed'"},
       {"unknown top key", [](json& j) { j["outputs"] = json::object(); },
        "scene.json: /outputs: ", "unknown key 'outputs'"},
+      {"misspelt optional key", [](json& j) { j["strokes"][0]["dry_befor"] = true; },
+       "scene.json: /strokes/0/dry_befor: ",
+       "unknown key 'dry_befor'; did you mean /strokes/0/dry_before?"},
+      {"misspelt required key",
+       [](json& j) {
+         j["strokes"][0]["trajectry"] = j["strokes"][0]["trajectory"];
+         j["strokes"][0].erase("trajectory");
+       },
+       "scene.json: /strokes/0/trajectry: ",
+       "unknown key 'trajectry'; did you mean /strokes/0/trajectory?"},
       {"format version", [](json& j) { j["format"] = "bristle-scene/2"; },
        "scene.json: /format = \"bristle-scene/2\": ", "unknown format version"},
       {"no strokes", [](json& j) { j["strokes"] = json::array(); },

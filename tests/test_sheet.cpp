@@ -178,6 +178,14 @@ TEST_CASE("bad sheet values are 65 naming the JSON pointer and the rule", "[shee
        "sheet.json: /brushes/1: ", "is listed already at /brushes/0"},
       {"unknown brush entry key", [](json& j) { j["brushes"][1]["lift"] = 2; },
        "sheet.json: /brushes/1/lift: ", "unknown key 'lift'"},
+      {"misspelt required key",
+       [](json& j) {
+         j["trajectorys"] = j["trajectories"];
+         j.erase("trajectories");
+       },
+       "sheet.json: /trajectorys: ", "unknown key 'trajectorys'; did you mean /trajectories?"},
+      {"misspelt label key", [](json& j) { j["labels"] = {{"fontpx", 12}}; },
+       "sheet.json: /labels/fontpx: ", "unknown key 'fontpx'; did you mean /labels/font_px?"},
       {"lift too large", [](json& j) { j["brushes"][1]["lift_mm"] = 150; },
        "sheet.json: /brushes/1/lift_mm = 150: ", "must be within +-100 mm"},
       {"layout", [](json& j) { j["layout"] = "diagonal"; }, "sheet.json: /layout = \"diagonal\": ",

@@ -1292,6 +1292,38 @@ case("svg-segments-over-limit-across-paths", "an SVG of 1,001 `<path>`s of 1,000
      svg("l.svg", "\n".join('<path id="p%d" d="M0 0%s"/>' % (k, " h.1" * 999)
                             for k in range(1, 1002))))
 
+# -- legal in form, but surely a mistake: refused naming what was meant --------
+case("png-output-jpg", "`render -o o.jpg`: bristle writes PNG only",
+     render("b.json", "t.csv", "o.jpg"), 64,
+     "render: -o o.jpg: bristle writes PNG only; use a .png name (or - for standard output)",
+     STROKE)
+case("diff-output-tiff", "`compare --diff d.tiff`: the difference image is a PNG too",
+     ["compare", "a.png", "a.png", "--diff", "d.tiff"], 64,
+     "compare: --diff d.tiff: bristle writes PNG only; use a .png name", PNG)
+case("traj-semicolons", "a trajectory whose columns are separated by ';' (a spreadsheet export)",
+     ["validate", "t.csv"], 65,
+     "t.csv: line 2: columns are separated by ';'; bristle trajectories use ','",
+     trajectory(text="# bristle-trajectory/1\n" + HEADER.replace(",", ";") + "\n"
+                "0;15;40;25;1;0;0;0\n1;30;40;25;1;0;0;0\n"))
+case("traj-tabs-render", "`render` of a trajectory in tab-separated columns", render(), 65,
+     "t.csv: line 2: columns are separated by tabs; bristle trajectories use ','",
+     all_of(brush(), trajectory(text="# bristle-trajectory/1\n" + HEADER.replace(",", "\t") +
+                                "\n0\t15\t40\t25\t1\t0\t0\t0\n1\t30\t40\t25\t1\t0\t0\t0\n")))
+case("brush-misspelt-required-key", "a brush whose required `spines` is spelt `spine`",
+     ["validate", "b.json"], 65, "b.json: /spine: unknown key 'spine'; did you mean /spines?",
+     brush(edit=lambda b: b.update({"spine": b.pop("spines")})))
+
+# -- validate plans a pair's steps, and a scene's, as render does ---------------
+case("validate-pair-span-1e7", "`validate BRUSH TRAJ` of two samples 1e7 s apart",
+     ["validate", "b.json", "t.csv"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 "
+     "simulation steps up to here, over the limit of 10000000 per trajectory", LONG)
+case("validate-scene-span-1e7", "`validate` of a scene stroke whose trajectory spans 1e7 s",
+     ["validate", "s.json"], 65,
+     "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
+     "here, over the limit of 10000000 per trajectory",
+     all_of(LONG, scene(edit=lambda s: s.update(sim={"rate_hz": 120}))))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
