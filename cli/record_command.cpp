@@ -348,8 +348,8 @@ Subcommand registerReplay(CLI::App& app) {
       "  bristle replay session.csv --px-per-mm 16 -o large.png\n"
       "The render takes the options the session's header records (those of record's\n"
       "--png: --paint, --px-per-mm, --solver, ...), so that it is the live --png byte for\n"
-      "byte. An option given here wins, with a warning when the header's differs; an\n"
-      "older session without them renders with the defaults.\n"
+      "byte. An option given here wins, with a warning when the header's differs. The\n"
+      "defaults shown above apply only to an older session whose header has none.\n"
       "Without --brush, the brush is the one the session's header records (a library\n"
       "name, or a file's path), and it must be the same file: a hash that differs from\n"
       "the header's brush_fnv1a64 is an error (65). With --brush, it is a warning.");
