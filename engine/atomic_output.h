@@ -13,12 +13,12 @@
 // An output is a new name or an existing regular file; a symbolic link at the
 // output's name is refused, never written through nor replaced (outputTarget).
 //
-// A CommitGroup makes a run's outputs one: while a group is open on this
-// process, AtomicOutput::commit() only finishes its file (written, synced) and
+// A CommitGroup makes a run's outputs one: while a group is open,
+// AtomicOutput::commit() only finishes its file (written, synced) and
 // hands it to the group; the group's commit() renames them all once every one
 // was written, and a group destroyed without commit() removes every temporary
-// file it holds. So a run that fails on its last output leaves the earlier
-// ones, and every file that existed before, untouched.
+// file it holds. So when a run's last output fails, none of its outputs
+// appears, and every file that existed before is untouched.
 
 #include <memory>
 #include <optional>

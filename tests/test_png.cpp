@@ -241,7 +241,7 @@ TEST_CASE("png: an image that does not match its size is a programming error", "
   CHECK(listing(dir).empty());
 }
 
-TEST_CASE("png: a symbolic link as the target is kCantCreate; link and file untouched", "[png]") {
+TEST_CASE("png: a symbolic link as the target is kCantCreate, link and file untouched", "[png]") {
   TempDir dir;
   const fs::path target = dir.path() / "target.png", link = dir.path() / "link.png";
   const Image8 first = patternImage8(2, 2, 4);
