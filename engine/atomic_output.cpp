@@ -201,7 +201,9 @@ void CommitGroup::commit() {
   if (g_open_group == this) g_open_group = outer_;
   if (outer_ != nullptr) {
     for (auto& p : pending_) outer_->pending_.push_back(std::move(p));
+    for (auto& f : last_) outer_->last_.push_back(std::move(f));
     pending_.clear();
+    last_.clear();
     return;
   }
   // Every target is checked before the first rename, so that one turned into
@@ -209,7 +211,12 @@ void CommitGroup::commit() {
   for (const auto& p : pending_) outputTarget(p->path);
   for (auto& p : pending_) renameIntoPlace(p.get());
   pending_.clear();
+  std::vector<std::function<void()>> last = std::move(last_);
+  last_.clear();
+  for (auto& f : last) f();
 }
+
+void CommitGroup::atCommit(std::function<void()> last) { last_.push_back(std::move(last)); }
 
 void writeFileAtomically(const std::string& path, std::string_view bytes) {
   AtomicOutput out(path);

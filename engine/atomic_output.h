@@ -20,6 +20,7 @@
 // file it holds. So when a run's last output fails, none of its outputs
 // appears, and every file that existed before is untouched.
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -79,10 +80,15 @@ class CommitGroup {
   void commit();
   // The open group, or nullptr.
   static CommitGroup* open();
+  // Runs `last` after the renames of a successful commit() (inside another
+  // group: after that one's): standard output, written only once every file
+  // is in place, so that a run that fails writes nothing to it.
+  void atCommit(std::function<void()> last);
 
  private:
   friend class AtomicOutput;
   std::vector<std::unique_ptr<PendingOutput>> pending_;
+  std::vector<std::function<void()>> last_;
   CommitGroup* outer_;
 };
 

@@ -195,7 +195,13 @@ void writePngRows(const std::string& path, int width, int height, int channels,
   const EncodeJob job{width, height, channels, bit_depth, rows.data(), chunks.data(),
                       static_cast<int>(chunks.size())};
   if (path == kStdoutPath) {
-    writeToStdout(encodeToMemory(job, "stdout"));
+    // After the run's files are in place (engine/atomic_output.h): a run that
+    // fails on another output writes nothing to standard output.
+    std::string bytes = encodeToMemory(job, "stdout");
+    if (CommitGroup* group = CommitGroup::open())
+      group->atCommit([bytes = std::move(bytes)] { writeToStdout(bytes); });
+    else
+      writeToStdout(bytes);
     return;
   }
   // One atomic output (engine/atomic_output.h): complete or absent, never

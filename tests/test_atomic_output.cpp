@@ -96,6 +96,33 @@ TEST_CASE("atomic output: a commit group renames all its outputs, or none", "[at
   }
 }
 
+TEST_CASE("atomic output: what runs at a group's commit runs after its renames, or never",
+          "[atomic]") {
+  TempDir dir;
+  const std::string a = dir.file("a.txt");
+  bool ran = false, a_was_there = false;
+  SECTION("committed") {
+    CommitGroup group;
+    writeFileAtomically(a, "a");
+    group.atCommit([&] {
+      ran = true;
+      a_was_there = fs::exists(a);
+    });
+    group.commit();
+    CHECK(ran);
+    CHECK(a_was_there);
+  }
+  SECTION("not committed") {
+    {
+      CommitGroup group;
+      writeFileAtomically(a, "a");
+      group.atCommit([&] { ran = true; });
+    }
+    CHECK(!ran);
+    CHECK(listing(dir).empty());
+  }
+}
+
 TEST_CASE("atomic output: without a group, commit renames at once", "[atomic]") {
   TempDir dir;
   const std::string a = dir.write("a.txt", "old");

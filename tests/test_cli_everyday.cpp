@@ -630,3 +630,23 @@ TEST_CASE("a render writes nothing outside its outputs: no Mesa shader cache", "
   for (const auto& e : fs::directory_iterator(dir.path() / "work")) work.push_back(e.path().filename());
   CHECK(work == std::vector<std::string>{"o.png"});
 }
+
+TEST_CASE("'-o -' with a trace that fails: nothing on stdout, no file", "[cli][stdio][outputs]") {
+  // The PNG goes to standard output only after the run's files are in place
+  // (docs/errors.md, "Outputs"): with every file limited to 1 MB (as a full
+  // disk; SIGXFSZ ignored, so the write fails with EFBIG) the 4 MB trace
+  // fails, and the run is exit 74 with nothing written anywhere.
+  TempDir dir;
+  const RunResult r = runCaptured(
+      "cd '" + dir.path().string() + "' && (ulimit -f 1024; trap '' XFSZ; env -u GALLIUM_DRIVER '" +
+          BRISTLE_BIN + "' render -q --brush round --trajectory '" +
+          sourcePath("scenes/trajectories/s-curve.csv") + "' -o - --trace t.jsonl)",
+      dir.file("stdout"), dir.file("stderr"));
+  CHECK(r.code == 74);
+  CHECK(r.err == "bristle: t.jsonl: write failed: File too large\n");
+  CHECK(r.out.empty());
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir.path())) left.push_back(e.path().filename());
+  std::sort(left.begin(), left.end());
+  CHECK(left == std::vector<std::string>{"stderr", "stdout"});
+}
