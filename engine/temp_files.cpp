@@ -70,8 +70,17 @@ void installTempFileCleanup() {
   for (const int sig : cleanupSignals()) {
     // A signal ignored by whoever started us (nohup for SIGHUP, a shell's
     // background job for SIGINT, a parent that ignores SIGPIPE) stays ignored.
+    // Besides SIGINT and SIGTERM, which a command's own handler hands back
+    // here (record), a handler someone else installed (a profiler's SIGPROF)
+    // is kept too: only the default action, which would end the process, is
+    // replaced.
     struct sigaction old {};
-    if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    if (::sigaction(sig, nullptr, &old) != 0) continue;
+    const bool plain = (old.sa_flags & SA_SIGINFO) == 0;
+    if (plain && old.sa_handler == SIG_IGN) continue;
+    const bool default_or_ours =
+        plain && (old.sa_handler == SIG_DFL || old.sa_handler == removeTempFilesAndDie);
+    if (!default_or_ours && sig != SIGINT && sig != SIGTERM) continue;
     ::sigaction(sig, &sa, nullptr);
   }
 }

@@ -1352,6 +1352,11 @@ case("render-trace-disk-full", "`render -o o.png --trace o.jsonl` over an earlie
      "written; the earlier PNG stays, no new file", ["render", "-q", "--brush", "b.json",
      "--trajectory", "t.csv", "-o", "o.png", "--trace", "o.jsonl", "--stats", "s.json"], 74,
      "o.jsonl: write failed: File too large", all_of(STROKE, old("o.png")), fsize=1 << 20)
+case("scene-trace-disk-full", "the same for a scene: `render s.json -o o.png --trace o.jsonl "
+     "--stats s.json` over an earlier `o.png` and `st.json`, files limited to 1 MB",
+     ["render", "-q", "s.json", "-o", "o.png", "--trace", "o.jsonl", "--stats", "st.json"], 74,
+     "o.jsonl: write failed: File too large",
+     all_of(STROKE, scene(), old("o.png"), old("st.json")), fsize=1 << 20)
 TWO_PATHS = svg("l.svg", '<path d="M10 10 h5"/>\n'
                 '<path d="M10 30 c20 -20 40 20 60 0 s40 20 20 20 s-40 -20 -60 0"/>')
 case("import-second-stroke-fails", "`import` to a scene of two paths, every file limited to "
