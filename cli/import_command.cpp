@@ -117,9 +117,7 @@ int runImport(ImportArgs a) {
       if (!std::cout) throw Error(ExitCode::kIoError, "standard output: write failed");
       return 0;
     }
-    AtomicOutput out(a.output);
-    out.stream() << csv;
-    out.commit();
+    writeFileAtomically(a.output, csv);
     if (!a.quiet) std::cout << a.output << "\n";
     return 0;
   }
@@ -138,8 +136,9 @@ int runImport(ImportArgs a) {
   const input::Placement place = input::placementOf(rec, a.options.mapping);
   const std::string json = sceneJson(a, place, files, notes.front());
   parseScene(json, a.output, fs::path(a.output).parent_path().string());  // reads back
-  // Every file is written to its temporary first and renamed only when all are.
-  std::vector<std::unique_ptr<AtomicOutput>> out;
+  // Every file is written to its temporary first and renamed only when all
+  // are (engine/atomic_output.h), one file open at a time.
+  CommitGroup group;
   for (std::size_t k = 0; k < strokes.size(); ++k) {
     std::vector<std::string> stroke_notes = notes;
     stroke_notes.push_back("stroke " + std::to_string(k + 1) + " of " +
@@ -149,12 +148,10 @@ int runImport(ImportArgs a) {
                            "); t_s from the hover before it");
     const std::string csv = input::trajectoryCsv(strokes[k], stroke_notes);
     parseTrajectory(csv, files[k]);
-    out.push_back(std::make_unique<AtomicOutput>(files[k]));
-    out.back()->stream() << csv;
+    writeFileAtomically(files[k], csv);
   }
-  out.push_back(std::make_unique<AtomicOutput>(a.output));
-  out.back()->stream() << json;
-  for (auto& o : out) o->commit();
+  writeFileAtomically(a.output, json);
+  group.commit();
   if (!a.quiet)
     std::cout << a.output << " (" << strokes.size() << " strokes: " << files.front()
               << (files.size() > 1 ? " ... " + files.back() : std::string()) << ")\n";

@@ -118,12 +118,20 @@ int main(int argc, char** argv) {
   const Subcommand help = registerHelp(app, commands);
   if (const std::optional<int> code = parse(app, argc, argv)) return *code;
 
-  // SIGINT and SIGTERM remove the temporary files of unfinished outputs, then
-  // end the process as they would have (`batch` and `record` stop more gently).
+  // SIGINT, SIGTERM and every other signal that ends the process remove the
+  // temporary files of unfinished outputs, then end it as they would have
+  // (`batch` and `record` stop more gently on SIGINT and SIGTERM).
   bristle::installTempFileCleanup();
   try {
-    for (const Subcommand& c : commands)
-      if (c.app->parsed()) return c.run();
+    // A command's outputs appear together when it returns, or none when it
+    // throws (engine/atomic_output.h; docs/errors.md, "Outputs").
+    bristle::CommitGroup outputs;
+    for (const Subcommand& c : commands) {
+      if (!c.app->parsed()) continue;
+      const int code = c.run();
+      outputs.commit();
+      return code;
+    }
     if (help.app->parsed()) return help.run();
     std::cout << app.help();
     return static_cast<int>(bristle::ExitCode::kUsage);

@@ -127,8 +127,10 @@ int runRender(const RenderArgs& args) {
       strokeInputWarnings(brush, trajectory, strokeOptions(png).sim);
 
   // Fail before the long run if an output cannot be created; each output is
-  // written to a temporary file and renamed only when everything succeeded.
+  // written to a temporary file and all are renamed only when every one was
+  // written (engine/atomic_output.h).
   checkCanCreateArg(args.output);
+  CommitGroup outputs;
   if (!args.stats.empty()) checkCanCreate(args.stats);
   std::unique_ptr<AtomicOutput> trace, forces;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
@@ -172,6 +174,7 @@ int runRender(const RenderArgs& args) {
   if (forces) forces->commit();
   stats.planned_steps = planned_steps;
   writeRunStats(args.stats, stats);
+  outputs.commit();
   if (!args.quiet) {
     // The planned steps first, as progress counted them; then the steps taken,
     // which splitting a step in halves makes more.

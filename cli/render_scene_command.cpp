@@ -97,6 +97,7 @@ int runRenderScene(const RenderArgs& args) {
   checkCanCreateArg(args.output);
   if (!args.stats.empty()) checkCanCreate(args.stats);
   warnings = printWarnings(std::move(warnings));
+  CommitGroup outputs;  // -o, --trace and --stats appear together (engine/atomic_output.h)
   std::unique_ptr<AtomicOutput> trace;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
 
@@ -129,6 +130,7 @@ int runRenderScene(const RenderArgs& args) {
     render::writePng(args.output, image8, text);
   if (trace) trace->commit();
   writeRunStats(args.stats, stats);
+  outputs.commit();
   if (!args.quiet) {
     const SimStats& st = result.stats;
     std::fprintf(stderr,

@@ -43,17 +43,15 @@ std::string outputTarget(const std::string& path) {
   struct stat st {};
   if (::lstat(path.c_str(), &st) != 0) return path;  // a new file
   if (S_ISLNK(st.st_mode)) {
-    // What the link ends at decides (/dev/stdout ends at a pipe or a terminal).
-    // A link to a regular file is kept and its target replaced; a dangling link
-    // is replaced itself (weakly_canonical stops at it), never written through.
-    const bool exists = ::stat(path.c_str(), &st) == 0;
-    if (!exists || S_ISREG(st.st_mode)) {
-      std::error_code ec;
-      const fs::path resolved = fs::weakly_canonical(fs::absolute(path), ec);
-      if (ec)
-        throw Error(ExitCode::kCantCreate, path + ": cannot create output: cannot resolve the "
-                                                  "symbolic link: " + ec.message());
-      return resolved.string();
+    // What the link ends at names the refusal when it is no regular file
+    // (/dev/stdout ends at a pipe or a terminal).
+    struct stat target {};
+    if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode)) {
+      st = target;
+    } else {
+      throw Error(ExitCode::kCantCreate,
+                  path + ": cannot create output: is a symbolic link; bristle never writes "
+                         "through a link nor replaces it (name the file itself)");
     }
   }
   if (!S_ISREG(st.st_mode))
@@ -62,47 +60,177 @@ std::string outputTarget(const std::string& path) {
   return path;
 }
 
+namespace {
+
+// The open group, for the whole process: an output finished on a worker
+// thread joins it too. Outputs are committed one at a time (no lock).
+CommitGroup* g_open_group = nullptr;
+
+std::string folderOf(const std::string& path) {
+  const fs::path parent = fs::path(path).parent_path();
+  return parent.empty() ? std::string(".") : parent.string();
+}
+
+// Creates `name` beneath the folder dirfd exclusively, never through a link.
+// A leftover of our own PID (a process before us that was killed) is removed
+// first: unlink never follows a link, and O_EXCL still guards the create.
+int createExclusive(int dirfd, const std::string& name, const std::string& shown) {
+  const int flags = O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC;
+  int fd = ::openat(dirfd, name.c_str(), flags, 0666);
+  if (fd < 0 && errno == EEXIST && ::unlinkat(dirfd, name.c_str(), 0) == 0)
+    fd = ::openat(dirfd, name.c_str(), flags, 0666);
+  if (fd < 0)
+    throw Error(ExitCode::kCantCreate, shown + ": cannot create output: " + std::strerror(errno));
+  return fd;
+}
+
+// Makes a rename in the folder durable. A file system that cannot sync a
+// folder (EINVAL) has nothing to make durable; other failures are ignored
+// too: the outputs are in place and complete, only their durability is open.
+void syncFolder(int dirfd) { ::fsync(dirfd); }
+
+void syncFolder(const std::string& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  syncFolder(fd);
+  ::close(fd);
+}
+
+// A stream buffer over the temporary file's descriptor that keeps the errno
+// of the first failed write, so that the error names why (a full disk, a
+// file size limit) even when it is noticed only at commit().
+class FdBuf : public std::streambuf {
+ public:
+  explicit FdBuf(int fd) : fd_(fd) { setp(buf_, buf_ + sizeof buf_); }
+  int error() const { return error_; }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return drain() ? 0 : -1; }
+
+ private:
+  bool drain() {
+    const char* at = pbase();
+    while (error_ == 0 && at < pptr()) {
+      const ssize_t n = ::write(fd_, at, static_cast<size_t>(pptr() - at));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) error_ = n < 0 ? errno : EIO;
+      else at += n;
+    }
+    setp(buf_, buf_ + sizeof buf_);
+    return error_ == 0;
+  }
+  int fd_;
+  int error_ = 0;
+  char buf_[1 << 16];
+};
+
+Error writeFailed(const std::string& path, int error) {
+  return Error(ExitCode::kIoError,
+               path + ": write failed: " + (error != 0 ? std::strerror(error) : "unknown error"));
+}
+
+// Renames one finished temporary file over its target, then syncs the folder.
+void renameIntoPlace(PendingOutput* p) {
+  if (std::rename(p->tmp.c_str(), p->path.c_str()) != 0)
+    throw Error(ExitCode::kCantCreate, p->path + ": cannot create output: " + std::strerror(errno));
+  p->tmp.clear();
+  p->registration.reset();
+  syncFolder(folderOf(p->path));
+}
+
+}  // namespace
+
+PendingOutput::~PendingOutput() {
+  if (!tmp.empty()) ::unlink(tmp.c_str());
+}
+
 AtomicOutput::AtomicOutput(const std::string& path)
-    : path_(path), target_(outputTarget(path)), tmp_(tempNameFor(target_)) {
-  registration_.emplace(tmp_);
-  out_.open(tmp_, std::ios::binary | std::ios::trunc);
-  if (!out_)
-    throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
+    : path_(path), pending_(std::make_unique<PendingOutput>()) {
+  pending_->path = path;
+  outputTarget(path);
+  const std::string tmp = tempNameFor(path);
+  pending_->registration.emplace(tmp);  // before the file exists: a signal removes it
+  fd_ = createExclusive(AT_FDCWD, tmp, path);
+  pending_->tmp = tmp;
+  buf_ = std::make_unique<FdBuf>(fd_);
+  out_.rdbuf(buf_.get());
 }
 
 AtomicOutput::~AtomicOutput() {
-  if (!committed_) {
-    out_.close();
-    std::remove(tmp_.c_str());
-  }
+  if (fd_ >= 0) ::close(fd_);
+  // pending_ removes the temporary file unless it was renamed or handed on.
 }
 
 void AtomicOutput::commit() {
   out_.flush();
-  const bool ok = static_cast<bool>(out_);
-  out_.close();
-  if (!ok || out_.fail()) {
-    std::remove(tmp_.c_str());
-    committed_ = true;
-    throw Error(ExitCode::kIoError, path_ + ": write failed");
+  int error = static_cast<FdBuf*>(buf_.get())->error();
+  if (error == 0 && !out_) error = EIO;  // a failure the buffer did not see
+  if (error == 0 && ::fsync(fd_) != 0) error = errno;
+  if (::close(fd_) != 0 && error == 0) error = errno;
+  fd_ = -1;
+  out_.setstate(std::ios::badbit);  // nothing more goes to a closed file
+  if (error != 0) {
+    pending_.reset();  // removes the temporary file
+    throw writeFailed(path_, error);
   }
-  if (std::rename(tmp_.c_str(), target_.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(tmp_.c_str());
-    committed_ = true;
-    throw Error(ExitCode::kCantCreate, path_ + ": cannot create output: " + why);
+  if (CommitGroup* group = g_open_group) {
+    group->pending_.push_back(std::move(pending_));
+    return;
   }
-  committed_ = true;
-  registration_.reset();
+  renameIntoPlace(pending_.get());
+}
+
+CommitGroup::CommitGroup() : outer_(g_open_group) { g_open_group = this; }
+
+CommitGroup::~CommitGroup() {
+  if (g_open_group == this) g_open_group = outer_;
+  // pending_ removes every temporary file not renamed.
+}
+
+CommitGroup* CommitGroup::open() { return g_open_group; }
+
+void CommitGroup::commit() {
+  if (g_open_group == this) g_open_group = outer_;
+  if (outer_ != nullptr) {
+    for (auto& p : pending_) outer_->pending_.push_back(std::move(p));
+    for (auto& f : last_) outer_->last_.push_back(std::move(f));
+    pending_.clear();
+    last_.clear();
+    return;
+  }
+  // Every target is checked before the first rename, so that one turned into
+  // a folder or a link meanwhile fails the run with nothing renamed.
+  for (const auto& p : pending_) outputTarget(p->path);
+  for (auto& p : pending_) renameIntoPlace(p.get());
+  pending_.clear();
+  std::vector<std::function<void()>> last = std::move(last_);
+  last_.clear();
+  for (auto& f : last) f();
+}
+
+void CommitGroup::atCommit(std::function<void()> last) { last_.push_back(std::move(last)); }
+
+void writeFileAtomically(const std::string& path, std::string_view bytes) {
+  AtomicOutput out(path);
+  out.write(bytes);
+  out.commit();
 }
 
 void checkCanCreate(const std::string& path) {
-  const std::string probe = tempNameFor(outputTarget(path)) + "-probe";
+  outputTarget(path);
+  const std::string probe = tempNameFor(path) + "-probe";
   const TempFileRegistration registration(probe);
-  std::FILE* f = std::fopen(probe.c_str(), "wb");
-  if (!f) throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
-  std::fclose(f);
-  std::remove(probe.c_str());
+  const int fd = createExclusive(AT_FDCWD, probe, path);
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 namespace {
@@ -189,9 +317,7 @@ void writeFileBeneath(const std::string& root, const std::string& relative,
   const std::string shown = (fs::path(root) / relative).string();
   const std::string tmp = name + ".tmp-" + std::to_string(::getpid());
   const TempFileRegistration registration(shown + ".tmp-" + std::to_string(::getpid()));
-  const int fd = ::openat(dir.fd(), tmp.c_str(),
-                          O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
-  if (fd < 0) throw Error(ExitCode::kCantCreate, shown + ": cannot create output: " + std::strerror(errno));
+  const int fd = createExclusive(dir.fd(), tmp, shown);
   size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -199,24 +325,31 @@ void writeFileBeneath(const std::string& root, const std::string& relative,
     if (n <= 0) break;
     done += static_cast<size_t>(n);
   }
-  const int write_errno = errno;
+  int error = errno;
+  const bool synced = done == bytes.size() && ::fsync(fd) == 0;
+  if (done == bytes.size() && !synced) error = errno;
   const bool closed = ::close(fd) == 0;
-  if (done != bytes.size() || !closed) {
+  if (synced && !closed) error = errno;
+  if (!synced || !closed) {
     ::unlinkat(dir.fd(), tmp.c_str(), 0);
-    throw Error(ExitCode::kIoError, shown + ": write failed: " + std::strerror(write_errno));
+    throw writeFailed(shown, error);
   }
   if (::renameat(dir.fd(), tmp.c_str(), dir.fd(), name.c_str()) != 0) {
     const int rename_errno = errno;
     ::unlinkat(dir.fd(), tmp.c_str(), 0);
     throw Error(ExitCode::kCantCreate, shown + ": cannot create output: " + std::strerror(rename_errno));
   }
+  syncFolder(dir.fd());
 }
 
 void moveFileBeneath(const std::string& from, const std::string& root,
                      const std::string& relative) {
   std::string name;
   const Folder dir(openParentBeneath(root, relative, true, &name));
-  if (::renameat(AT_FDCWD, from.c_str(), dir.fd(), name.c_str()) == 0) return;
+  if (::renameat(AT_FDCWD, from.c_str(), dir.fd(), name.c_str()) == 0) {
+    syncFolder(dir.fd());
+    return;
+  }
   if (errno != EXDEV)
     throw Error(ExitCode::kCantCreate, (fs::path(root) / relative).string() +
                                            ": cannot create output: " + std::strerror(errno));

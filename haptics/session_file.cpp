@@ -1,5 +1,6 @@
 #include "haptics/session_file.h"
 
+#include <fcntl.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -32,11 +33,19 @@ std::string brushFileHash(const std::string& brush_path) {
   return hex64(fnv1a64(readTextFile(brush_path)));
 }
 
+// A live session is written in place, not through a temporary file: rows
+// reach the disk every 50 ms so that a crash keeps the recording
+// (docs/haptics.md). Like every output it is a regular file or a new one,
+// never a device, a FIFO or a symbolic link (O_NOFOLLOW; engine/atomic_output.h).
 std::FILE* SessionWriter::open(const std::string& path) {
-  outputTarget(path);  // a regular file or a new one, never a device or FIFO
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (f == nullptr)
-    throw Error(ExitCode::kCantCreate, path + ": cannot create: " + std::strerror(errno));
+  outputTarget(path);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
+  std::FILE* f = fd >= 0 ? ::fdopen(fd, "w") : nullptr;
+  if (f == nullptr) {
+    const int error = errno;
+    if (fd >= 0) ::close(fd);
+    throw Error(ExitCode::kCantCreate, path + ": cannot create: " + std::strerror(error));
+  }
   return f;
 }
 

@@ -49,6 +49,15 @@ void chooseRasteriserThreads() {
   ::setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);
 }
 
+// Mesa keeps a cache of compiled shaders under the user's cache folder (and
+// finds the home through the password file when HOME points elsewhere). A
+// render writes nothing but its outputs (docs/errors.md, "Outputs"), and
+// bristle's few shaders compile in milliseconds, so the cache is off unless
+// the user set MESA_SHADER_CACHE_DISABLE. Read when llvmpipe's screen is made.
+void disableShaderCache() {
+  ::setenv("MESA_SHADER_CACHE_DISABLE", "true", /*overwrite=*/0);
+}
+
 std::string glString(GLenum name) {
   const GLubyte* s = glGetString(name);
   return s != nullptr ? reinterpret_cast<const char*>(s) : "(null)";
@@ -67,6 +76,7 @@ struct GlContext::Impl {
 GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
   checkGalliumDriver();
   chooseRasteriserThreads();
+  disableShaderCache();
 
   // No depth/stencil/accum on the dummy buffer: the FBO brings its own depth.
   const int attributes[] = {

@@ -24,7 +24,6 @@
 #include "engine/atomic_output.h"
 #include "engine/canvas.h"
 #include "engine/error.h"
-#include "engine/temp_files.h"
 #include "engine/text_file.h"
 
 namespace bristle::render {
@@ -140,24 +139,28 @@ std::vector<png_text> toPngText(const PngText& text) {
   return chunks;
 }
 
-// "-": the whole PNG is encoded in memory first, then written to standard
-// output, so a failure before the end leaves nothing on it; a write error
-// (a closed pipe, a full disk) is kIoError after some bytes may have gone out.
-void writePngToStdout(const EncodeJob& job) {
+// The whole PNG encoded in memory, so that a failure while encoding leaves
+// nothing on standard output and no file. Throws kIoError naming `shown`.
+std::string encodeToMemory(const EncodeJob& job, const std::string& shown) {
   char* buffer = nullptr;
   std::size_t size = 0;
   std::FILE* memory = ::open_memstream(&buffer, &size);
   if (memory == nullptr)
-    throw Error(ExitCode::kIoError, std::string("stdout: cannot encode the PNG: ") +
-                                        std::strerror(errno));
+    throw Error(ExitCode::kIoError, shown + ": cannot encode the PNG: " + std::strerror(errno));
   PngFailure failure;
   const bool encoded = encodePng(memory, job, &failure);
   const bool closed = std::fclose(memory) == 0;  // sets buffer and size
-  const std::string bytes = buffer != nullptr ? std::string(buffer, size) : std::string();
+  std::string bytes = buffer != nullptr ? std::string(buffer, size) : std::string();
   std::free(buffer);
   if (!encoded || !closed)
-    throw Error(ExitCode::kIoError, std::string("stdout: cannot encode the PNG: ") +
+    throw Error(ExitCode::kIoError, shown + ": cannot encode the PNG: " +
                                         (encoded ? "out of memory" : failure.message));
+  return bytes;
+}
+
+// "-": a write error (a closed pipe, a full disk) is kIoError after some bytes
+// may have gone out.
+void writeToStdout(const std::string& bytes) {
   std::fflush(stdout);  // nothing buffered may follow the PNG's bytes out of order
   std::size_t sent = 0;
   while (sent < bytes.size()) {
@@ -192,45 +195,18 @@ void writePngRows(const std::string& path, int width, int height, int channels,
   const EncodeJob job{width, height, channels, bit_depth, rows.data(), chunks.data(),
                       static_cast<int>(chunks.size())};
   if (path == kStdoutPath) {
-    writePngToStdout(job);
+    // After the run's files are in place (engine/atomic_output.h): a run that
+    // fails on another output writes nothing to standard output.
+    std::string bytes = encodeToMemory(job, "stdout");
+    if (CommitGroup* group = CommitGroup::open())
+      group->atCommit([bytes = std::move(bytes)] { writeToStdout(bytes); });
+    else
+      writeToStdout(bytes);
     return;
   }
-
-  // Write beside the target and rename, so readers never see a partial file.
-  // Through a symbolic link the link's target is replaced; a device, FIFO or
-  // directory is refused, never replaced (engine/atomic_output.h).
-  const std::string target = outputTarget(path);
-  const std::string temp_path = target + ".tmp-" + std::to_string(::getpid());
-  const TempFileRegistration registration(temp_path);  // removed if a signal stops us
-  std::FILE* file = std::fopen(temp_path.c_str(), "wb");
-  if (file == nullptr) {
-    throw Error(ExitCode::kCantCreate, path + ": cannot create output: " + std::strerror(errno));
-  }
-  PngFailure failure;
-  errno = 0;
-  const bool encoded = encodePng(file, job, &failure);
-  const int encode_errno = errno;  // libpng's "Write Error" hides the reason
-  const bool flushed = encoded && std::fflush(file) == 0 && std::ferror(file) == 0;
-  const int flush_errno = errno;
-  const bool closed = std::fclose(file) == 0;
-  const int close_errno = errno;
-  if (!encoded || !flushed || !closed) {
-    std::remove(temp_path.c_str());
-    std::string reason;
-    if (!encoded) {
-      reason = failure.message;
-      if (encode_errno != 0) reason += std::string(" (") + std::strerror(encode_errno) + ")";
-    } else {
-      reason = describeErrno(!flushed ? flush_errno : close_errno);
-    }
-    throw Error(ExitCode::kIoError, path + ": write failed: " + reason);
-  }
-  if (std::rename(temp_path.c_str(), target.c_str()) != 0) {
-    const int rename_errno = errno;
-    std::remove(temp_path.c_str());
-    throw Error(ExitCode::kCantCreate,
-                path + ": cannot create output: " + std::strerror(rename_errno));
-  }
+  // One atomic output (engine/atomic_output.h): complete or absent, never
+  // through a symbolic link, and renamed with the run's other outputs.
+  writeFileAtomically(path, encodeToMemory(job, path));
 }
 
 // Refuse images larger than any canvas bristle writes (64 Mpx, engine/canvas.h):

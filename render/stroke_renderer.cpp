@@ -49,7 +49,13 @@ CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
   return g;
 }
 
-StrokeRenderer::StrokeRenderer() : renderer_(2048) {
+// The footprint is drawn in tiles of at most this many pixels a side (the GL
+// target's size); a larger window is drawn tile by tile into one image, so the
+// paint laid depends on --px-per-mm only through the discretisation
+// (docs/paint.md, "Which texel touches a pixel").
+constexpr int kFootprintTilePx = 2048;
+
+StrokeRenderer::StrokeRenderer() : renderer_(kFootprintTilePx) {
   // The strips are single hairs (paper §4.2); the surface and the spines'
   // bundles stand for many hairs side by side and are sampled as they are.
   renderer_.setHairTextureRange(textureUBegin(BrushPart::kStrip), textureUEnd(BrushPart::kStrip));
@@ -95,7 +101,6 @@ bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double contact_band
   win.height_px = r1 - r0;
   win.x0_mm = grid.x0_mm + c0 / grid.px_per_mm;
   win.y0_mm = grid.y0_mm + (grid.height_px - r1) / grid.px_per_mm;
-  if (win.width_px > 2048 || win.height_px > 2048) return false;
   // A brush held at rest (docs/dynamics.md, "A brush held still") sends the
   // same triangles step after step; the same triangles in the same window
   // draw the same footprint, which `out` still holds if it is this
@@ -107,7 +112,7 @@ bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double contact_band
   kept_ = same;
   if (!same) {
     drawn_into_ = nullptr;  // until the render below has filled it
-    renderer_.render(vertices_, win, contact_band_mm, out);
+    renderTiled(win, contact_band_mm, out);
     drawn_into_ = out;
     drawn_window_ = win;
     drawn_band_mm_ = contact_band_mm;
@@ -116,6 +121,33 @@ bool StrokeRenderer::renderTriangles(const CanvasGrid& grid, double contact_band
   // the other buffer is refilled then.
   std::swap(vertices_, drawn_vertices_);
   return true;
+}
+
+void StrokeRenderer::renderTiled(const FootprintWindow& win, double contact_band_mm,
+                                 FootprintImage* out) {
+  if (win.width_px <= kFootprintTilePx && win.height_px <= kFootprintTilePx) {
+    renderer_.render(vertices_, win, contact_band_mm, out);
+    return;
+  }
+  out->window = win;
+  out->texels.assign(static_cast<size_t>(win.width_px) * win.height_px * 4, 0.0f);
+  // Tiles on the canvas's pixel grid: column c and row r (from the top) of the
+  // window, each tile's bottom-left corner where its pixels begin.
+  for (int r = 0; r < win.height_px; r += kFootprintTilePx) {
+    for (int c = 0; c < win.width_px; c += kFootprintTilePx) {
+      FootprintWindow tile;
+      tile.px_per_mm = win.px_per_mm;
+      tile.width_px = std::min(kFootprintTilePx, win.width_px - c);
+      tile.height_px = std::min(kFootprintTilePx, win.height_px - r);
+      tile.x0_mm = win.x0_mm + c / win.px_per_mm;
+      tile.y0_mm = win.y0_mm + (win.height_px - r - tile.height_px) / win.px_per_mm;
+      renderer_.render(vertices_, tile, contact_band_mm, &tile_);
+      const size_t row_floats = static_cast<size_t>(tile.width_px) * 4;
+      for (int k = 0; k < tile.height_px; ++k)
+        std::memcpy(&out->texels[(static_cast<size_t>(r + k) * win.width_px + c) * 4],
+                    &tile_.texels[k * row_floats], row_floats * sizeof(float));
+    }
+  }
 }
 
 namespace {

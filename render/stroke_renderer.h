@@ -122,12 +122,15 @@ class StrokeRenderer {
 
  private:
   bool renderTriangles(const CanvasGrid& grid, double contact_band_mm, FootprintImage* out);
+  // vertices_ drawn into the window, in tiles the GL target holds.
+  void renderTiled(const FootprintWindow& win, double contact_band_mm, FootprintImage* out);
   void paintStep(BrushGeometry& geometry, const BrushState* from, const BrushState& state,
                  const StrokeOptions& options, PaintCanvas* canvas, BrushPaint* paint,
                  StrokeResult* result);
 
   FootprintRenderer renderer_;
   FootprintImage image_;
+  FootprintImage tile_;  // one tile of a window larger than the GL target
   std::vector<BrushVertex> triangles_;
   std::vector<FootprintVertex> vertices_;
   // The last footprint drawn: its triangles, where it went and how; a draw

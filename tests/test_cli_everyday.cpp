@@ -608,3 +608,45 @@ TEST_CASE("validate warns of a pair planning over a million steps, and of a scen
   // One line for both brushes: the trajectory and its steps are the same.
   CHECK(sheet.err == "bristle: warning: " + msWarning(", 321001 simulation steps") + "\n");
 }
+
+TEST_CASE("a render writes nothing outside its outputs: no Mesa shader cache", "[cli][outputs]") {
+  // Mesa caches compiled shaders under XDG_CACHE_HOME, or the home of the
+  // password file; bristle turns the cache off (render/gl_context.cpp), so
+  // with both pointing at empty folders they stay empty, and the working
+  // folder holds the PNG alone (docs/errors.md, "Outputs").
+  TempDir dir;
+  for (const char* sub : {"home", "cache", "work"}) fs::create_directories(dir.path() / sub);
+  const RunResult r = runCaptured(
+      "cd '" + dir.file("work") + "' && env -u GALLIUM_DRIVER -u MESA_SHADER_CACHE_DISABLE "
+      "-u MESA_SHADER_CACHE_DIR HOME='" + dir.file("home") + "' XDG_CACHE_HOME='" +
+          dir.file("cache") + "' '" + BRISTLE_BIN + "' render -q --brush round --trajectory '" +
+          sourcePath("scenes/trajectories/s-curve.csv") + "' -o o.png",
+      dir.file("stdout"), dir.file("stderr"));
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(fs::is_empty(dir.path() / "home"));
+  CHECK(fs::is_empty(dir.path() / "cache"));
+  std::vector<std::string> work;
+  for (const auto& e : fs::directory_iterator(dir.path() / "work")) work.push_back(e.path().filename());
+  CHECK(work == std::vector<std::string>{"o.png"});
+}
+
+TEST_CASE("'-o -' with a trace that fails: nothing on stdout, no file", "[cli][stdio][outputs]") {
+  // The PNG goes to standard output only after the run's files are in place
+  // (docs/errors.md, "Outputs"): with every file limited to 1 MB (as a full
+  // disk; SIGXFSZ ignored, so the write fails with EFBIG) the 4 MB trace
+  // fails, and the run is exit 74 with nothing written anywhere.
+  TempDir dir;
+  const RunResult r = runCaptured(
+      "cd '" + dir.path().string() + "' && (ulimit -f 1024; trap '' XFSZ; env -u GALLIUM_DRIVER '" +
+          BRISTLE_BIN + "' render -q --brush round --trajectory '" +
+          sourcePath("scenes/trajectories/s-curve.csv") + "' -o - --trace t.jsonl)",
+      dir.file("stdout"), dir.file("stderr"));
+  CHECK(r.code == 74);
+  CHECK(r.err == "bristle: t.jsonl: write failed: File too large\n");
+  CHECK(r.out.empty());
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir.path())) left.push_back(e.path().filename());
+  std::sort(left.begin(), left.end());
+  CHECK(left == std::vector<std::string>{"stderr", "stdout"});
+}

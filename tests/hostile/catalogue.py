@@ -35,17 +35,19 @@ HANG_GUARD_S = 120
 CASES = []
 
 
-def case(cid, what, args, code, message, setup=None, logs=None, env=None):
+def case(cid, what, args, code, message, setup=None, logs=None, env=None, fsize=None):
     """Registers a case: `bristle ARGS` in a folder set up by setup(dir) exits
     with `code` and prints `bristle: message` alone on stderr. `logs` names the
     one folder the run may add files to (a batch's job log, OUT/logs). `env`
-    sets environment variables for the run (None: unset). In the message,
+    sets environment variables for the run (None: unset). `fsize` limits the
+    size of any file the run writes (RLIMIT_FSIZE, SIGXFSZ ignored), so that a
+    write past it fails as on a full disk. In the message,
     {src} stands for the source tree and {prefix} for the folder above the
     executable's (the build tree, or an install's prefix)."""
     assert not any(c.id == cid for c in CASES), cid
     CASES.append(argparse.Namespace(id=cid, what=what, args=args, code=code,
                                     message=message, setup=setup or (lambda d: None),
-                                    logs=logs, env=env or {}))
+                                    logs=logs, env=env or {}, fsize=fsize))
 
 
 # ---- inputs ---------------------------------------------------------------
@@ -232,6 +234,20 @@ def snapshot(d):
     return state
 
 
+def file_size_limit(size):
+    """A preexec_fn: writes past `size` bytes fail with EFBIG (None: no limit)."""
+    if size is None:
+        return None
+
+    def limit():
+        import resource
+        import signal
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        hard = resource.getrlimit(resource.RLIMIT_FSIZE)[1]
+        resource.setrlimit(resource.RLIMIT_FSIZE, (size, hard))
+    return limit
+
+
 def run_case(bristle, c):
     problems = []
     with tempfile.TemporaryDirectory(prefix="bristle-hostile-") as tmp:
@@ -247,7 +263,8 @@ def run_case(bristle, c):
                 env[key] = value
         try:
             r = subprocess.run([bristle, *c.args], cwd=d, env=env, stdin=subprocess.DEVNULL,
-                               capture_output=True, timeout=HANG_GUARD_S)
+                               capture_output=True, timeout=HANG_GUARD_S,
+                               preexec_fn=file_size_limit(c.fsize))
         except subprocess.TimeoutExpired:
             return [f"still running after {HANG_GUARD_S} s (a hang)"]
         err = r.stderr.decode(errors="replace")
@@ -1323,6 +1340,40 @@ case("validate-scene-span-1e7", "`validate` of a scene stroke whose trajectory s
      "t.csv: line 4, column 1 (t_s): the trajectory plans 1200000001 simulation steps up to "
      "here, over the limit of 10000000 per trajectory",
      all_of(LONG, scene(edit=lambda s: s.update(sim={"rate_hz": 120}))))
+
+# -- all outputs or none: a run that fails on one output leaves none ---------
+def old(name, text="old\n"):
+    """A setup step: an earlier output, which a failed run must leave as it was."""
+    return lambda d: write(d, name, text)
+
+
+case("render-trace-disk-full", "`render -o o.png --trace o.jsonl` over an earlier `o.png`, with "
+     "every file limited to 1 MB (as a full disk): the 4 MB trace fails after the PNG was "
+     "written; the earlier PNG stays, no new file", ["render", "-q", "--brush", "b.json",
+     "--trajectory", "t.csv", "-o", "o.png", "--trace", "o.jsonl", "--stats", "s.json"], 74,
+     "o.jsonl: write failed: File too large", all_of(STROKE, old("o.png")), fsize=1 << 20)
+case("scene-trace-disk-full", "the same for a scene: `render s.json -o o.png --trace o.jsonl "
+     "--stats s.json` over an earlier `o.png` and `st.json`, files limited to 1 MB",
+     ["render", "-q", "s.json", "-o", "o.png", "--trace", "o.jsonl", "--stats", "st.json"], 74,
+     "o.jsonl: write failed: File too large",
+     all_of(STROKE, scene(), old("o.png"), old("st.json")), fsize=1 << 20)
+TWO_PATHS = svg("l.svg", '<path d="M10 10 h5"/>\n'
+                '<path d="M10 30 c20 -20 40 20 60 0 s40 20 20 20 s-40 -20 -60 0"/>')
+case("import-second-stroke-fails", "`import` to a scene of two paths, every file limited to "
+     "4 KB: the second stroke's 10 KB trajectory fails; the first stroke's earlier file stays, "
+     "no scene", ["import", "l.svg", "-o", "s.json"], 74,
+     "s-stroke-002.csv: write failed: File too large",
+     all_of(TWO_PATHS, old("s-stroke-001.csv")), fsize=4096)
+LINKED = ": cannot create output: is a symbolic link; bristle never writes through a link nor " \
+         "replaces it (name the file itself)"
+case("out-symlink-to-file", "`-o` is a symbolic link to a file that is no input",
+     render(out="l.png"), 73, "l.png" + LINKED,
+     all_of(STROKE, old("victim.png"), symlink("l.png", "victim.png")))
+case("out-symlink-dangling", "`-o` is a dangling symbolic link: nothing is made where it points",
+     render(out="l.png"), 73, "l.png" + LINKED, all_of(STROKE, symlink("l.png", "made.png")))
+case("trace-symlink-to-file", "`--trace` is a symbolic link to a file outside the folder",
+     render("b.json", "t.csv", "o.png", "--trace", "l.jsonl"), 73, "l.jsonl" + LINKED,
+     all_of(STROKE, symlink("l.jsonl", "/etc/hostname")))
 
 CASES_END = None  # the cases are appended above this line
 
