@@ -79,12 +79,6 @@ std::string knownOptionList() {
   return list;
 }
 
-bool hasControlCharacter(const std::string& s) {
-  return std::any_of(s.begin(), s.end(), [](char c) {
-    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
-  });
-}
-
 // A string value is one argv word that cannot be read as an option.
 bool isWord(const nlohmann::json& v) {
   if (!v.is_string()) return false;

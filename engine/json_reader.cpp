@@ -11,20 +11,8 @@
 namespace bristle {
 namespace {
 
-// Control characters in a key would break the one-line message; show them as \uXXXX.
-std::string printable(const std::string& key) {
-  std::string out;
-  for (char c : key) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned char>(c));
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
+// A key as messages show it (oneLine, engine/error.h).
+std::string printable(const std::string& key) { return oneLine(key); }
 
 std::string escapePointerToken(const std::string& key) {
   std::string out;
