@@ -64,9 +64,9 @@ void addSolverMaxIterations(CLI::App* app, int& max_iterations) {
 
 void addIpoptOption(CLI::App* app, std::vector<std::string>& options) {
   app->add_option("--ipopt-option", options,
-                  "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; "
-                  "bristle's own: friction_form=auto|epigraph|objective, timing_statistics=yes|no, "
-                  "warm_retry=yes|no (a failed warm start solved again re-centred; default yes), "
+                  "Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; only those "
+                  "that change the solve, each range-checked (bristle help ipopt-option lists "
+                  "them); bristle's own: friction_form, warm_retry, timing_statistics, "
                   "linear_solver=dense (the default; =mumps for Ipopt's own)");
 }
 
