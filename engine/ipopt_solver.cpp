@@ -573,9 +573,25 @@ class IpoptSolver : public SpineSolver {
   bool couplesSpines() const override { return true; }
   bool wantsPredictedStart() const override { return true; }
 
+  // Solvers never throw (engine/spine_solver.h): what throws in a solve (an
+  // allocation of the NLP, its results or a message) fails that step alone.
   SolveSummary solve(std::span<const SpineProblem* const> problems,
                      std::span<SpineSolution* const> solutions,
                      std::span<const VolumeLink> links) override {
+    try {
+      return solveOnce(problems, solutions, links);
+    } catch (...) {
+      SolveSummary failed;  // its message fits the string's own buffer: no allocation
+      failed.status = SolveStatus::kFailed;
+      failed.message = "exception";
+      return failed;
+    }
+  }
+
+ private:
+  SolveSummary solveOnce(std::span<const SpineProblem* const> problems,
+                         std::span<SpineSolution* const> solutions,
+                         std::span<const VolumeLink> links) {
     SolveSummary summary;
     if (!initialized_) {
       summary.status = SolveStatus::kFailed;
