@@ -147,4 +147,23 @@ void requireFiniteNumbers(CLI::App& app) {
     requireFiniteNumbers(*sub);
 }
 
+void requireNamedOutputs(CLI::App& app) {
+  // "" is how an output option reads when it is not given: given as '', it
+  // would be taken for no output at all, or for a file without a name.
+  static const char* const kOutputs[] = {"--output", "--trace", "--forces", "--stats",
+                                         "--png",    "--diff",  "--log",    "--out"};
+  const CLI::Validator named(
+      [](std::string& text) -> std::string {
+        return text.empty() ? "an empty name: give a file name (or - where standard output is "
+                              "allowed)"
+                            : "";
+      },
+      "");
+  for (CLI::Option* opt : app.get_options())
+    for (const char* name : kOutputs)
+      if (optionName(*opt) == name) opt->check(named);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    requireNamedOutputs(*sub);
+}
+
 }  // namespace bristle::cli
