@@ -1,12 +1,32 @@
 #include "cli/options.h"
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace bristle::cli {
+
+namespace {
+
+// The whole text as an unsigned 64-bit integer: CLI11 reads "-1" as 2^64 - 1
+// and a number past 2^64 as 2^64 - 1, each silently another seed.
+CLI::Validator unsignedInteger() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::uint64_t v = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+        if (ec == std::errc() && ptr == end) return "";
+        return "'" + text + "' must be a whole number in [0, 18446744073709551615]";
+      },
+      "");
+}
+
+}  // namespace
 
 void addPaintOptions(CLI::App* app, PaintOptions& p) {
   app->add_option("--paint,--colour,--color", p.paint,
@@ -31,7 +51,8 @@ void addPaintOptions(CLI::App* app, PaintOptions& p) {
   app->add_option("--paper-scale", p.paper_scale_mm, "Feature size of the paper's grain (mm)")
       ->capture_default_str();
   app->add_option("--paper-seed", p.paper_seed, "Seed of the paper's grain")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(unsignedInteger());
   app->add_flag("--impasto", p.impasto, "Light the paint's thickness from the upper left");
   app->add_option("--bits", p.bits, "Bits per PNG channel")
       ->capture_default_str()
