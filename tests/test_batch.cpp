@@ -246,6 +246,18 @@ TEST_CASE("batch shards come from Slurm job arrays and Kubernetes Indexed Jobs",
   CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("not a task of the array"));
   vars = {{"SLURM_ARRAY_TASK_ID", "x"}};
   CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("SLURM_ARRAY_TASK_ID=x"));
+  // A step of 0, and numbers past the shard limit, are refused, never read as another shard.
+  vars = {{"SLURM_ARRAY_TASK_ID", "1"}, {"SLURM_ARRAY_TASK_MIN", "0"},
+          {"SLURM_ARRAY_TASK_COUNT", "4"}, {"SLURM_ARRAY_TASK_STEP", "0"}};
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0),
+                    "SLURM_ARRAY_TASK_STEP=0: must be at least 1 (the array's step between "
+                    "task ids)");
+  vars = {{"SLURM_ARRAY_TASK_ID", "1"}, {"SLURM_ARRAY_TASK_COUNT", "99999999999999999999"}};
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0),
+                    "SLURM_ARRAY_TASK_COUNT=99999999999999999999: not a non-negative integer up "
+                    "to 999999999");
+  vars = {{"SLURM_ARRAY_TASK_ID", "-1"}};
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("not a non-negative integer"));
 
   // Kubernetes: the pod knows its index; the count comes from the command line.
   vars = {{"JOB_COMPLETION_INDEX", "2"}};
