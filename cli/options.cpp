@@ -85,7 +85,7 @@ void addSolverMaxIterations(CLI::App* app, int& max_iterations) {
 
 void addIpoptOption(CLI::App* app, std::vector<std::string>& options) {
   app->add_option("--ipopt-option", options,
-                  "Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; only those "
+                  "Ipopt option NAME=VALUE (repeatable), e.g. tol=1e-7; only those "
                   "that change the solve, each range-checked (bristle help ipopt-option lists "
                   "them); bristle's own: friction_form, warm_retry, timing_statistics, "
                   "linear_solver=dense (the default; =mumps for Ipopt's own)");
