@@ -9,6 +9,7 @@
 
 #include "engine/brush_library.h"
 #include "engine/error.h"
+#include "engine/ipopt_options.h"
 #include "engine/json_reader.h"
 #include "engine/text_file.h"
 
@@ -79,12 +80,6 @@ std::string knownOptionList() {
   return list;
 }
 
-bool hasControlCharacter(const std::string& s) {
-  return std::any_of(s.begin(), s.end(), [](char c) {
-    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
-  });
-}
-
 // A string value is one argv word that cannot be read as an option.
 bool isWord(const nlohmann::json& v) {
   if (!v.is_string()) return false;
@@ -121,6 +116,19 @@ bool hasType(const nlohmann::json& v, OptionType type) {
   return false;
 }
 
+// Each Ipopt option meets the allow-list a command line meets
+// (engine/ipopt_options.h), here before any job runs.
+void checkIpoptOptions(const JsonObject& owner, const std::string& where,
+                       const nlohmann::json& value) {
+  for (size_t i = 0; i < (value.is_array() ? value.size() : 1); ++i) {
+    const nlohmann::json& text = value.is_array() ? value[i] : value;
+    const std::string at = value.is_array() ? where + "/" + std::to_string(i) : where;
+    if (const std::optional<std::string> problem =
+            ipoptOptionTextProblem(text.get_ref<const std::string&>()))
+      owner.fail(at, *problem);
+  }
+}
+
 void checkOptions(const JsonObject& owner, const std::string& key, const nlohmann::json& options) {
   const std::string pointer = owner.childPointer(key);
   if (!options.is_object())
@@ -138,6 +146,7 @@ void checkOptions(const JsonObject& owner, const std::string& key, const nlohman
       owner.fail(where, "unknown option '" + name + "' (known: " + knownOptionList() + ")");
     if (!hasType(value, known->second))
       owner.requireAt(false, where, value, typeRule(known->second));
+    if (name == "ipopt-option") checkIpoptOptions(owner, where, value);
   }
 }
 

@@ -22,15 +22,18 @@ Shard parseShard(const std::string& text) {
 
 namespace {
 
-// A non-negative integer variable, or -1 when unset; throws for junk.
+// A variable's value as an integer in [0, 999999999] (beyond any Slurm
+// array's task ids), or -1 when unset; throws naming it for junk, a sign or
+// a number beyond that, which strtol would clamp to another value.
 long envInteger(const std::function<const char*(const char*)>& env, const char* name) {
   const char* v = env(name);
   if (v == nullptr || *v == '\0') return -1;
-  char* end = nullptr;
-  const long n = std::strtol(v, &end, 10);
-  if (*end != '\0' || n < 0)
-    throw Error(ExitCode::kUsage, std::string(name) + "=" + v + ": not a non-negative integer");
-  return n;
+  static const std::regex kDigits("[0-9]{1,9}");
+  if (!std::regex_match(v, kDigits))
+    throw Error(ExitCode::kUsage,
+                std::string(name) + "=" + v +
+                    ": not a non-negative integer up to 999999999");
+  return std::strtol(v, nullptr, 10);
 }
 
 }  // namespace
@@ -41,7 +44,12 @@ Shard shardFromEnvironment(const std::function<const char*(const char*)>& env,
   if (slurm_id >= 0) {
     const long count = envInteger(env, "SLURM_ARRAY_TASK_COUNT");
     const long min = std::max(0L, envInteger(env, "SLURM_ARRAY_TASK_MIN"));
-    const long step = std::max(1L, envInteger(env, "SLURM_ARRAY_TASK_STEP"));
+    // Slurm sets _STEP to 1 or more; 0 would make every task shard 0.
+    long step = envInteger(env, "SLURM_ARRAY_TASK_STEP");
+    if (step == 0)
+      throw Error(ExitCode::kUsage, "SLURM_ARRAY_TASK_STEP=0: must be at least 1 (the array's "
+                                    "step between task ids)");
+    step = std::max(1L, step);
     const long index = (slurm_id - min) / step;
     if (count < 1 || slurm_id < min || (slurm_id - min) % step != 0 || index >= count) {
       throw Error(ExitCode::kUsage,

@@ -17,6 +17,7 @@ std::vector<Subcommand> registerCommands(CLI::App& app) {
       registerPreview(app), registerRecord(app),   registerReplay(app),  registerSheet(app),
       registerBatch(app),   registerCompare(app),  registerImport(app), registerMeasure(app)};
   requireFiniteNumbers(app);
+  requireNamedOutputs(app);
   return commands;
 }
 

@@ -97,6 +97,15 @@ int runImport(ImportArgs a) {
     throw Error(ExitCode::kUsage, "--paint " + a.paint + ": unknown pigment (known: " +
                                       knownPigmentList() + "; or a colour #rrggbb)");
 
+  // --pressure is the command line's: refused as such (64) before the
+  // recording is read, so that no SVG element is blamed for it.
+  try {
+    input::parsePressureProfile(a.options.svg.pressure_profile, "--pressure",
+                                a.options.svg.pressure_profile);
+  } catch (const Error& e) {
+    throw Error(ExitCode::kUsage, e.what());
+  }
+
   const std::string brush_file = findBrushFile(a.brush, "--brush");
   checkCliFiles({{"-o", a.output}}, {{"recording", a.input}, {"--brush", brush_file}}, {"-o"},
                 {"recording"});

@@ -16,6 +16,7 @@
 #include "cli/options.h"
 #include "engine/error.h"
 #include "engine/heap_policy.h"
+#include "engine/ipopt_options.h"
 #include "engine/temp_files.h"
 
 namespace {
@@ -50,7 +51,13 @@ constexpr const char* kFooter =
     "data, 66 input missing, 69 haptic device unavailable (or failed), 70 internal\n"
     "error, 73 cannot create output, 74 I/O error.\n";
 
-// `bristle help [COMMAND]`: the program's help, or one command's.
+constexpr const char* kIpoptOptionHelp =
+    "--ipopt-option NAME=VALUE (render, record, replay; a batch job's \"ipopt-option\")\n"
+    "sets one of these options of the spine solver, checked before the run; no\n"
+    "other is passed to Ipopt (none that writes a file or prints), and Ipopt\n"
+    "reads no option file (docs/dynamics.md, \"Ipopt options\"):\n";
+
+// `bristle help [COMMAND]`: the program's help, one command's, or the Ipopt options.
 Subcommand registerHelp(CLI::App& app, const std::vector<Subcommand>& commands) {
   auto topic = std::make_shared<std::string>();
   CLI::App* help = app.add_subcommand("help", "Show help for bristle or one command");
@@ -59,10 +66,14 @@ Subcommand registerHelp(CLI::App& app, const std::vector<Subcommand>& commands) 
       "  bristle help\n"
       "  bristle help validate\n"
       "Each command's help (also COMMAND --help) shows its options and its own examples.");
-  help->add_option("command", *topic, "Command to explain");
+  help->add_option("command", *topic, "Command to explain, or ipopt-option");
   return {help, [&app, &commands, topic] {
             if (topic->empty()) {
               std::cout << app.help();
+              return 0;
+            }
+            if (*topic == "ipopt-option") {
+              std::cout << kIpoptOptionHelp << bristle::ipoptOptionsHelp();
               return 0;
             }
             for (const Subcommand& c : commands) {
@@ -73,7 +84,8 @@ Subcommand registerHelp(CLI::App& app, const std::vector<Subcommand>& commands) 
             }
             bristle::cli::printError("help: unknown command '" + *topic +
                                      "' (commands: render, preview, validate, brushes, "
-                                     "pigments, record, replay, sheet, batch, compare, import)");
+                                     "pigments, record, replay, sheet, batch, compare, import; "
+                                     "or ipopt-option)");
             return static_cast<int>(bristle::ExitCode::kUsage);
           }};
 }

@@ -1,12 +1,32 @@
 #include "cli/options.h"
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace bristle::cli {
+
+namespace {
+
+// The whole text as an unsigned 64-bit integer: CLI11 reads "-1" as 2^64 - 1
+// and a number past 2^64 as 2^64 - 1, each silently another seed.
+CLI::Validator unsignedInteger() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::uint64_t v = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+        if (ec == std::errc() && ptr == end) return "";
+        return "'" + text + "' must be a whole number in [0, 18446744073709551615]";
+      },
+      "");
+}
+
+}  // namespace
 
 void addPaintOptions(CLI::App* app, PaintOptions& p) {
   app->add_option("--paint,--colour,--color", p.paint,
@@ -31,7 +51,8 @@ void addPaintOptions(CLI::App* app, PaintOptions& p) {
   app->add_option("--paper-scale", p.paper_scale_mm, "Feature size of the paper's grain (mm)")
       ->capture_default_str();
   app->add_option("--paper-seed", p.paper_seed, "Seed of the paper's grain")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(unsignedInteger());
   app->add_flag("--impasto", p.impasto, "Light the paint's thickness from the upper left");
   app->add_option("--bits", p.bits, "Bits per PNG channel")
       ->capture_default_str()
@@ -64,9 +85,9 @@ void addSolverMaxIterations(CLI::App* app, int& max_iterations) {
 
 void addIpoptOption(CLI::App* app, std::vector<std::string>& options) {
   app->add_option("--ipopt-option", options,
-                  "Extra Ipopt option NAME=VALUE (repeatable), e.g. mu_strategy=monotone; "
-                  "bristle's own: friction_form=auto|epigraph|objective, timing_statistics=yes|no, "
-                  "warm_retry=yes|no (a failed warm start solved again re-centred; default yes), "
+                  "Ipopt option NAME=VALUE (repeatable), e.g. tol=1e-7; only those "
+                  "that change the solve, each range-checked (bristle help ipopt-option lists "
+                  "them); bristle's own: friction_form, warm_retry, timing_statistics, "
                   "linear_solver=dense (the default; =mumps for Ipopt's own)");
 }
 
@@ -145,6 +166,25 @@ void requireFiniteNumbers(CLI::App& app) {
     if (opt->get_type_name().rfind("FLOAT", 0) == 0) opt->check(finite);
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
     requireFiniteNumbers(*sub);
+}
+
+void requireNamedOutputs(CLI::App& app) {
+  // "" is how an output option reads when it is not given: given as '', it
+  // would be taken for no output at all, or for a file without a name.
+  static const char* const kOutputs[] = {"--output", "--trace", "--forces", "--stats",
+                                         "--png",    "--diff",  "--log",    "--out"};
+  const CLI::Validator named(
+      [](std::string& text) -> std::string {
+        return text.empty() ? "an empty name: give a file name (or - where standard output is "
+                              "allowed)"
+                            : "";
+      },
+      "");
+  for (CLI::Option* opt : app.get_options())
+    for (const char* name : kOutputs)
+      if (optionName(*opt) == name) opt->check(named);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    requireNamedOutputs(*sub);
 }
 
 }  // namespace bristle::cli

@@ -72,4 +72,9 @@ void useHelpFormatter(CLI::App& app);
 // since every comparison with it is false. Call once all options exist.
 void requireFiniteNumbers(CLI::App& app);
 
+// Every output option (-o, --trace, --forces, --stats, --png, --diff, --log,
+// --out) of app and its subcommands refuses an empty name, naming the option
+// (exit 64).
+void requireNamedOutputs(CLI::App& app);
+
 }  // namespace bristle::cli

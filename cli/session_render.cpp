@@ -90,11 +90,6 @@ std::string joined(const std::vector<std::string>& values) {
   return values.empty() ? "(none)" : text;
 }
 
-bool hasControlCharacter(const std::string& s) {
-  return std::any_of(s.begin(), s.end(),
-                     [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
-}
-
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> sessionRenderHeader(const SessionRender& r) {

@@ -8,6 +8,7 @@
 #include "cli/inputs.h"
 #include "engine/canvas.h"
 #include "engine/error.h"
+#include "engine/ipopt_options.h"
 #include "engine/paint.h"
 #include "render/compose.h"
 #include "render/png_io.h"
@@ -70,11 +71,11 @@ SolverSettings solverSettings(const StrokePngOptions& o) {
   SolverSettings solvers;
   solvers.kind = o.solver;
   solvers.max_iterations = o.solver_max_iterations;
+  // Each one checked here, before any input is read (engine/ipopt_options.h).
   for (const std::string& kv : o.ipopt_options) {
-    const size_t eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error(ExitCode::kUsage, "--ipopt-option " + kv + ": expected NAME=VALUE");
-    solvers.ipopt_options.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+    if (const std::optional<std::string> problem = ipoptOptionTextProblem(kv))
+      throw Error(ExitCode::kUsage, "--ipopt-option " + *problem);
+    solvers.ipopt_options.push_back(*splitIpoptOption(kv));
   }
   return solvers;
 }

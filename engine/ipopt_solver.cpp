@@ -14,9 +14,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
+#include <sstream>
+#include <string>
 
 #include "engine/dense_kkt.h"
 #include "engine/error.h"
+#include "engine/ipopt_options.h"
 #include "engine/ipopt_timers.h"
 #include "engine/spine_solver.h"
 
@@ -523,9 +527,12 @@ constexpr int kIpoptDefaultMaxRestoIter = 3000000;
 
 class IpoptSolver : public SpineSolver {
  public:
-  explicit IpoptSolver(const IpoptSettings& settings) : app_(IpoptApplicationFactory()) {
+  // No console journal: Ipopt prints nothing, whatever its print_level says,
+  // so standard output stays the PNG's (-o -) and messages stay bristle's.
+  explicit IpoptSolver(const IpoptSettings& settings)
+      : app_(new Ipopt::IpoptApplication(/*create_console_out=*/false)) {
     Ipopt::OptionsList& o = *app_->Options();
-    o.SetStringValue("sb", "yes");  // no banner on stdout
+    o.SetStringValue("sb", "yes");  // no banner
     o.SetIntegerValue("print_level", 0);
     o.SetStringValue("hessian_approximation", "exact");
     o.SetStringValue("mu_strategy", "adaptive");
@@ -539,60 +546,12 @@ class IpoptSolver : public SpineSolver {
     // Small warm-start pushes: the previous step's solution is nearly optimal.
     setWarmStartPush(o, kWarmPush);
     bool timers_needed = false;
+    // Each extra option meets bristle's allow-list first (engine/ipopt_options.h),
+    // wherever it came from: the brush's hint, the command line, a manifest.
     for (const auto& [name, value] : settings.extra_options) {
-      // Ipopt 3.14's switch for its timers, which 3.11 does not know: bristle
-      // takes it here (engine/ipopt_timers.h).
-      if (name == "timing_statistics") {
-        if (value != "yes" && value != "no" && bad_option_.empty()) bad_option_ = name + "=" + value;
-        timers_off_ = value == "no";
-        continue;
-      }
-      // bristle's own: friction as objective terms or in epigraph form (BrushNlp above).
-      if (name == "friction_form") {
-        const std::optional<FrictionForm> form = parseFrictionForm(value);
-        if (form) friction_form_ = *form;
-        else if (bad_option_.empty()) bad_option_ = name + "=" + value;
-        continue;
-      }
-      // bristle's own: a failed warm start solved once more from a re-centred
-      // start before the caller gives up on it (IpoptSolver::solve).
-      if (name == "warm_retry") {
-        if (value != "yes" && value != "no" && bad_option_.empty()) bad_option_ = name + "=" + value;
-        warm_retry_ = value == "yes";
-        continue;
-      }
-      // bristle's own linear solver (the default), in MA27's place: each
-      // block of the KKT matrix densely (Bunch-Kaufman) where it is small,
-      // as a sparse LDL^T where hair volume makes it large
-      // (engine/dense_kkt.h). Any other value is Ipopt's, for every solve.
-      if (name == "linear_solver") {
-        dense_kkt_ = value == "dense";
-        if (dense_kkt_) continue;
-      }
-      // A CPU-time limit and timing output need the timers, whatever the order.
-      if (name == "max_cpu_time" || (name == "print_timing_statistics" && value == "yes"))
-        timers_needed = true;
-      // Set each by its registered type (setting a wrong type makes Ipopt print
-      // to stdout); an unknown name or unparsable value is refused.
-      Ipopt::SmartPtr<const Ipopt::RegisteredOption> opt = app_->RegOptions()->GetOption(name);
-      bool ok = Ipopt::IsValid(opt);
-      char* end = nullptr;
-      if (ok && opt->Type() == Ipopt::OT_Integer) {
-        const long iv = std::strtol(value.c_str(), &end, 10);
-        ok = !value.empty() && *end == '\0' && opt->IsValidIntegerSetting(static_cast<int>(iv)) &&
-             o.SetIntegerValue(name, static_cast<int>(iv));
-      } else if (ok && opt->Type() == Ipopt::OT_Number) {
-        const double dv = std::strtod(value.c_str(), &end);
-        ok = !value.empty() && *end == '\0' && opt->IsValidNumberSetting(dv) &&
-             o.SetNumericValue(name, dv);
-      } else if (ok) {
-        ok = opt->IsValidStringSetting(value) && o.SetStringValue(name, value);
-      }
-      if (!ok && bad_option_.empty()) bad_option_ = name + "=" + value;
-      if (name == "mu_strategy" || name == "mu_init") user_mu_strategy_ = true;
-      if (name == "max_resto_iter") user_resto_ = true;
-      if (name.rfind("warm_start_", 0) == 0 && name != "warm_start_init_point")
-        user_warm_push_ = true;
+      if (const std::optional<std::string> problem = ipoptOptionProblem(name, value))
+        throw Error(ExitCode::kUsage, "Ipopt option " + name + "=" + value + ": " + *problem);
+      applyOption(o, name, value, &timers_needed);
     }
     timers_off_ = timers_off_ && !timers_needed;
     if (dense_kkt_) {
@@ -602,8 +561,11 @@ class IpoptSolver : public SpineSolver {
       if (!o.SetStringValue("linear_system_scaling", "none")) bad_option_ = "linear_system_scaling";
     }
     if (!bad_option_.empty())
-      throw Error(ExitCode::kUsage, "Ipopt option " + bad_option_ + ": unknown name or bad value");
-    initialized_ = app_->Initialize() == Ipopt::Solve_Succeeded;
+      throw Error(ExitCode::kUsage, "Ipopt option " + bad_option_ + ": Ipopt refuses it");
+    // From an empty stream, never from a file: Initialize() would read
+    // option_file_name, ./ipopt.opt by default, in whatever folder bristle runs.
+    std::istringstream no_option_file;
+    initialized_ = app_->Initialize(no_option_file) == Ipopt::Solve_Succeeded;
   }
 
   const char* name() const override { return "ipopt"; }
@@ -611,9 +573,25 @@ class IpoptSolver : public SpineSolver {
   bool couplesSpines() const override { return true; }
   bool wantsPredictedStart() const override { return true; }
 
+  // Solvers never throw (engine/spine_solver.h): what throws in a solve (an
+  // allocation of the NLP, its results or a message) fails that step alone.
   SolveSummary solve(std::span<const SpineProblem* const> problems,
                      std::span<SpineSolution* const> solutions,
                      std::span<const VolumeLink> links) override {
+    try {
+      return solveOnce(problems, solutions, links);
+    } catch (...) {
+      SolveSummary failed;  // its message fits the string's own buffer: no allocation
+      failed.status = SolveStatus::kFailed;
+      failed.message = "exception";
+      return failed;
+    }
+  }
+
+ private:
+  SolveSummary solveOnce(std::span<const SpineProblem* const> problems,
+                         std::span<SpineSolution* const> solutions,
+                         std::span<const VolumeLink> links) {
     SolveSummary summary;
     if (!initialized_) {
       summary.status = SolveStatus::kFailed;
@@ -653,7 +631,7 @@ class IpoptSolver : public SpineSolver {
     // footing: on the round brush's tablet strokes none came back from it in
     // 200 iterations. It stops there, and is solved again re-centred below.
     const bool retry = warm && warm_retry_;
-    if (!user_resto_) o.SetIntegerValue("max_resto_iter", retry ? 0 : kIpoptDefaultMaxRestoIter);
+    o.SetIntegerValue("max_resto_iter", retry ? 0 : kIpoptDefaultMaxRestoIter);
     Ipopt::ApplicationReturnStatus st = optimize(nlp, &summary.iterations);
     if (nlp->stopped) return stoppedSummary(summary);  // the caller drops the step
     if (retry && !solvedOk(st)) {
@@ -665,7 +643,7 @@ class IpoptSolver : public SpineSolver {
       // redo, and it keeps the spines coupled (docs/dynamics.md, "A warm
       // start that fails").
       if (!user_mu_strategy_) o.SetStringValue("mu_strategy", "adaptive");
-      if (!user_resto_) o.SetIntegerValue("max_resto_iter", kIpoptDefaultMaxRestoIter);
+      o.SetIntegerValue("max_resto_iter", kIpoptDefaultMaxRestoIter);
       if (!user_warm_push_) setWarmStartPush(o, kRetryWarmPush);
       nlp = new BrushNlp(problems, solutions, links, warm, epigraph);
       nlp->watch_ = watch_;
@@ -688,7 +666,51 @@ class IpoptSolver : public SpineSolver {
     return summary;
   }
 
- private:
+  // Sets one option that ipoptOptionProblem allowed: bristle's own are taken
+  // here, every other goes to Ipopt by its registered type (setting a wrong
+  // type makes Ipopt complain on its journal).
+  void applyOption(Ipopt::OptionsList& o, const std::string& name, const std::string& value,
+                   bool* timers_needed) {
+    // Ipopt 3.14's switch for its timers, which 3.11 does not know: bristle
+    // takes it here (engine/ipopt_timers.h).
+    if (name == "timing_statistics") {
+      timers_off_ = value == "no";
+      return;
+    }
+    // Friction as objective terms or in epigraph form (BrushNlp above).
+    if (name == "friction_form") {
+      friction_form_ = parseFrictionForm(value).value_or(FrictionForm::kAuto);
+      return;
+    }
+    // A failed warm start solved once more from a re-centred start before
+    // the caller gives up on it (IpoptSolver::solve).
+    if (name == "warm_retry") {
+      warm_retry_ = value == "yes";
+      return;
+    }
+    // bristle's own linear solver (the default), in MA27's place: each block
+    // of the KKT matrix densely (Bunch-Kaufman) where it is small, as a sparse
+    // LDL^T where hair volume makes it large (engine/dense_kkt.h). mumps is
+    // Ipopt's, for every solve.
+    if (name == "linear_solver") {
+      dense_kkt_ = value == "dense";
+      if (dense_kkt_) return;
+    }
+    // A CPU-time limit needs the timers, whatever the order.
+    if (name == "max_cpu_time") *timers_needed = true;
+    if (name == "mu_strategy" || name == "mu_init") user_mu_strategy_ = true;
+    if (name.rfind("warm_start_", 0) == 0) user_warm_push_ = true;
+    Ipopt::SmartPtr<const Ipopt::RegisteredOption> opt = app_->RegOptions()->GetOption(name);
+    bool ok = Ipopt::IsValid(opt);
+    if (ok && opt->Type() == Ipopt::OT_Integer)
+      ok = o.SetIntegerValue(name, static_cast<int>(std::strtol(value.c_str(), nullptr, 10)));
+    else if (ok && opt->Type() == Ipopt::OT_Number)
+      ok = o.SetNumericValue(name, std::strtod(value.c_str(), nullptr));
+    else if (ok)
+      ok = o.SetStringValue(name, value);
+    if (!ok && bad_option_.empty()) bad_option_ = name + "=" + value;
+  }
+
   // A solve the watch stopped: nothing to rescue, the caller drops the step.
   static SolveSummary stoppedSummary(SolveSummary summary) {
     summary.status = SolveStatus::kFailed;
@@ -726,7 +748,6 @@ class IpoptSolver : public SpineSolver {
   bool initialized_ = false;
   std::string bad_option_;  // the first extra option Ipopt refused
   bool user_mu_strategy_ = false;  // the user chose the barrier strategy
-  bool user_resto_ = false;        // the user set max_resto_iter
   bool user_warm_push_ = false;    // the user set a warm_start_*_push or _frac
   // A failed warm start solved once more from a re-centred start
   // (--ipopt-option warm_retry=yes, the default).

@@ -11,20 +11,8 @@
 namespace bristle {
 namespace {
 
-// Control characters in a key would break the one-line message; show them as \uXXXX.
-std::string printable(const std::string& key) {
-  std::string out;
-  for (char c : key) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned char>(c));
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
+// A key as messages show it (oneLine, engine/error.h).
+std::string printable(const std::string& key) { return oneLine(key); }
 
 std::string escapePointerToken(const std::string& key) {
   std::string out;
@@ -88,19 +76,69 @@ size_t offsetBeyondDepth(const std::string& text, int limit) {
 // Thrown by the parser callback when a document holds too many values.
 struct TooMany {};
 
+// Thrown by the parser callback at a key its object already holds.
+struct DuplicateKey {
+  std::string pointer, key;
+};
+
+// The open containers while the parser reads, for the JSON pointer of a key:
+// an object's keys so far and the last one, an array's index.
+class OpenContainers {
+ public:
+  void start(bool object) { open_.push_back({object, {}, {}, -1}); }
+  void end() {
+    open_.pop_back();
+    valueDone();
+  }
+  // A scalar value, or a container just closed: the next index of an array.
+  void valueDone() {
+    if (!open_.empty() && !open_.back().object) ++open_.back().index;
+  }
+  void key(const std::string& k) {
+    Frame& f = open_.back();
+    if (!f.keys.insert(k).second) throw DuplicateKey{pointer() + "/" + escapePointerToken(k), k};
+    f.key = k;
+  }
+
+ private:
+  struct Frame {
+    bool object;
+    std::set<std::string> keys;
+    std::string key;  // an object's last key
+    long index;       // an array's last finished element
+  };
+  // The pointer of the innermost open container.
+  std::string pointer() const {
+    std::string p;
+    for (size_t i = 0; i + 1 < open_.size(); ++i)
+      p += "/" + (open_[i].object ? escapePointerToken(open_[i].key)
+                                  : std::to_string(open_[i].index + 1));
+    return p;
+  }
+  std::vector<Frame> open_;
+};
+
 // nlohmann's parser is iterative, but what walks the document afterwards (copies,
 // dump(), the readers) recurses: refuse the nesting before it is built. And
 // each value costs 16 bytes and more in the document: refuse the count before
-// 256 MiB of "0," becomes 6 GB of values.
+// 256 MiB of "0," becomes 6 GB of values. A key twice in one object is
+// refused too: nlohmann keeps the last silently, and RFC 8259 leaves such an
+// object's meaning to each reader, so one reader could see the other value.
 nlohmann::json parseDepthLimited(const std::string& text) {
   long values = 0;
+  OpenContainers open;
   return nlohmann::json::parse(
-      text, [&values](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+      text, [&values, &open](int depth, nlohmann::json::parse_event_t event,
+                             nlohmann::json& parsed) {
         using Event = nlohmann::json::parse_event_t;
         const bool starts = event == Event::object_start || event == Event::array_start;
         // depth counts the containers around the one that starts here.
         if (starts && depth >= kMaxJsonDepth) throw TooDeep{};
         if ((starts || event == Event::value) && ++values > kMaxJsonValues) throw TooMany{};
+        if (starts) open.start(event == Event::object_start);
+        if (event == Event::object_end || event == Event::array_end) open.end();
+        if (event == Event::value) open.valueDone();
+        if (event == Event::key) open.key(parsed.get_ref<const std::string&>());
         return true;
       });
 }
@@ -121,6 +159,10 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& path) {
     throw dataError(path, at == std::string::npos ? std::string("JSON") : lineColumnOf(text, at),
                     "arrays and objects nest deeper than the limit of " +
                         std::to_string(kMaxJsonDepth) + " levels");
+  } catch (const DuplicateKey& e) {
+    throw dataError(path, e.pointer,
+                    "duplicate key \"" + printable(e.key) +
+                        "\": the object already holds it (one of the two would be lost)");
   } catch (const TooMany&) {
     throw dataError(path, "JSON",
                     "holds more than " + std::to_string(kMaxJsonValues) +
@@ -153,6 +195,7 @@ nlohmann::json parseJsonOrDiscarded(const std::string& text) {
     return parseDepthLimited(text);
   } catch (const TooDeep&) {
   } catch (const TooMany&) {
+  } catch (const DuplicateKey&) {
   } catch (const nlohmann::json::exception&) {
   }
   return nlohmann::json(nlohmann::json::value_t::discarded);

@@ -99,6 +99,11 @@ void parseCanvas(const JsonObject& c, SceneCanvas* out) {
   // so that absurd sizes cannot overflow the check itself.
   const double w_px = std::ceil(cv.width_mm * cv.px_per_mm - 1e-9);
   const double h_px = std::ceil(cv.height_mm * cv.px_per_mm - 1e-9);
+  // A canvas of less than a pixel a side (1e-300 mm) has nothing to paint on.
+  if (w_px < 1 || h_px < 1)
+    c.fail(c.childPointer("size_mm"),
+           fmt(cv.width_mm) + " x " + fmt(cv.height_mm) + " mm at " + fmt(cv.px_per_mm) +
+               " px/mm is less than one pixel a side; each side must be at least 1 px");
   if (w_px > kMaxCanvasSidePx || h_px > kMaxCanvasSidePx ||
       w_px * h_px > static_cast<double>(kMaxCanvasPixels))
     c.fail(c.childPointer("size_mm"),

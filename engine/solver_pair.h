@@ -40,8 +40,8 @@ struct SolverPair {
 };
 
 // The chosen backend as primary and the other as fallback, both limited to
-// settings.max_iterations. Throws bristle::Error(kUsage) when Ipopt refuses an
-// extra option or the limit is out of range (as makeIpoptSolver, makeSlsqpSolver).
+// settings.max_iterations. Throws bristle::Error(kUsage) when the allow-list
+// refuses an extra option or the limit is out of range (as makeIpoptSolver, makeSlsqpSolver).
 SolverPair makeSolverPair(const SolverSettings& settings = {});
 // The same for one brush: its solver hints (Brush::solver) go before the run's
 // own Ipopt options, so that a run that names an option itself overrides the

@@ -109,10 +109,12 @@ struct IpoptSettings {
   double acceptable_tol = 1e-5;
   int max_iterations = 200;
   // Further Ipopt options as name/value text, applied last (e.g. for tuning
-  // experiments: {"mu_strategy", "monotone"}). Numbers and integers are parsed.
+  // experiments: {"mu_strategy", "monotone"}), each one of the allow-list of
+  // engine/ipopt_options.h.
   std::vector<std::pair<std::string, std::string>> extra_options;
 };
-// Throws bristle::Error(kUsage) when Ipopt refuses one of the extra options.
+// Throws bristle::Error(kUsage) naming an extra option the allow-list
+// (engine/ipopt_options.h) refuses; such a value never reaches Ipopt.
 std::unique_ptr<SpineSolver> makeIpoptSolver(const IpoptSettings& settings = {});
 
 }  // namespace bristle

@@ -17,6 +17,8 @@
 #include <string>
 #include <string_view>
 
+#include "engine/error.h"
+
 namespace bristle::render {
 
 namespace {
@@ -32,9 +34,11 @@ void checkGalliumDriver() {
   for (std::string_view known : kOsmesaDrivers) {
     if (known == driver) return;
   }
-  throw std::runtime_error(std::string("GALLIUM_DRIVER=") + driver +
-                           ": OSMesa supports only llvmpipe or softpipe; unset it "
-                           "to use llvmpipe");
+  // The environment is part of the command's invocation: a usage error (64,
+  // docs/errors.md), not an internal one.
+  throw Error(ExitCode::kUsage, std::string("GALLIUM_DRIVER=") + driver +
+                                    ": OSMesa supports only llvmpipe or softpipe; unset it "
+                                    "to use llvmpipe");
 }
 
 // llvmpipe rasterises on LP_NUM_THREADS threads besides the caller's (by

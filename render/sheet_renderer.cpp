@@ -51,14 +51,21 @@ Image8 fittedText(Font& font, std::string text, int size_px, int max_width) {
 }
 
 // The sheet's picture must stay within the canvas limits of engine/canvas.h.
-void checkSheetSize(const Sheet& sheet, double width, double height) {
-  if (width > kMaxCanvasSidePx || height > kMaxCanvasSidePx ||
-      width * height > double(kMaxCanvasPixels))
-    throw dataError(sheet.path, sheet.autoCell() ? "/px_per_mm" : "/cell_mm",
-                    "the sheet would be " + std::to_string(long(width)) + " x " +
-                        std::to_string(long(height)) +
-                        " px or more, above the limit of 16384 px a side and 64 Mpx; lower "
-                        "px_per_mm or the cell size");
+// What makes it too large is named: the title when it alone is wider than
+// the limit, else the cells' size.
+void checkSheetSize(const Sheet& sheet, double width, double height, double title_width) {
+  if (width <= kMaxCanvasSidePx && height <= kMaxCanvasSidePx &&
+      width * height <= double(kMaxCanvasPixels))
+    return;
+  const std::string size = "the sheet would be " + std::to_string(long(width)) + " x " +
+                           std::to_string(long(height)) +
+                           " px or more, above the limit of 16384 px a side and 64 Mpx";
+  if (title_width > kMaxCanvasSidePx)
+    throw dataError(sheet.path, "/title",
+                    size + ": the title alone is " + std::to_string(long(title_width)) +
+                        " px wide; shorten it");
+  throw dataError(sheet.path, sheet.autoCell() ? "/px_per_mm" : "/cell_mm",
+                  size + "; lower px_per_mm or the cell size");
 }
 
 }  // namespace
@@ -205,7 +212,7 @@ Labels layOutLabels(const Sheet& sheet, SheetLayout* L) {
   const double width = std::max<double>(double(grid_x) + L->grid.width + margin,
                                         2.0 * margin + labels.title.width);
   const double height = double(grid_y) + L->grid.height + margin;
-  checkSheetSize(sheet, width, height);
+  checkSheetSize(sheet, width, height, 2.0 * margin + labels.title.width);
   L->width_px = static_cast<int>(width);
   L->height_px = static_cast<int>(height);
   return labels;
@@ -283,7 +290,7 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
   if (!sheet.autoCell()) {
     const double grid_w = L.cols * (std::lround(sheet.cell_width_mm * ppm) + 1.0) + 1;
     const double grid_h = L.rows * (std::lround(sheet.cell_height_mm * ppm) + 1.0) + 1;
-    checkSheetSize(sheet, grid_w, grid_h);
+    checkSheetSize(sheet, grid_w, grid_h, 0);
   }
 
   const std::vector<Image8> strokes = paintCells(sheet, options, plan, on_step, &out);

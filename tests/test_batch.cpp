@@ -153,6 +153,10 @@ TEST_CASE("batch manifest: every broken rule is a data error naming its field", 
        "/jobs/0/options/paint", "does not start with '-'"},
       {R"({"id": "a", "scene": "s.json", "options": {"ipopt-option": ["tol=1", "-o"]}})",
        "/jobs/0/options/ipopt-option", "none starting with '-'"},
+      {R"({"id": "a", "scene": "s.json", "options": {"ipopt-option": ["tol=1e-8", "tol=nan"]}})",
+       "/jobs/0/options/ipopt-option/1", "tol=nan: tol must be a finite number in [1e-12, 0.1]"},
+      {R"({"id": "a", "scene": "s.json", "options": {"ipopt-option": "output_file=x"}})",
+       "/jobs/0/options/ipopt-option", "output_file is not an Ipopt option bristle allows"},
       {R"({"id": "a", "scene": "s.json", "options": {"paint": "red\nbristle: fake"}})",
        "/jobs/0/options/paint", "no control character"},
       {R"({"id": "a", "scene": "s.json", "options": {"impasto": 1}})", "/jobs/0/options/impasto",
@@ -246,6 +250,18 @@ TEST_CASE("batch shards come from Slurm job arrays and Kubernetes Indexed Jobs",
   CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("not a task of the array"));
   vars = {{"SLURM_ARRAY_TASK_ID", "x"}};
   CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("SLURM_ARRAY_TASK_ID=x"));
+  // A step of 0, and numbers past the shard limit, are refused, never read as another shard.
+  vars = {{"SLURM_ARRAY_TASK_ID", "1"}, {"SLURM_ARRAY_TASK_MIN", "0"},
+          {"SLURM_ARRAY_TASK_COUNT", "4"}, {"SLURM_ARRAY_TASK_STEP", "0"}};
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0),
+                    "SLURM_ARRAY_TASK_STEP=0: must be at least 1 (the array's step between "
+                    "task ids)");
+  vars = {{"SLURM_ARRAY_TASK_ID", "1"}, {"SLURM_ARRAY_TASK_COUNT", "99999999999999999999"}};
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0),
+                    "SLURM_ARRAY_TASK_COUNT=99999999999999999999: not a non-negative integer up "
+                    "to 999999999");
+  vars = {{"SLURM_ARRAY_TASK_ID", "-1"}};
+  CHECK_THROWS_WITH(shardFromEnvironment(env, 0), Contains("not a non-negative integer"));
 
   // Kubernetes: the pod knows its index; the count comes from the command line.
   vars = {{"JOB_COMPLETION_INDEX", "2"}};
@@ -267,7 +283,7 @@ TEST_CASE("batch job command lines: sorted options, flags, lists", "[batch]") {
       {"id": "a", "brush": "b.json", "trajectory": "t.csv",
        "options": {"solver": "slsqp", "impasto": true, "offset-mm": [1, 2.5, 0], "bits": 16,
                    "ipopt-option": ["tol=1e-8", "mu_strategy=monotone"]}},
-      {"id": "c", "sheet": "sh.json", "options": {"impasto": false, "ipopt-option": "tol=1"}},
+      {"id": "c", "sheet": "sh.json", "options": {"impasto": false, "ipopt-option": "tol=0.1"}},
       {"id": "b", "scene": "s.json"}]})");
   CHECK(batchJobArguments(m.jobs[0]) ==
         std::vector<std::string>{"render", "--brush", "/data/batch/b.json", "--trajectory",
@@ -277,7 +293,7 @@ TEST_CASE("batch job command lines: sorted options, flags, lists", "[batch]") {
   CHECK(batchJobArguments(m.jobs[2]) == std::vector<std::string>{"render", "/data/batch/s.json"});
   // false leaves a flag out; a string is one word.
   CHECK(batchJobArguments(m.jobs[1]) ==
-        std::vector<std::string>{"sheet", "/data/batch/sh.json", "--ipopt-option", "tol=1"});
+        std::vector<std::string>{"sheet", "/data/batch/sh.json", "--ipopt-option", "tol=0.1"});
 }
 
 TEST_CASE("batch job keys follow file contents and options, not paths", "[batch]") {

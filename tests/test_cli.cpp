@@ -227,6 +227,29 @@ TEST_CASE("render: same inputs give the same pixels", "[cli][determinism]") {
   CHECK(a.pixels == b.pixels);
 }
 
+// An allowed Ipopt option reaches the solve: the iteration limit Ipopt already
+// had (--solver-max-iterations' 200) changes no pixel, a looser tolerance
+// changes the solves and so the stroke; and the list is `bristle help ipopt-option`.
+TEST_CASE("render: an allowed --ipopt-option reaches the solver", "[cli][ipopt]") {
+  TempDir dir;
+  const std::string traj = sourcePath("scenes/trajectories/straight-pull.csv");
+  const std::string args = "render -q --brush '" + kBrush + "' --trajectory '" + traj + "' -o ";
+  const auto pixels = [&](const std::string& name, const std::string& more) {
+    const RunResult r = runBristle(args + "'" + dir.file(name) + "'" + more);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    return render::readPngRgba8(dir.file(name)).pixels;
+  };
+  const auto plain = pixels("plain.png", "");
+  CHECK(pixels("max-iter.png", " --ipopt-option max_iter=200") == plain);
+  CHECK(pixels("loose.png", " --ipopt-option tol=1e-2 --ipopt-option acceptable_tol=1e-1") !=
+        plain);
+  const RunResult help = runBristle("help ipopt-option");
+  CHECK(help.code == 0);
+  CHECK_THAT(help.out, Contains("  max_iter                     an integer in [1, 100000]"));
+  CHECK_THAT(help.out, !Contains("output_file"));
+}
+
 TEST_CASE("render: a trajectory that never touches the canvas gives a blank image and says so",
           "[cli]") {
   TempDir dir;

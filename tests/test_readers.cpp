@@ -14,6 +14,7 @@
 
 #include "engine/brush.h"
 #include "engine/error.h"
+#include "engine/json_reader.h"
 #include "engine/spelling.h"
 #include "engine/text_file.h"
 #include "engine/trajectory.h"
@@ -313,6 +314,57 @@ TEST_CASE("malformed JSON is 65 with the line and column of the error", "[reader
     CHECK_BRUSH_ERROR("[1, 2]", "brush.json: /: must be a JSON object");
     CHECK_BRUSH_ERROR("\"bristle-brush/1\"", "brush.json: /: must be a JSON object");
   }
+}
+
+TEST_CASE("a key twice in one object is 65 naming it by its JSON pointer", "[readers]") {
+  const auto refused = [](const std::string& text) {
+    return catchError([&] { parseJsonText(text, "d.json"); });
+  };
+  const std::string rule = ": the object already holds it (one of the two would be lost)";
+  Caught c = refused(R"({"a": 1, "a": 1})");
+  CHECK(c.code == 65);
+  CHECK(c.message == "d.json: /a: duplicate key \"a\"" + rule);
+  // The pointer counts array elements, scalars and containers alike.
+  c = refused(R"({"x": [1, {"y": 2}, [3], {"z": {"k": 1, "k": 2}}]})");
+  CHECK(c.message == "d.json: /x/3/z/k: duplicate key \"k\"" + rule);
+  // Keys are escaped in the pointer (~0, ~1) and in the message's quotes.
+  c = refused(R"({"a/b": {"t~": 1, "t~": 1}})");
+  CHECK(c.message == "d.json: /a~1b/t~0: duplicate key \"t~\"" + rule);
+  c = refused("{\"n\\u0007\": 1, \"n\\u0007\": 1}");
+  CHECK(c.message == "d.json: /n\\u0007: duplicate key \"n\\u0007\"" + rule);
+  // The same key in sibling or nested objects is no duplicate.
+  CHECK_FALSE(refused(R"({"a": {"a": 1}, "b": [{"a": 1}, {"a": 2}], "c": {"a": {"a": 0}}})").thrown);
+  CHECK_FALSE(refused("[1, 2, {\"a\": 1}]").thrown);
+  // A brush file through its reader.
+  c = catchError([] {
+    parseBrush(R"({"format": "bristle-brush/1", "name": "a", "name": "b"})", "b.json");
+  });
+  CHECK(c.message == "b.json: /name: duplicate key \"name\"" + rule);
+  CHECK(parseJsonOrDiscarded(R"({"a": 1, "a": 2})").is_discarded());
+}
+
+TEST_CASE("messages: one escaping rule for C0, DEL, C1 and bytes that are not UTF-8",
+          "[readers]") {
+  CHECK(oneLine("plain, caf\xc3\xa9, \xe2\x80\xa6 \xf0\x9f\x96\x8c") ==
+        "plain, caf\xc3\xa9, \xe2\x80\xa6 \xf0\x9f\x96\x8c");
+  CHECK(oneLine(std::string("a\0b\nc\x1b[2J\x7f", 10)) == "a\\u0000b\\u000ac\\u001b[2J\\u007f");
+  CHECK(oneLine("csi \xc2\x9b" "2J, nel \xc2\x85, nbsp \xc2\xa0") ==
+        "csi \\u009b2J, nel \\u0085, nbsp \xc2\xa0");
+  // Not UTF-8: a lone continuation byte, a lead byte without its tail, an
+  // overlong form, a surrogate, past U+10FFFF, a raw C1 byte.
+  CHECK(oneLine("\x80") == "\\x80");
+  CHECK(oneLine("\xc3(") == "\\xc3(");
+  CHECK(oneLine("\xc0\xaf") == "\\xc0\\xaf");
+  CHECK(oneLine("\xed\xa0\x80") == "\\xed\\xa0\\x80");
+  CHECK(oneLine("\xf4\x90\x80\x80") == "\\xf4\\x90\\x80\\x80");
+  CHECK(oneLine("\x9b") == "\\x9b");
+  CHECK(oneLine("\xe2\x80") == "\\xe2\\x80");  // cut short at the end
+  CHECK(hasControlCharacter("one\xc2\x9b"));
+  CHECK(hasControlCharacter("one\x1b"));
+  CHECK(hasControlCharacter("\xff"));
+  CHECK_FALSE(hasControlCharacter("caf\xc3\xa9"));
+  // Every Error is made one line by the same rule.
+  CHECK(std::string(Error(ExitCode::kDataError, "x\xc2\x9by").what()) == "x\\u009by");
 }
 
 TEST_CASE("numbers beyond double range (1e999) are 65 with line and column", "[readers]") {

@@ -1251,9 +1251,9 @@ case("replay-header-unknown-option", "`replay` of a session whose header records
      "--bits, --px-per-mm, --solver, --solver-max-iterations, --ipopt-option)",
      all_of(brush(), session_options("--pain: ultramarine")))
 case("record-ipopt-option-newline", "`record --ipopt-option` holding a line break, which the "
-     "session's header cannot hold", RECORD + ["-o", "r.csv", "--ipopt-option", "tol=1\nx"], 64,
-     "--ipopt-option: a value holding a control character cannot go into the session's header",
-     STROKE)
+     "session's header cannot hold: no allowed value holds one",
+     RECORD + ["-o", "r.csv", "--ipopt-option", "tol=1\nx"], 64,
+     "--ipopt-option tol=1\\u000ax: tol must be a finite number in [1e-12, 0.1]", STROKE)
 
 
 # -- validate tells a JSON file's kind by its "format", and checks a manifest's jobs --
@@ -1374,6 +1374,139 @@ case("out-symlink-dangling", "`-o` is a dangling symbolic link: nothing is made 
 case("trace-symlink-to-file", "`--trace` is a symbolic link to a file outside the folder",
      render("b.json", "t.csv", "o.png", "--trace", "l.jsonl"), 73, "l.jsonl" + LINKED,
      all_of(STROKE, symlink("l.jsonl", "/etc/hostname")))
+
+
+# -- Ipopt options: only those that change the solve, each value checked before Ipopt --
+NOT_ALLOWED = " is not an Ipopt option bristle allows (bristle help ipopt-option lists them)"
+
+
+def ipopt(value, out="o.png"):
+    return render("b.json", "t.csv", out, "--ipopt-option", value)
+
+
+case("ipopt-option-output-file-input", "`--ipopt-option output_file=t.csv`: Ipopt would truncate "
+     "the trajectory", ipopt("output_file=t.csv"), 64,
+     "--ipopt-option output_file=t.csv: output_file" + NOT_ALLOWED, STROKE)
+case("ipopt-option-output-file-elsewhere", "`--ipopt-option output_file=` a file outside the "
+     "outputs", ipopt("output_file=/tmp/bristle-ipopt-leak.txt"), 64,
+     "--ipopt-option output_file=/tmp/bristle-ipopt-leak.txt: output_file" + NOT_ALLOWED, STROKE)
+case("ipopt-option-print-level-stdout", "`-o - --ipopt-option print_level=5`: Ipopt's log would "
+     "go into the PNG stream", ipopt("print_level=5", "-"), 64,
+     "--ipopt-option print_level=5: print_level" + NOT_ALLOWED, STROKE)
+case("ipopt-option-option-file", "`--ipopt-option option_file_name=/etc/passwd`",
+     ipopt("option_file_name=/etc/passwd"), 64,
+     "--ipopt-option option_file_name=/etc/passwd: option_file_name" + NOT_ALLOWED, STROKE)
+case("ipopt-option-misspelt", "`--ipopt-option mu_strategie=adaptive`",
+     ipopt("mu_strategie=adaptive"), 64,
+     "--ipopt-option mu_strategie=adaptive: mu_strategie" + NOT_ALLOWED +
+     "; did you mean mu_strategy?", STROKE)
+case("ipopt-option-tol-nan", "`--ipopt-option tol=nan`, which hung", ipopt("tol=nan"), 64,
+     "--ipopt-option tol=nan: tol must be a finite number in [1e-12, 0.1]", STROKE)
+case("ipopt-option-bound-push-inf", "`--ipopt-option bound_push=inf`, which hung",
+     ipopt("bound_push=inf"), 64,
+     "--ipopt-option bound_push=inf: bound_push must be a finite number in [1e-12, 1]", STROKE)
+case("ipopt-option-cpu-time-nan", "`--ipopt-option max_cpu_time=nan`",
+     ipopt("max_cpu_time=nan"), 64,
+     "--ipopt-option max_cpu_time=nan: max_cpu_time must be a finite number in [0.001, 1e+06]",
+     STROKE)
+case("ipopt-option-max-iter-wraps", "`--ipopt-option max_iter=4294967496`, which wrapped to 200",
+     ipopt("max_iter=4294967496"), 64,
+     "--ipopt-option max_iter=4294967496: max_iter must be an integer in [1, 100000]", STROKE)
+case("ipopt-option-choice", "`--ipopt-option linear_solver=ma57`, a solver this build lacks",
+     ipopt("linear_solver=ma57"), 64,
+     "--ipopt-option linear_solver=ma57: linear_solver must be one of dense, mumps", STROKE)
+case("ipopt-option-batch-job", "a batch job's `ipopt-option` naming `output_file`", BATCH_RUN, 65,
+     "m.json: /jobs/0/options/ipopt-option/1: output_file=x.txt: output_file" + NOT_ALLOWED,
+     all_of(STROKE, job_options({"ipopt-option": ["tol=1e-8", "output_file=x.txt"]})))
+case("ipopt-option-replay-header", "`replay` of a session whose header records "
+     "`--ipopt-option: print_level=5`", ["replay", "r.csv", "-o", "-"], 65,
+     "r.csv: header: --ipopt-option print_level=5: print_level" + NOT_ALLOWED,
+     all_of(brush(), session_options("--ipopt-option: print_level=5")))
+
+# -- JSON: a key twice in one object is refused, by every reader -----------------
+DUPLICATE = ": the object already holds it (one of the two would be lost)"
+case("json-duplicate-brush", "a brush whose `format` is given twice", ["validate", "b.json"], 65,
+     'b.json: /format: duplicate key "format"' + DUPLICATE,
+     brush(text='{"format": "bristle-brush/1", "format": "bristle-brush/1", "name": "x"}'))
+case("json-duplicate-scene", "a scene whose canvas gives `size_mm` twice",
+     ["render", "s.json", "-o", "o.png"], 65,
+     's.json: /canvas/size_mm: duplicate key "size_mm"' + DUPLICATE,
+     all_of(STROKE, scene(text='{"format": "bristle-scene/1", "canvas": {"size_mm": [9, 9], '
+                        '"size_mm": [1, 1]}, "strokes": []}')))
+case("json-duplicate-sheet", "a sheet listing `brushes` twice", ["sheet", "sh.json", "-o", "o.png"],
+     65, 'sh.json: /brushes: duplicate key "brushes"' + DUPLICATE,
+     all_of(STROKE, sheet(text='{"format": "bristle-sheet/1", "brushes": ["b.json"], '
+                         '"trajectories": ["t.csv"], "brushes": ["round"]}')))
+case("json-duplicate-batch-output", "a batch job whose `output` is given twice, the second "
+     "outside `--out`", BATCH_RUN, 65,
+     'm.json: /jobs/1/output: duplicate key "output"' + DUPLICATE,
+     all_of(STROKE, manifest(text='{"format": "bristle-batch/1", "jobs": [{"id": "a", "brush": '
+                            '"b.json", "trajectory": "t.csv"}, {"output": "b.png", "brush": '
+                            '"b.json", "trajectory": "t.csv", "output": "../b.png"}]}')))
+case("json-duplicate-in-array", "a duplicate key in an object inside arrays (the pointer counts "
+     "the elements)", ["validate", "s.json"], 65,
+     's.json: /strokes/1/paint/paints: duplicate key "paints"' + DUPLICATE,
+     all_of(STROKE, scene(text='{"format": "bristle-scene/1", "strokes": [{"brush": "b.json"}, '
+                        '{"paint": {"paints": ["sumi-ink"], "paints": []}}]}')))
+
+# -- messages: one escaping rule (C0, DEL, C1 controls, bytes that are not UTF-8) --
+case("batch-id-c1-control", "a job id holding a C1 control (CSI, U+009B)", BATCH_DRY, 65,
+     'm.json: /jobs/0/id = "one\\u009b2J": must hold no control character',
+     all_of(STROKE, folder("out"), manifest(edit=job_edit(id="one\x9b2J"))))
+case("c1-in-json-key", "a brush key holding a C1 control", ["validate", "b.json"], 65,
+     "b.json: /na\\u009bme: unknown key 'na\\u009bme'",
+     brush(edit=lambda b: b.update({"na\x9bme": 1})))
+case("invalid-utf8-in-csv-header", "a trajectory column name with a byte that is not UTF-8",
+     ["validate", "t.csv"], 65,
+     "t.csv: line 2, column 2 (x_\\xffmm): unknown column 'x_\\xffmm'",
+     lambda d: (d / "t.csv").write_bytes(b"# bristle-trajectory/1\nt_s,x_\xffmm,y_mm,z_mm,qw,qx,"
+                                         b"qy,qz\n"))
+case("c1-in-csv-header", "a trajectory column name holding a C1 control in UTF-8",
+     ["validate", "t.csv"], 65,
+     "t.csv: line 2, column 2 (x_\\u0085mm): unknown column 'x_\\u0085mm'",
+     lambda d: (d / "t.csv").write_bytes(b"# bristle-trajectory/1\nt_s,x_\xc2\x85mm,y_mm,z_mm,"
+                                         b"qw,qx,qy,qz\n"))
+
+# -- messages that name the right file, field or option -----------------------------
+case("scene-canvas-subpixel", "a scene canvas of 1e-300 mm", ["render", "s.json", "-o", "o.png"],
+     65, "s.json: /canvas/size_mm: 1e-300 x 1e-300 mm at 4 px/mm is less than one pixel a side; "
+     "each side must be at least 1 px",
+     all_of(STROKE, scene(edit=lambda s: s["canvas"].update(size_mm=[1e-300, 1e-300]))))
+case("import-pressure-nan", "`import --pressure 0:nan`: the option's, not the SVG's",
+     ["import", "l.svg", "-o", "o.csv", "--pressure", "0:nan"], 64,
+     "--pressure: 0:nan: '0:nan' does not parse (a pressure profile is 'u:p u:p ...', u the "
+     "fraction of the stroke's length in [0, 1] increasing, p a pressure in [0, 1]; or one "
+     "pressure)", svg("l.svg", '<path d="M0 0 h50"/>'))
+
+case("output-empty-name", "`render -o ''`: an empty name", render(out=""), 64,
+     "--output: an empty name: give a file name (or - where standard output is allowed) "
+     "(see bristle --help)", STROKE)
+case("trace-empty-name", "`render --trace ''`, which was taken for no trace",
+     render("b.json", "t.csv", "o.png", "--trace", ""), 64,
+     "--trace: an empty name: give a file name (or - where standard output is allowed) "
+     "(see bristle --help)", STROKE)
+case("sheet-title-too-wide", "a sheet whose title of 3,000 letters is wider than a picture may be",
+     ["sheet", "sh.json", "-o", "o.png"], 65,
+     "sh.json: /title: the sheet would be 63028 x 460 px or more, above the limit of 16384 px a "
+     "side and 64 Mpx: the title alone is 63028 px wide; shorten it",
+     all_of(STROKE, sheet(edit=lambda s: s.update(title="W" * 3000))))
+
+# -- small things: numbers read whole, the environment checked ------------------------
+SEED_RULE = "must be a whole number in [0, 18446744073709551615] (see bristle --help)"
+case("paper-seed-negative", "`--paper-seed -1`, which CLI11 read as 2^64 - 1",
+     render("b.json", "t.csv", "o.png", "--paper-seed", "-1"), 64,
+     "--paper-seed: '-1' " + SEED_RULE, STROKE)
+case("paper-seed-too-large", "`--paper-seed` past 2^64",
+     render("b.json", "t.csv", "o.png", "--paper-seed", "99999999999999999999999"), 64,
+     "--paper-seed: '99999999999999999999999' " + SEED_RULE, STROKE)
+case("slurm-step-zero", "a Slurm array task with `SLURM_ARRAY_TASK_STEP=0`", BATCH_DRY, 64,
+     "SLURM_ARRAY_TASK_STEP=0: must be at least 1 (the array's step between task ids)",
+     all_of(STROKE, folder("out"), manifest()),
+     env={"SLURM_ARRAY_TASK_ID": "1", "SLURM_ARRAY_TASK_COUNT": "4",
+          "SLURM_ARRAY_TASK_STEP": "0"})
+case("gallium-driver-unknown", "`GALLIUM_DRIVER=bogus`, a driver OSMesa does not have",
+     render(), 64, "GALLIUM_DRIVER=bogus: OSMesa supports only llvmpipe or softpipe; unset it "
+     "to use llvmpipe", STROKE, env={"GALLIUM_DRIVER": "bogus"})
 
 CASES_END = None  # the cases are appended above this line
 
