@@ -45,7 +45,7 @@ TIME_LIMIT_S = 12
 # its command line and inputs pass bristle's checks, which take well under a
 # second, so it is stopped sooner.
 SHIPPED = re.compile(r"scenes/(paintings|sheets|batch)/[^ /]+\.json")
-SHIPPED_LIMIT_S = 3
+SHIPPED_LIMIT_S = 1.5
 # Examples that cannot succeed on a machine without the hardware they need:
 # the regular expression of the command, and the exit code and stderr text
 # they must give instead.

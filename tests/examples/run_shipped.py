@@ -19,9 +19,11 @@ that is not what the file asks for:
   - painting: the PNG is the canvas's size (size_mm x px_per_mm), and paint
     reached it (the run's --stats count painted pixels);
   - sheet: a PNG, and no cell warned of leaving no paint.
-A sheet is rendered at SHEET_PX_PER_MM at most: a sheet's cost grows with its
-pixels as well as its strokes, and the cells, labels and layout are the same
-at any resolution.
+A sheet, and every job of a manifest but a scene's, is rendered at
+REDUCED_PX_PER_MM at most (a manifest through a copy whose jobs ask for it,
+with its paths made absolute): a render's cost grows with its pixels, and the
+strokes, cells, labels and layout are the same at any resolution. A scene
+sets its own resolution, and its jobs run as shipped.
 
   run_shipped.py --list                   the cases, ';'-separated (for CMake)
   run_shipped.py --covered                each file and the case that runs it
@@ -40,8 +42,11 @@ from pathlib import Path
 SRC = Path(__file__).resolve().parents[2]
 KINDS = {"batch": "scenes/batch", "painting": "scenes/paintings", "sheet": "scenes/sheets"}
 # 3 px/mm keeps a hair's footprint (0.1-0.3 mm wide) within a pixel or two,
-# as the sheets' own resolutions (4-6 px/mm) do, at a quarter of the pixels.
-SHEET_PX_PER_MM = 3
+# as the sheets' own resolutions (4-6 px/mm) and a stroke's default (8) do, at
+# a quarter of the pixels or less.
+REDUCED_PX_PER_MM = 3
+# A job's keys that name a file, relative to its manifest.
+PATH_KEYS = ("brush", "trajectory", "sheet", "preview", "scene")
 
 
 def manifest_renders():
@@ -89,10 +94,27 @@ def run(bristle, args, cwd):
     return p.returncode, p.stdout, p.stderr
 
 
+def reduced_manifest(src, tmp):
+    """A copy of the manifest src in tmp whose jobs, a scene's excepted, render
+    at REDUCED_PX_PER_MM at most, its file paths made absolute."""
+    manifest = json.loads(src.read_text())
+    for job in manifest["jobs"]:
+        for key in PATH_KEYS:
+            if isinstance(job.get(key), str) and (src.parent / job[key]).exists():
+                job[key] = str((src.parent / job[key]).resolve())
+        if "scene" not in job:
+            options = job.setdefault("options", {})
+            options["px-per-mm"] = min(options.get("px-per-mm", REDUCED_PX_PER_MM),
+                                       REDUCED_PX_PER_MM)
+    copy = tmp / src.name
+    copy.write_text(json.dumps(manifest, indent=2))
+    return copy
+
+
 def check_batch(bristle, src, tmp):
     out = tmp / "out"
-    code, stdout, err = run(bristle, ["batch", str(src), "--out", str(out), "--jobs", "2",
-                                      "--json"], tmp)
+    code, stdout, err = run(bristle, ["batch", str(reduced_manifest(src, tmp)), "--out", str(out),
+                                      "--jobs", "2", "--json"], tmp)
     records = [json.loads(line) for line in stdout.splitlines() if line.strip()]
     if code != 0:
         # With --json a failed job's error is in its record, not on stderr.
@@ -156,8 +178,8 @@ def check_sheet(bristle, src, tmp):
     png = tmp / "sheet.png"
     sheet = json.loads(src.read_text())
     args = ["sheet", "-q", str(src), "-o", str(png)]
-    if sheet.get("px_per_mm", 0) > SHEET_PX_PER_MM:
-        args += ["--px-per-mm", str(SHEET_PX_PER_MM)]
+    if sheet.get("px_per_mm", 0) > REDUCED_PX_PER_MM:
+        args += ["--px-per-mm", str(REDUCED_PX_PER_MM)]
     code, _, err = run(bristle, args, tmp)
     if code != 0:
         return [f"exit {code}: {err.strip()[-400:]}"]
