@@ -57,12 +57,25 @@ std::string measureCsv(const std::vector<render::DepthMeasure>& rows) {
   return out.str();
 }
 
+// The measures as a table for people, then the CSV's path.
+void printMeasureTable(const std::vector<render::DepthMeasure>& rows, const std::string& path) {
+  std::printf("%-9s %9s %9s %10s\n", "depth mm", "width mm", "drag mm", "offset mm");
+  for (const render::DepthMeasure& m : rows) {
+    if (m.shape.touched)
+      std::printf("%9g %9.2f %9.2f %10.2f\n", m.depth_mm, m.shape.width_mm, m.shape.drag_mm,
+                  m.shape.offset_mm);
+    else
+      std::printf("%9g %9s %9s %10s\n", m.depth_mm, "-", "-", "-");
+  }
+  std::fflush(stdout);
+  std::cout << path << "\n";
+}
+
 int runMeasure(const MeasureArgs& args) {
   checkMeasureArgs(args);
   const std::string brush_file = findBrushFile(args.brush, "");
-  if (!args.output.empty()) {
-    if (!isStdio(args.output)) checkOutputs({{"-o", args.output}}, {{"brush", brush_file}});
-  }
+  const bool to_file = !args.output.empty() && !isStdio(args.output);
+  if (to_file) checkOutputs({{"-o", args.output}}, {{"brush", brush_file}});
   const Brush brush = loadBrush(brush_file);
   SolverSettings solvers;
   solvers.kind = args.solver;
@@ -72,23 +85,13 @@ int runMeasure(const MeasureArgs& args) {
       brush, args.protocol, solvers,
       [&](int depth, int depths, int step, int steps) { progress.update(depth, depths, step, steps); });
   const std::string csv = measureCsv(rows);
-  if (!args.output.empty() && !isStdio(args.output)) {
+  if (!to_file) {
+    std::cout << csv;
+  } else {
     AtomicOutput out(args.output);
     out.stream() << csv;
     out.commit();
-  }
-  if (args.output.empty() || isStdio(args.output)) {
-    std::cout << csv;
-  } else if (!args.quiet) {
-    std::printf("%-9s %9s %9s %10s\n", "depth mm", "width mm", "drag mm", "offset mm");
-    for (const render::DepthMeasure& m : rows) {
-      if (m.shape.touched)
-        std::printf("%9g %9.2f %9.2f %10.2f\n", m.depth_mm, m.shape.width_mm, m.shape.drag_mm,
-                    m.shape.offset_mm);
-      else
-        std::printf("%9g %9s %9s %10s\n", m.depth_mm, "-", "-", "-");
-    }
-    std::cout << args.output << "\n";
+    if (!args.quiet) printMeasureTable(rows, args.output);
   }
   for (const render::DepthMeasure& m : rows)
     if (m.failed_steps > 0)

@@ -51,8 +51,8 @@ inline size_t utf8SequenceAt(std::string_view s, size_t i) {
 
 // A message as one printable line, by one rule for every message: the C0
 // controls, DEL and the C1 controls (U+0080-U+009F; a CSI would drive the
-// terminal) are shown as \u00XX, as JSON writes them, and each byte that is
-// not UTF-8 as \xXX. A NUL would cut the message short at what(), a newline
+// terminal) are shown as \u with four hex digits (\u009b), as JSON writes
+// them, and each byte that is not UTF-8 as \x with two (\xff). A NUL would cut the message short at what(), a newline
 // would split it.
 inline std::string oneLine(std::string_view message) {
   static constexpr char kHex[] = "0123456789abcdef";

@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     // The problems may quote the file's bytes: validate prints them through
-    // printError, which shows control characters as \u00XX.
+    // printError, which shows control characters as \u escapes (\u000a).
     std::vector<std::string> problems;
     (void)bristle::parseBrush(text, "fuzz.json", &problems);
   } catch (const bristle::Error& e) {

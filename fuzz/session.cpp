@@ -9,7 +9,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const bristle::fuzz::MemoryFile file(data, size);
   try {
     // Warnings may quote the file's bytes: the CLI prints them through
-    // printError, which shows control characters as \u00XX.
+    // printError, which shows control characters as \u escapes (\u000a).
     (void)bristle::haptics::loadSession(file.path(), "0123456789abcdef");
   } catch (const bristle::Error& e) {
     bristle::fuzz::checkRefusal(e);
