@@ -12,7 +12,7 @@
 namespace bristle {
 namespace {
 
-constexpr const char* kFormat = "bristle-brush/1";
+constexpr const char* kBrushFormat = "bristle-brush/1";
 // Joint angles beyond this are on the Euler-XYZ singularity at the horizon (§3.2).
 constexpr double kMaxRestAngleRad = 1.2;
 // Friction coefficients beyond this are not paint on paper.
@@ -295,7 +295,7 @@ Brush parseBrush(const std::string& text, const std::string& path,
   };
   part([&] {
     const std::string format = top.string("format");
-    top.require(format == kFormat, "format",
+    top.require(format == kBrushFormat, "format",
                 "unknown format version (expected \"bristle-brush/1\")");
   });
   part([&] {

@@ -26,7 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kFormat = "bristle-scene/1";
+constexpr const char* kSceneFormat = "bristle-scene/1";
 // Paper grain deeper than this is not paper but relief.
 constexpr double kMaxToothDepthMm = 1.0;
 // Simulation settings: the CLI's ranges for --min-rate-hz and --max-step-mm.
@@ -129,7 +129,7 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
   Scene scene;
   scene.path = path;
   const std::string format = top.string("format");
-  top.require(format == kFormat, "format", "unknown format version (expected \"bristle-scene/1\")");
+  top.require(format == kSceneFormat, "format", "unknown format version (expected \"bristle-scene/1\")");
   scene.name = top.string("name");
   top.require(!scene.name.empty(), "name", "must not be empty");
   scene.description = top.string("description", "");

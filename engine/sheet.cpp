@@ -20,7 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kFormat = "bristle-sheet/1";
+constexpr const char* kSheetFormat = "bristle-sheet/1";
 
 // A list of files ("brushes", "trajectories"): 1..kMaxSheetAxis entries, each a
 // non-empty path, or (brushes only) an object {"path": ..., "lift_mm": ...}; no
@@ -75,7 +75,7 @@ Sheet parseSheetOnly(const nlohmann::json& root, const std::string& path,
   Sheet sheet;
   sheet.path = path;
   const std::string format = top.string("format");
-  top.require(format == kFormat, "format", "unknown format version (expected \"bristle-sheet/1\")");
+  top.require(format == kSheetFormat, "format", "unknown format version (expected \"bristle-sheet/1\")");
   sheet.name = top.string("name");
   top.require(!sheet.name.empty(), "name", "must not be empty");
   sheet.title = top.string("title", "");

@@ -1,9 +1,9 @@
 #include "haptics/servo_loop.h"
 
-#include <time.h>
-
 #include <chrono>
 #include <thread>
+
+#include "haptics/monotonic_clock.h"
 
 namespace bristle::haptics {
 
@@ -15,13 +15,6 @@ Pose StylusState::pose() const {
   return p;
 }
 
-namespace {
-std::int64_t monotonicNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
-}  // namespace
 
 ServoLoop::ServoLoop(Device* device, const ServoOptions& options)
     : device_(device), options_(options), safety_([&] {

@@ -1,7 +1,6 @@
 #include "haptics/session_file.h"
 
 #include <fcntl.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -13,16 +12,11 @@
 #include "engine/error.h"
 #include "engine/fnv1a64.h"
 #include "engine/text_file.h"
+#include "haptics/monotonic_clock.h"
 
 namespace bristle::haptics {
 
 namespace {
-
-std::int64_t monotonicNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
 
 // Flushed this often by flushIfDue: well inside the 100 ms promised.
 constexpr std::int64_t kFlushEveryNs = 50'000'000;

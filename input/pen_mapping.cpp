@@ -13,7 +13,7 @@ namespace bristle::input {
 
 namespace {
 
-constexpr double kRad = M_PI / 180;
+constexpr double kRadPerDeg = M_PI / 180;
 
 double scaleOf(const Recording& rec, const MappingOptions& o) {
   return o.mm_per_unit > 0 ? o.mm_per_unit : rec.mm_per_unit;
@@ -69,7 +69,7 @@ Eigen::Quaterniond handleRotation(const Eigen::Vector3d& axis_canvas, double twi
   const Eigen::Vector3d a = axis_canvas.normalized();
   const Eigen::Quaterniond tilt = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), a);
   // Clockwise seen from above is a negative turn about an axis pointing up.
-  const Eigen::Quaterniond twist(Eigen::AngleAxisd(-twist_deg * kRad, a));
+  const Eigen::Quaterniond twist(Eigen::AngleAxisd(-twist_deg * kRadPerDeg, a));
   return (twist * tilt).normalized();
 }
 
@@ -123,8 +123,8 @@ std::vector<PenSample> smoothed(const std::vector<PenSample>& in, double smooth_
       b.y = a.y + (in[k].y - y0);
       b.p = a.p + in[k].pressure;
       b.axis = a.axis + in[k].axis;
-      b.tc = a.tc + std::cos(in[k].twist_deg * kRad);
-      b.ts = a.ts + std::sin(in[k].twist_deg * kRad);
+      b.tc = a.tc + std::cos(in[k].twist_deg * kRadPerDeg);
+      b.ts = a.ts + std::sin(in[k].twist_deg * kRadPerDeg);
     }
     std::size_t lo = run_start, hi = run_start;  // window [lo, hi)
     for (std::size_t i = run_start; i < run_end; ++i) {
@@ -138,7 +138,7 @@ std::vector<PenSample> smoothed(const std::vector<PenSample>& in, double smooth_
       out[i].pressure = std::clamp((b.p - a.p) / n, 0.0, 1.0);
       const Eigen::Vector3d axis = b.axis - a.axis;
       if (axis.norm() > 1e-9) out[i].axis = axis.normalized();
-      const double twist = std::atan2(b.ts - a.ts, b.tc - a.tc) / kRad;
+      const double twist = std::atan2(b.ts - a.ts, b.tc - a.tc) / kRadPerDeg;
       out[i].twist_deg = twist < 0 ? twist + 360 : twist;
     }
     run_start = run_end;

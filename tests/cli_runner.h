@@ -50,4 +50,7 @@ inline std::string sourcePath(const std::string& rel) {
   return std::string(BRISTLE_SOURCE_DIR) + "/" + rel;
 }
 
+// The library's round brush, the one most end-to-end tests paint with.
+inline const std::string kRound = sourcePath("scenes/brushes/round.json");
+
 }  // namespace bristle::testing

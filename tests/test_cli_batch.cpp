@@ -28,7 +28,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kRound = sourcePath("scenes/brushes/round.json");
 const std::string kFlat = sourcePath("scenes/brushes/flat.json");
 
 // A short dab: the vertical round comes down 3 mm past first contact (its hairs

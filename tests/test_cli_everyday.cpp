@@ -27,7 +27,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kBin = BRISTLE_BIN;
-const std::string kRound = sourcePath("scenes/brushes/round.json");
 
 // Runs a shell command line (pipes and redirections allowed, stdin /dev/null
 // unless it redirects it) in `dir`, capturing stdout and stderr.

@@ -28,7 +28,7 @@ using namespace bristle::testsupport;
 namespace {
 
 // One pixel at the default 8 px/mm: the resolution of every width measured here.
-constexpr double kPixelMm = 1.0 / 8;
+constexpr double kMarkPixelMm = 1.0 / 8;
 
 // A brush whose spine roots lie in a row (flat, bright, filbert) is turned a
 // quarter about its axis, so that the pull along +x is broadside, as a painter
@@ -138,7 +138,7 @@ TEST_CASE("marks: a deeper press leaves a wider stroke", "[marks]") {
   INFO("widths " << widths[0] << " " << widths[1] << " " << widths[2] << " " << widths[3]);
   // Monotone to within two pixels of measurement: a stroke's edge pixels flip
   // with sub-pixel shifts of the hair.
-  for (size_t i = 1; i < widths.size(); ++i) CHECK(widths[i] >= widths[i - 1] - 2 * kPixelMm);
+  for (size_t i = 1; i < widths.size(); ++i) CHECK(widths[i] >= widths[i - 1] - 2 * kMarkPixelMm);
   const Brush brush = loadBrush(sourcePath("scenes/brushes/" + std::string(name) + ".json"));
   if (!brush.spines.front().thickness_mm.empty()) {
     // The row's width: its outer slabs' outer edges.
@@ -151,14 +151,14 @@ TEST_CASE("marks: a deeper press leaves a wider stroke", "[marks]") {
     // From the row's width (less two pixels of edge) to a tenth more: a
     // 12 mm flat pressed flat flares to about 13 mm.
     for (double w : widths) {
-      CHECK(w >= hi - lo - 2 * kPixelMm);
+      CHECK(w >= hi - lo - 2 * kMarkPixelMm);
       CHECK(w <= 1.1 * (hi - lo));
     }
     return;
   }
   // And it does grow: the deepest press is wider than the lightest by more
   // than the pixel noise.
-  CHECK(widths.back() > widths.front() + 2 * kPixelMm);
+  CHECK(widths.back() > widths.front() + 2 * kMarkPixelMm);
 }
 
 TEST_CASE("marks: the calligraphy brush widens about linearly with press depth", "[marks]") {
@@ -522,7 +522,7 @@ TEST_CASE("marks: one depth trajectory presses every library brush alike and a h
   // Every brush touches all along the 20 mm pull: the mark is the contact
   // patch swept 20 mm, so at least that long, less a pixel at each end
   // (measured: 25.1 to 29.6 mm over the seven brushes).
-  CHECK(x1 - x0 >= 20 - 2 * kPixelMm);
+  CHECK(x1 - x0 >= 20 - 2 * kMarkPixelMm);
 
   // Held 1 mm above first contact all the way, it never touches: a blank image
   // and render's warning saying so.

@@ -38,7 +38,7 @@ std::vector<Row> parseTable(const std::string& csv) {
 }
 
 // The protocol's resolution, 10 px/mm: a measure's pixel.
-constexpr double kPixelMm = 0.1;
+constexpr double kFootprintPixelMm = 0.1;
 
 }  // namespace
 
@@ -60,14 +60,14 @@ TEST_CASE("measure: a deeper press is wider and its footprint trails behind the 
     CHECK(row.failed_steps == 0);
     // Pulled along +x, friction holds the hair back: the footprint is widest
     // behind the handle's axis and its tip trails further behind.
-    CHECK(row.offset_mm > 2 * kPixelMm);
-    CHECK(row.drag_mm > 2 * kPixelMm);
+    CHECK(row.offset_mm > 2 * kFootprintPixelMm);
+    CHECK(row.drag_mm > 2 * kFootprintPixelMm);
     // No wider than the round's hair can spread (20 mm long, pressed 6 mm).
     CHECK(row.width_mm < 20);
   }
   // Pressed three times as deep, more hair lies on the paper: wider by more
   // than the two pixels an edge may flip by.
-  CHECK(rows[1].width_mm > rows[0].width_mm + 2 * kPixelMm);
+  CHECK(rows[1].width_mm > rows[0].width_mm + 2 * kFootprintPixelMm);
 }
 
 TEST_CASE("measure: the same brush and protocol give the same table", "[cli][measure]") {

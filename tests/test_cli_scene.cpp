@@ -16,8 +16,10 @@
 #include "engine/fnv1a64.h"
 #include "render/image_compare.h"
 #include "render/png_io.h"
+#include "tests/support/mark_png.h"
 
 using namespace bristle;
+using bristle::testsupport::pngText;
 using namespace bristle::testing;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
@@ -25,7 +27,6 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kRound = sourcePath("scenes/brushes/round.json");
 const std::string kPull = sourcePath("scenes/trajectories/straight-pull.csv");
 constexpr double kPxPerMm = 4;
 constexpr double kHeightMm = 70;
@@ -77,11 +78,6 @@ BoxStats boxStats(const render::Image8& img, double x0, double x1, double y0, do
   return s;
 }
 
-std::string pngText(const std::string& png, const std::string& key) {
-  for (const auto& [k, v] : render::readPngText(png))
-    if (k == key) return v;
-  return "";
-}
 
 }  // namespace
 

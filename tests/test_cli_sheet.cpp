@@ -15,9 +15,11 @@
 #include "engine/fnv1a64.h"
 #include "engine/sheet.h"
 #include "render/png_io.h"
+#include "tests/support/mark_png.h"
 #include "render/sheet_renderer.h"
 
 using namespace bristle;
+using bristle::testsupport::pngText;
 using namespace bristle::testing;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
@@ -48,11 +50,6 @@ std::string writeJson(const TempDir& dir, const std::string& name, const json& j
   return dir.write(name, j.dump(1));
 }
 
-std::string pngText(const std::string& png, const std::string& key) {
-  for (const auto& [k, v] : render::readPngText(png))
-    if (k == key) return v;
-  return "";
-}
 
 }  // namespace
 

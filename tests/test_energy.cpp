@@ -18,7 +18,7 @@ namespace {
 // See test_kinematics.cpp: central differences at h = 1e-6 are good to ~1e-9;
 // energies here are O(10 N mm) with derivatives O(10), so 1e-5 relative (with
 // an absolute floor) separates round-off from a wrong term by orders of magnitude.
-constexpr double kFdStep = 1e-6;
+constexpr double kEnergyFdStep = 1e-6;
 constexpr double kFdRelTol = 1e-5;
 constexpr double kFdAbsTol = 1e-6;
 
@@ -134,15 +134,15 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
     pushed += terms.volume_nmm > 0;
     for (int v = 0; v < 6; ++v) {
       std::vector<double> qp = q, qm = q;
-      qp[v] += kFdStep;
-      qm[v] -= kFdStep;
+      qp[v] += kEnergyFdStep;
+      qm[v] -= kEnergyFdStep;
       const double ep = spineEnergy(p, qp.data(), &fk, nullptr, gp.data(), nullptr);
       const double em = spineEnergy(p, qm.data(), &fk, nullptr, gm.data(), nullptr);
-      INFO("trial " << trial << " var " << v << " grad " << g[v] << " fd " << (ep - em) / (2 * kFdStep));
-      CHECK(close(g[v], (ep - em) / (2 * kFdStep)));
+      INFO("trial " << trial << " var " << v << " grad " << g[v] << " fd " << (ep - em) / (2 * kEnergyFdStep));
+      CHECK(close(g[v], (ep - em) / (2 * kEnergyFdStep)));
       for (int w = 0; w < 6; ++w) {
         INFO("hessian (" << w << "," << v << ")");
-        CHECK(close(h[v * 6 + w], (gp[w] - gm[w]) / (2 * kFdStep)));
+        CHECK(close(h[v * 6 + w], (gp[w] - gm[w]) / (2 * kEnergyFdStep)));
       }
     }
   }
@@ -209,14 +209,14 @@ TEST_CASE("hair volume between two free spines matches finite differences", "[en
     acting += e > 0;
     for (int v = 0; v < na + nb; ++v) {
       std::vector<double> qp = q, qm = q;
-      qp[v] += kFdStep;
-      qm[v] -= kFdStep;
+      qp[v] += kEnergyFdStep;
+      qm[v] -= kEnergyFdStep;
       const double ep = energy(qp, &gp, nullptr, nullptr, nullptr);
       const double em = energy(qm, &gm, nullptr, nullptr, nullptr);
       INFO("trial " << trial << " var " << v);
-      CHECK(close(g[v], (ep - em) / (2 * kFdStep)));
+      CHECK(close(g[v], (ep - em) / (2 * kEnergyFdStep)));
       for (int w = 0; w < na + nb; ++w) {
-        const double fd = (gp[w] - gm[w]) / (2 * kFdStep);  // d2E / dq_w dq_v
+        const double fd = (gp[w] - gm[w]) / (2 * kEnergyFdStep);  // d2E / dq_w dq_v
         double h;
         if (v < na && w < na) h = haa[v * na + w];
         else if (v >= na && w >= na) h = hbb[(v - na) * nb + (w - na)];
@@ -378,8 +378,8 @@ TEST_CASE("friction joint by joint: the energy's friction, with its own derivati
       // G's own derivatives against central differences of G.
       for (int v = 0; v < t.var_count; ++v) {
         std::vector<double> qp = q, qm = q;
-        qp[v] += kFdStep;
-        qm[v] -= kFdStep;
+        qp[v] += kEnergyFdStep;
+        qm[v] -= kEnergyFdStep;
         SpineFk fp, fm;
         FrictionJointTerm tp, tm;
         spineForwardKinematics(spine, p.handle, qp.data(), 1, &fp);
@@ -387,9 +387,9 @@ TEST_CASE("friction joint by joint: the energy's friction, with its own derivati
         frictionJointTerm(p, fp, j, 1, &tp);
         frictionJointTerm(p, fm, j, 1, &tm);
         INFO("trial " << trial << " joint " << j << " var " << v);
-        CHECK(close(t.grad[v], (tp.g - tm.g) / (2 * kFdStep)));
+        CHECK(close(t.grad[v], (tp.g - tm.g) / (2 * kEnergyFdStep)));
         for (int w = 0; w < t.var_count; ++w)
-          CHECK(close(t.hess[v * t.var_count + w], (tp.grad[w] - tm.grad[w]) / (2 * kFdStep)));
+          CHECK(close(t.hess[v * t.var_count + w], (tp.grad[w] - tm.grad[w]) / (2 * kEnergyFdStep)));
       }
     }
     INFO("trial " << trial);

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "llvmpipe.h"
 #include "render/footprint_renderer.h"
 
 using bristle::render::FootprintImage;
@@ -19,10 +20,6 @@ using bristle::render::FootprintVertex;
 using bristle::render::FootprintWindow;
 
 namespace {
-
-// An unknown GALLIUM_DRIVER segfaults inside OSMesa; clear whatever the
-// environment set before any context exists (static init runs before main).
-const bool kGalliumDriverCleared = [] { return ::unsetenv("GALLIUM_DRIVER") == 0; }();
 
 // Attributes (u, v, depth) are interpolated in float at pixel centres from
 // float vertex positions: measured error <= 1e-7 near the origin and 1e-6 with

@@ -1,6 +1,7 @@
 #pragma once
 // Small builders shared by the engine tests.
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,9 @@
 #include "engine/trajectory.h"
 
 namespace bristle::testing {
+
+// The source tree: shipped brushes, scenes and trajectories the tests read.
+inline const std::filesystem::path kSourceDir = BRISTLE_SOURCE_DIR;
 
 // What a call threw, if it threw a bristle::Error: for checking exit codes and
 // messages of bad input.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "llvmpipe.h"
 #include "render/footprint_renderer.h"
 #include "render/png_io.h"
 #include "render/preview_renderer.h"
@@ -22,9 +23,6 @@ using bristle::render::PreviewOptions;
 using bristle::render::PreviewScene;
 
 namespace {
-
-// An unknown GALLIUM_DRIVER segfaults inside OSMesa; clear it before any context.
-const bool kGalliumDriverCleared = [] { return ::unsetenv("GALLIUM_DRIVER") == 0; }();
 
 constexpr int kWidth = 400, kHeight = 300;
 

@@ -23,6 +23,7 @@
 
 using namespace bristle;
 using bristle::testing::Caught;
+using bristle::testing::kSourceDir;
 using bristle::testing::catchError;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
@@ -33,7 +34,6 @@ namespace fs = std::filesystem;
 
 // BRISTLE_SOURCE_DIR, not __FILE__: ccache with CCACHE_BASEDIR makes __FILE__
 // relative to the build folder, and paths written into scene files then break.
-const fs::path kSourceDir = BRISTLE_SOURCE_DIR;
 
 }  // namespace
 

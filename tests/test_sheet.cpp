@@ -22,6 +22,7 @@
 
 using namespace bristle;
 using bristle::testing::Caught;
+using bristle::testing::kSourceDir;
 using bristle::testing::catchError;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
@@ -31,7 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSourceDir = BRISTLE_SOURCE_DIR;
 
 json goodSheet() {
   return json::parse(R"({
@@ -53,10 +53,10 @@ json goodSheet() {
   })");
 }
 
-Sheet parse(const json& j) { return parseSheet(j.dump(), "sheet.json", "base"); }
+Sheet sheetFrom(const json& j) { return parseSheet(j.dump(), "sheet.json", "base"); }
 
-Caught parseError(const json& j) {
-  return catchError([&] { parse(j); });
+Caught sheetError(const json& j) {
+  return catchError([&] { sheetFrom(j); });
 }
 
 // A fresh folder with a sheet and copies of the files it lists.
@@ -89,7 +89,7 @@ struct SheetDir {
 }  // namespace
 
 TEST_CASE("a sound sheet parses into files, lifts, layout, cell, paint and labels", "[sheet]") {
-  const Sheet s = parse(goodSheet());
+  const Sheet s = sheetFrom(goodSheet());
   CHECK(s.name == "two by two");
   CHECK(s.title == "Round and badger");
   REQUIRE(s.brush_paths.size() == 2);
@@ -122,7 +122,7 @@ TEST_CASE("a sound sheet parses into files, lifts, layout, cell, paint and label
 }
 
 TEST_CASE("omitted keys take the defaults of `bristle render --brush --trajectory`", "[sheet]") {
-  const Sheet s = parse({{"format", "bristle-sheet/1"},
+  const Sheet s = sheetFrom({{"format", "bristle-sheet/1"},
                          {"name", "n"},
                          {"brushes", {"a.json"}},
                          {"trajectories", {"t.csv"}}});
@@ -145,7 +145,7 @@ TEST_CASE("omitted keys take the defaults of `bristle render --brush --trajector
 
   json j = goodSheet();
   j["cell_mm"] = "auto";
-  CHECK(parse(j).autoCell());
+  CHECK(sheetFrom(j).autoCell());
 }
 
 TEST_CASE("bad sheet values are 65 naming the JSON pointer and the rule", "[sheet]") {
@@ -221,7 +221,7 @@ TEST_CASE("bad sheet values are 65 naming the JSON pointer and the rule", "[shee
     INFO(c.what);
     json j = goodSheet();
     c.edit(j);
-    const Caught e = parseError(j);
+    const Caught e = sheetError(j);
     REQUIRE(e.thrown);
     CHECK(e.code == 65);
     CHECK_THAT(e.message, StartsWith(c.where));

@@ -25,4 +25,10 @@ Coverage loadCoveragePng(const std::string& path, double px_per_mm) {
   return img;
 }
 
+std::string pngText(const std::string& png, const std::string& key) {
+  for (const auto& [k, v] : render::readPngText(png))
+    if (k == key) return v;
+  return "";
+}
+
 }  // namespace bristle::testsupport

@@ -15,4 +15,7 @@ namespace bristle::testsupport {
 // readPngRgba8 does (66 missing, 65 not a PNG).
 Coverage loadCoveragePng(const std::string& path, double px_per_mm = 0);
 
+// The value of the PNG's text chunk `key` ("" when it has none).
+std::string pngText(const std::string& png, const std::string& key);
+
 }  // namespace bristle::testsupport
