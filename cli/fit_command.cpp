@@ -176,7 +176,9 @@ int runFit(FitArgs a) {
   FitProgressLine progress(!a.quiet, a.fit.time_limit_s, a.fit.max_evals);
   const render::FitResult r = render::fitBrush(
       brush_text, brush_file, table, params, a.fit,
-      [&](int e, int d, int n, int s, int ns, double best) { progress.update(e, d, n, s, ns, best); });
+      [&](int e, int d, int n, int s, int ns, double best) {
+        progress.update(e, d, n, s, ns, best);
+      });
   progress.done();
   if (!r.cache_warning.empty()) std::cerr << "bristle: warning: " << r.cache_warning << "\n";
   writeOutputs(a, r, table, brush.name, brush_file);

@@ -54,8 +54,9 @@ class TempFolder {
     std::string tmpl = std::string(base != nullptr && *base != '\0' ? base : "/tmp") +
                        "/bristle-plot-XXXXXX";
     if (::mkdtemp(tmpl.data()) == nullptr)
-      throw Error(ExitCode::kCantCreate, tmpl + ": cannot create a temporary folder for the plot: " +
-                                             std::strerror(errno));
+      throw Error(ExitCode::kCantCreate,
+                  tmpl + ": cannot create a temporary folder for the plot: " +
+                      std::strerror(errno));
     dir_ = tmpl;
   }
   ~TempFolder() {

@@ -116,7 +116,8 @@ std::string residualTable(const FitResult& r, const MeasurementTable& t) {
 std::string fitReport(const FitResult& r, const MeasurementTable& t, const FitOptions& o,
                       const std::string& brush_path) {
   std::string columns;
-  for (FitColumn c : o.columns) columns += (columns.empty() ? "" : ", ") + std::string(columnName(c));
+  for (FitColumn c : o.columns)
+    columns += (columns.empty() ? "" : ", ") + std::string(columnName(c));
   const MeasureProtocol& p = o.protocol;
   std::string out = "# bristle fit\n\n";
   out += "- brush: `" + brush_path + "`\n- measurements: `" + t.path + "` (" +

@@ -78,8 +78,8 @@ TEST_CASE("fit table: too few rows for the parameters, or a depth past the ferru
   const Brush round = parseBrush(brushText("round"), "round.json");
   const std::vector<FitParam> three = defaultFitParams(round);
   REQUIRE(three.size() == 3);
-  const MeasurementTable two =
-      parseMeasurementTable("depth_mm,width_mm,drag_mm\n0,0,0\n1,1,1\n2,2,2\n", "m.csv", kWidthDrag);
+  const MeasurementTable two = parseMeasurementTable(
+      "depth_mm,width_mm,drag_mm\n0,0,0\n1,1,1\n2,2,2\n", "m.csv", kWidthDrag);
   REQUIRE_THROWS_WITH(checkTableForFit(two, round, three),
                       "m.csv: line 4: 2 rows with a depth above 0, fewer than the 3 free "
                       "parameters (stiffness_scale, stiffness_taper, tip_spread): a fit "
