@@ -120,6 +120,7 @@ def scratch(bristle):
     (d / "build/cli/bristle").symlink_to(Path(bristle).resolve())
     env = dict(os.environ)
     env.pop("GALLIUM_DRIVER", None)
+    env["XDG_CACHE_HOME"] = str(d / "cache")  # `fit` keeps its cache here, not in the user's
     (d / "my-brushes").mkdir()
     shutil.copy(SRC / "scenes/brushes/round.json", d / "my-brushes/house.json")
     lines = (SRC / "scenes/trajectories/straight-pull.csv").read_text().split("\n")
