@@ -184,7 +184,7 @@ int runFit(FitArgs a) {
   writeOutputs(a, r, table, brush.name, brush_file);
   if (!a.quiet) {
     std::fprintf(stderr,
-                 "bristle: fit: RMSE %.3f -> %.3f mm in %d evaluations (%d from the cache, %d "
+                 "bristle: fit: RMSE %.3f -> %.3f mm in %d evaluations (%d cached or repeated, %d "
                  "strokes simulated), %.1f s: %s\n",
                  r.before_rmse, r.after_rmse, r.evaluations, r.cache_hits, r.simulated_strokes,
                  r.seconds, r.stop.c_str());

@@ -122,6 +122,25 @@ TEST_CASE("fit: an evaluation limit writes the best brush found, says so, and ex
   CHECK(runBristle("validate '" + dir.file("best.json") + "'").code == 0);
 }
 
+TEST_CASE("fit: the time limit stops the search, writes the best brush found and says so",
+          "[cli][fit]") {
+  TempDir dir;
+  // Three depths: each evaluation is three pulls, about half a second, and
+  // BOBYQA needs at least five evaluations for one parameter (its 2n + 1
+  // starting points and a step), so 1 s cannot hold a converged search.
+  const std::string table = dir.write(
+      "t.csv", "depth_mm,width_mm,drag_mm\n2,1.5,1.5\n4,3,3\n6,5,5\n");
+  const RunResult r =
+      runBristle("fit '" + dir.write("one.json", oneSpine(1)) + "' '" + table +
+                 "' --time-limit-s 1 --no-cache" + kProtocol + "--params '" +
+                 dir.write("p.json", kTaperParams) + "' -q -o '" + dir.file("best.json") + "'");
+  CHECK(r.code == 75);
+  CHECK_THAT(r.err, Catch::Matchers::StartsWith(
+                        "bristle: warning: fit: stopped by the time limit before converging; "
+                        "wrote the best brush found to "));
+  CHECK(runBristle("validate '" + dir.file("best.json") + "'").code == 0);
+}
+
 TEST_CASE("fit: a corrupt cache entry is measured again, never trusted", "[cli][fit]") {
   TempDir dir;
   const std::string table = dir.write("t.csv", "depth_mm,width_mm,drag_mm\n4,3,3\n");
