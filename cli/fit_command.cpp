@@ -168,10 +168,12 @@ int runFit(FitArgs a) {
   std::string cols;
   for (const std::string& c : a.columns) cols += (cols.empty() ? "" : ", ") + c;
   a.fit.name = a.name.empty() ? brush.name + "-fitted" : a.name;
-  a.fit.description = !a.description.empty()
-                          ? a.description
-                          : brush.description + ". Fitted by bristle fit to " + table_name +
-                                " (" + cols + ")";
+  std::string base = brush.description;
+  while (!base.empty() && (base.back() == '.' || base.back() == ' ')) base.pop_back();
+  a.fit.description = !a.description.empty() ? a.description
+                                             : base + (base.empty() ? "" : ". ") +
+                                                   "Fitted by bristle fit to " + table_name +
+                                                   " (" + cols + ")";
   a.fit.cache_dir = cacheDir(a);
   FitProgressLine progress(!a.quiet, a.fit.time_limit_s, a.fit.max_evals);
   const render::FitResult r = render::fitBrush(

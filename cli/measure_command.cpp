@@ -106,7 +106,10 @@ int runMeasure(const MeasureArgs& args) {
     }
     writeMeasurePlot(args.plot, "--plot", plot);
   }
-  if (!to_file) {
+  if (!to_file && CommitGroup::open() != nullptr) {
+    // After the plot is in place: a run that fails writes nothing to stdout.
+    CommitGroup::open()->atCommit([csv]() { std::cout << csv; });
+  } else if (!to_file) {
     std::cout << csv;
   } else {
     AtomicOutput out(args.output);

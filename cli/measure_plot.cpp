@@ -50,9 +50,13 @@ std::string safeTitle(const std::string& s) {
 class TempFolder {
  public:
   TempFolder() {
-    const char* base = std::getenv("TMPDIR");
-    std::string tmpl = std::string(base != nullptr && *base != '\0' ? base : "/tmp") +
-                       "/bristle-plot-XXXXXX";
+    // The folder's name goes into gnuplot's script in quotes: a TMPDIR with
+    // anything but plain path characters is passed over for /tmp.
+    const char* env = std::getenv("TMPDIR");
+    std::string base = env != nullptr && *env != '\0' ? env : "/tmp";
+    const char* plain = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789/._-";
+    if (base.find_first_not_of(plain) != std::string::npos) base = "/tmp";
+    std::string tmpl = base + "/bristle-plot-XXXXXX";
     if (::mkdtemp(tmpl.data()) == nullptr)
       throw Error(ExitCode::kCantCreate,
                   tmpl + ": cannot create a temporary folder for the plot: " +
