@@ -209,15 +209,15 @@ Subcommand registerFit(CLI::App& app) {
       "Examples:\n"
       "  bristle fit calligraphy data/real-brushes/wang2020-calligraphy.csv -o fitted.json \\\n"
       "      --report fit.md --plot fit.png\n"
-      "  bristle fit round round-measured.csv -o round-fitted.json --cache fit-cache \\\n"
-      "      --columns width_mm,drag_mm,offset_mm --time-limit-s 120\n"
       "The table: depth_mm and the fitted columns (width_mm, drag_mm, offset_mm), one row\n"
       "per measured stroke, repeated depths allowed, '#' comment lines; rows at depth 0\n"
       "are left out. Each evaluation runs `bristle measure`'s protocol at the table's\n"
       "depths; BOBYQA (NLopt) minimises the squared residuals of --columns. The free\n"
-      "parameters by default: stiffness_scale, stiffness_taper, friction_scale; a\n"
-      "--params file names others with their bounds: {\"stiffness_scale\": [0.5, 2]}.\n"
-      "Exit 75 when a limit stopped the search: the best brush found is written.\n"
+      "parameters by default: stiffness_scale, stiffness_taper and tip_spread for a brush\n"
+      "with hair volume, else stiffness_taper and friction_scale; a --params file names\n"
+      "others with their bounds: {\"friction_scale\": [0.5, 2]}.\n"
+      "--columns width_mm,drag_mm,offset_mm fits the offset too. Exit 75 when a limit\n"
+      "(--time-limit-s, --max-evals) stopped the search: the best brush found is written.\n"
       "docs/fit.md tells the rest.");
   fit->add_option("brush", fa->brush, "Brush: a library name (calligraphy) or a file")->required();
   fit->add_option("measurements", fa->table, "Measurement table (CSV)")->required();

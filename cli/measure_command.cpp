@@ -134,7 +134,7 @@ Subcommand registerMeasure(CLI::App& app) {
       "Examples:\n"
       "  bristle measure calligraphy\n"
       "  bristle measure round --depths 1,2,3,4,5 -o round-measured.csv\n"
-      "  bristle measure calligraphy --depths 1,2,4,6,8,10 --plot calligraphy.png \\\n"
+      "  bristle measure calligraphy --depths 2,6,10 --plot calligraphy.png \\\n"
       "      --compare data/real-brushes/wang2020-calligraphy.csv\n"
       "The protocol (docs/fidelity.md, \"Measuring a brush\"): the brush held upright,\n"
       "lowered at x = 0 from 2 mm above first contact to each depth in 0.5 s, then\n"
