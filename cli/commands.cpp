@@ -15,7 +15,8 @@ std::vector<Subcommand> registerCommands(CLI::App& app) {
   std::vector<Subcommand> commands = {
       registerRender(app),  registerValidate(app), registerBrushes(app), registerPigments(app),
       registerPreview(app), registerRecord(app),   registerReplay(app),  registerSheet(app),
-      registerBatch(app),   registerCompare(app),  registerImport(app), registerMeasure(app)};
+      registerBatch(app),   registerCompare(app),  registerImport(app), registerMeasure(app),
+      registerFit(app)};
   requireFiniteNumbers(app);
   requireNamedOutputs(app);
   return commands;

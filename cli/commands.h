@@ -62,6 +62,7 @@ Subcommand registerBatch(CLI::App& app);
 Subcommand registerCompare(CLI::App& app);
 Subcommand registerImport(CLI::App& app);  // cli/import_command.cpp
 Subcommand registerMeasure(CLI::App& app);  // cli/measure_command.cpp
+Subcommand registerFit(CLI::App& app);      // cli/fit_command.cpp
 
 struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   std::string scene;  // positional: a bristle-scene/1 file instead of --brush/--trajectory

@@ -7,23 +7,26 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 
 #include "cli/commands.h"
 #include "cli/inputs.h"
+#include "cli/measure_plot.h"
 #include "cli/options.h"
 #include "cli/progress.h"
 #include "engine/atomic_output.h"
 #include "engine/brush.h"
 #include "engine/error.h"
+#include "render/brush_fit.h"
 #include "render/brush_measure.h"
 
 namespace bristle::cli {
 namespace {
 
 struct MeasureArgs {
-  std::string brush, output;
+  std::string brush, output, plot, compare;
   render::MeasureProtocol protocol;
   SolverKind solver = SolverKind::kIpopt;
   int solver_max_iterations = kDefaultSolverMaxIterations;
@@ -39,6 +42,9 @@ void checkMeasureArgs(const MeasureArgs& a) {
     if (!(d > 0 && d <= kMaxDepthMm))
       throw Error(ExitCode::kUsage, "--depths: each depth must be in (0, 100] mm (got " +
                                         std::to_string(d) + ")");
+  if (!a.plot.empty()) checkPngOutputName("measure", "--plot", a.plot, false);
+  if (!a.compare.empty() && a.plot.empty())
+    throw Error(ExitCode::kUsage, "--compare: draws the table on the plot; give --plot too");
 }
 
 // The table, as CSV: one row per depth, "untouched" rows with empty measures.
@@ -75,7 +81,12 @@ int runMeasure(const MeasureArgs& args) {
   checkMeasureArgs(args);
   const std::string brush_file = findBrushFile(args.brush, "");
   const bool to_file = !args.output.empty() && !isStdio(args.output);
-  if (to_file) checkOutputs({{"-o", args.output}}, {{"brush", brush_file}});
+  checkOutputs({{"-o", to_file ? args.output : ""}, {"--plot", args.plot}},
+               {{"brush", brush_file}, {"--compare", args.compare}});
+  if (!args.plot.empty()) checkGnuplot("--plot");
+  // The table to compare with is read before the long run, so a bad one fails at once.
+  render::MeasurementTable table;
+  if (!args.compare.empty()) table = render::readMeasurementTable(args.compare, {});
   const Brush brush = loadBrush(brush_file);
   SolverSettings solvers;
   solvers.kind = args.solver;
@@ -85,7 +96,20 @@ int runMeasure(const MeasureArgs& args) {
       brush, args.protocol, solvers,
       [&](int depth, int depths, int step, int steps) { progress.update(depth, depths, step, steps); });
   const std::string csv = measureCsv(rows);
-  if (!to_file) {
+  if (!args.plot.empty()) {
+    MeasurePlot plot;
+    plot.title = "bristle measure " + brush.name;
+    plot.curves = {{brush.name, rows}};
+    if (!args.compare.empty()) {
+      plot.table = &table;
+      plot.table_title = std::filesystem::path(args.compare).filename().string();
+    }
+    writeMeasurePlot(args.plot, "--plot", plot);
+  }
+  if (!to_file && CommitGroup::open() != nullptr) {
+    // After the plot is in place: a run that fails writes nothing to stdout.
+    CommitGroup::open()->atCommit([csv]() { std::cout << csv; });
+  } else if (!to_file) {
     std::cout << csv;
   } else {
     AtomicOutput out(args.output);
@@ -110,6 +134,8 @@ Subcommand registerMeasure(CLI::App& app) {
       "Examples:\n"
       "  bristle measure calligraphy\n"
       "  bristle measure round --depths 1,2,3,4,5 -o round-measured.csv\n"
+      "  bristle measure calligraphy --depths 2,6,10 --plot calligraphy.png \\\n"
+      "      --compare data/real-brushes/wang2020-calligraphy.csv\n"
       "The protocol (docs/fidelity.md, \"Measuring a brush\"): the brush held upright,\n"
       "lowered at x = 0 from 2 mm above first contact to each depth in 0.5 s, then\n"
       "pulled along +x at --speed-mm-s for 40 mm. Its footprint is read at 5 steps of\n"
@@ -123,12 +149,21 @@ Subcommand registerMeasure(CLI::App& app) {
                       "Brush: a library name (round) or a file (bristle-brush/1 JSON)")
       ->required();
   measure->add_option("-o,--output", ma->output, "CSV table of the measures (- writes stdout)");
+  measure->add_option("--plot", ma->plot,
+                      "PNG: width, drag and offset against depth, drawn by gnuplot");
+  measure->add_option("--compare", ma->compare,
+                      "A measurement table (depth_mm,width_mm,drag_mm,offset_mm) drawn as "
+                      "points on the plot");
   measure->add_option("--depths", ma->protocol.depths_mm,
                       "Press depths past first contact (mm), comma-separated")
       ->delimiter(',')
       ->capture_default_str();
   measure->add_option("--speed-mm-s", ma->protocol.speed_mm_s, "Pull speed (mm/s)")
       ->check(CLI::Range(1.0, 500.0))
+      ->capture_default_str();
+  measure->add_option("--pull-mm", ma->protocol.pull_mm,
+                      "Pull length (mm); the footprint is read over its last quarter")
+      ->check(CLI::Range(4.0, 400.0))
       ->capture_default_str();
   addPxPerMm(measure, ma->protocol.px_per_mm,
              "Footprint resolution (pixels per mm); the window spans the brush's reach");

@@ -120,10 +120,11 @@ TEST_CASE("brush names: `brushes` lists exactly the names lookup finds, from one
   std::vector<std::string> names;
   std::istringstream lines(list.out);
   for (std::string line; std::getline(lines, line);) names.push_back(line.substr(0, line.find(' ')));
-  // The seven library brushes and the house brush, each once, by the name that
-  // finds it (the file's, whatever the brush calls itself).
-  CHECK(names == std::vector<std::string>{"badger", "bright", "calligraphy", "fan", "filbert",
-                                          "flat", "round", "house"});
+  // The eight library brushes and the house brush, each once, by the name that
+  // finds it (the file's, whatever the brush calls itself), in the order of
+  // the file names ("calligraphy-wang2020.json" sorts before "calligraphy.json").
+  CHECK(names == std::vector<std::string>{"badger", "bright", "calligraphy-wang2020", "calligraphy",
+                                          "fan", "filbert", "flat", "round", "house"});
   // Every name listed resolves, from the folder listed first (the library's flat).
   const RunResult flat = runShell(d, "BRISTLE_BRUSH_PATH=mine " + b + " validate flat");
   CHECK(flat.out == sourcePath("scenes/brushes/flat.json") + ": ok (brush 'flat', 5 spines, surface, 120 strips)\n");

@@ -10,7 +10,7 @@ Lines that run something other than bristle (scripts/..., sbatch) are not
 bristle examples and are left to their own tests.
 
 Each runs through the shell, in the order shown, in a scratch folder that holds the source tree's
-scenes/, golden/ and scripts/ (as links), build/cli/bristle (a link to the
+scenes/, golden/, scripts/ and data/ (as links), build/cli/bristle (a link to the
 binary under test) and the placeholder files the examples name (my-brushes/, T.csv, a
 session.csv, jobs.json, the images compare is shown on). An example must exit
 0, or with the code EXPECTED gives it (recording with no haptic device here is
@@ -114,12 +114,13 @@ def all_examples(bristle):
 
 def scratch(bristle):
     d = Path(tempfile.mkdtemp(prefix="bristle-examples-"))
-    for name in ("scenes", "golden", "scripts"):
+    for name in ("scenes", "golden", "scripts", "data"):
         (d / name).symlink_to(SRC / name)
     (d / "build/cli").mkdir(parents=True)
     (d / "build/cli/bristle").symlink_to(Path(bristle).resolve())
     env = dict(os.environ)
     env.pop("GALLIUM_DRIVER", None)
+    env["XDG_CACHE_HOME"] = str(d / "cache")  # `fit` keeps its cache here, not in the user's
     (d / "my-brushes").mkdir()
     shutil.copy(SRC / "scenes/brushes/round.json", d / "my-brushes/house.json")
     lines = (SRC / "scenes/trajectories/straight-pull.csv").read_text().split("\n")

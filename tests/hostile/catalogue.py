@@ -1508,6 +1508,49 @@ case("gallium-driver-unknown", "`GALLIUM_DRIVER=bogus`, a driver OSMesa does not
      render(), 64, "GALLIUM_DRIVER=bogus: OSMesa supports only llvmpipe or softpipe; unset it "
      "to use llvmpipe", STROKE, env={"GALLIUM_DRIVER": "bogus"})
 
+# -- fit: the measurement table and the free parameters, checked before any stroke -----
+def table(text, name="m.csv"):
+    return lambda d: write(d, name, text)
+
+
+FIT = ["fit", "b.json", "m.csv", "-o", "f.json", "--no-cache"]
+GOOD_TABLE = "depth_mm,width_mm,drag_mm,offset_mm\n1,1.8,1.5,0\n2,2.2,2,1\n4,3.5,4.5,2.5\n"
+case("fit-table-misnamed-column", "a measurement table whose header misspells `width_mm`", FIT,
+     65, "m.csv: line 2, column 2 (widht_mm): unknown column 'widht_mm'; did you mean width_mm?",
+     all_of(brush(), table("# a real brush\ndepth_mm,widht_mm,drag_mm\n1,2,3\n")))
+case("fit-table-missing-column", "a measurement table without `drag_mm`", FIT, 65,
+     "m.csv: line 1: missing column drag_mm (the header must name depth_mm, width_mm, drag_mm)",
+     all_of(brush(), table("depth_mm,width_mm\n1,2\n2,3\n4,5\n")))
+case("fit-table-not-a-number", "a measured width of `wide`", FIT, 65,
+     "m.csv: line 3, column 2 (width_mm): 'wide' is not a number",
+     all_of(brush(), table("depth_mm,width_mm,drag_mm\n1,2,3\n2,wide,3\n")))
+case("fit-table-negative", "a negative drag", FIT, 65,
+     "m.csv: line 2, column 3 (drag_mm): -1.5 must be >= 0 (a length in mm)",
+     all_of(brush(), table("depth_mm,width_mm,drag_mm\n1,2,-1.5\n")))
+case("fit-table-too-few-rows", "two rows past depth 0 for the round's three free parameters",
+     FIT, 65, "m.csv: line 4: 2 rows with a depth above 0, fewer than the 3 free parameters "
+     "(stiffness_scale, stiffness_taper, tip_spread): a fit needs a row per parameter at least",
+     all_of(brush(), table("depth_mm,width_mm,drag_mm\n0,0,0\n1,2,2\n2,3,3\n")))
+case("fit-table-too-deep", "a 40 mm press for a brush of 20 mm of hair", FIT, 65,
+     "m.csv: line 5, column 1 (depth_mm): 40 mm is deeper than 'round' can press: its ferrule "
+     "reaches the paper 20.4 mm past first contact",
+     all_of(brush(), table(GOOD_TABLE + "40,20,9,3\n")))
+case("fit-params-misspelt", "a `--params` file naming `stifness_scale`",
+     FIT + ["--params", "p.json"], 65,
+     "p.json: /stifness_scale: unknown key 'stifness_scale'; did you mean /stiffness_scale?",
+     all_of(brush(), table(GOOD_TABLE), lambda d: write(d, "p.json",
+                                                         '{"stifness_scale": [0.5, 2]}')))
+case("fit-params-out-of-range", "a `--params` tip spread past 1", FIT + ["--params", "p.json"],
+     65, "p.json: /tip_spread = [0.5,1.5]: must lie within [0, 1]",
+     all_of(brush(), table(GOOD_TABLE), lambda d: write(d, "p.json", '{"tip_spread": [0.5, 1.5]}')))
+case("fit-plot-without-gnuplot", "`fit --plot` with no gnuplot on PATH", FIT + ["--plot", "f.png"],
+     69, "--plot: gnuplot not found on PATH (Debian: apt install gnuplot-nox; scripts/install-deps "
+     "installs it)", all_of(brush(), table(GOOD_TABLE)), env={"PATH": "/nonexistent"})
+case("measure-compare-bad-table", "`measure --compare` a table with a non-numeric depth",
+     ["measure", "b.json", "--plot", "p.png", "--compare", "m.csv"], 65,
+     "m.csv: line 2, column 1 (depth_mm): 'one' is not a number",
+     all_of(brush(), table("depth_mm,width_mm\none,2\n")))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
