@@ -332,7 +332,7 @@ void positiveFirst(const std::vector<double>& diag, std::vector<int>* perm) {
 // three or four times its entries, and ordering them saves an eighth of its render with the same
 // iterations and pixels. The round's smaller blocks gain nothing, and a new
 // order would move the last bits of their iterates (docs/PERFORMANCE.md,
-// "The badger's large blocks in minimum degree order").
+// "Hair-volume groups factored sparsely").
 constexpr int kOrderedMinRows = 144;
 
 // The positive rows of a large block (perm's first part, from positiveFirst)

@@ -508,9 +508,9 @@ constexpr double kWarmMuInit = 1e-9;
 // How far a warm start's iterate and multipliers are pushed into the interior:
 // the first try (the previous step's solution is nearly optimal), and the
 // re-centred retry of a failed one. On the round, calligraphy and badger on a
-// tablet recording (docs/PERFORMANCE.md, "A failed warm start, solved again
-// re-centred"), 1e-3 and 1e-5 took the same iterations within 1%, 1e-2 2%
-// more; the retry's adaptive barrier picks its own mu whatever mu_init says.
+// tablet recording (docs/PERFORMANCE.md, "Ipopt's warm starts and its
+// timers"), 1e-3 and 1e-5 took the same iterations within 1%, 1e-2 2% more;
+// the retry's adaptive barrier picks its own mu whatever mu_init says.
 constexpr double kWarmPush = 1e-9;
 constexpr double kRetryWarmPush = 1e-3;
 

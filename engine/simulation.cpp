@@ -622,7 +622,7 @@ void Simulation::predictStart(int s, const Pose& handle, std::vector<double>* q)
 // and a steady one from the continued bend. This is the first-order
 // predictor of continuation methods; only the start moves, never the
 // minimum (eq. 3). It saves a fifth to two fifths of Ipopt's iterations
-// (docs/PERFORMANCE.md, "The previous step's bend continued").
+// (docs/PERFORMANCE.md, "Where a solve starts").
 double Simulation::repeatedMotion(const Pose& handle) const {
   const HandleMove& before = state_.moved;
   const HandleMove now = handleMove(state_.handle, handle);

@@ -45,8 +45,8 @@ void checkGalliumDriver() {
 // default one per CPU). bristle's footprints are small windows, drawn once per
 // step: handing each to the threads and waiting for them costs more than the
 // rasterising it saves. With none (0), the calling thread rasterises: the
-// same pixels in less wall and CPU time (docs/PERFORMANCE.md, "llvmpipe's
-// threads").
+// same pixels in less wall and CPU time (docs/PERFORMANCE.md, "Simulation
+// and drawing on two threads").
 // A value the user set is kept. Read once, when llvmpipe's screen is made.
 void chooseRasteriserThreads() {
   ::setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);

@@ -546,8 +546,8 @@ TEST_CASE("import cli: a warm start that fails is solved again re-centred, not s
   // first rescue, so one render's totals also differ by every step after it,
   // and a single rescue's cost varies (here 9 iterations for the retry
   // against 53 for the one redo; 85 against 54 on another excerpt). Over an
-  // ensemble of presses the retry saves iterations (docs/PERFORMANCE.md, "A
-  // failed warm start, solved again re-centred").
+  // ensemble of presses the retry saves iterations (docs/PERFORMANCE.md,
+  // "Ipopt's warm starts and its timers").
   for (const nlohmann::json* run : {&redo, &retry}) {
     CHECK((*run)["rescue_iterations"].get<long>() > 0);
     CHECK((*run)["rescue_iterations"].get<long>() < (*run)["solver_iterations"].get<long>());
