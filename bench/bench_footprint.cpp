@@ -110,7 +110,8 @@ BENCHMARK(BM_FootprintRender)
 
 // The floor under any footprint of a window range(0) pixels square: clearing
 // the float colour and depth targets and reading them back, with nothing
-// drawn. Issue 21's 2 ms for 1,000 strips at 512^2 includes this.
+// drawn. Any footprint at that size costs at least this (docs/PERFORMANCE.md,
+// "Footprints").
 void BM_FootprintFloor(benchmark::State& state) {
   FootprintImage image;
   timeWindowRender(state, {}, squareWindow(state), &image);
@@ -272,7 +273,7 @@ void BM_GeometryAndFootprint(benchmark::State& state) {
 BENCHMARK(BM_GeometryAndFootprint)->ArgName("px_per_mm")->Arg(8)->Arg(16)->Arg(32)->Arg(56)
     ->UseManualTime()->Unit(benchmark::kMicrosecond);
 
-// Issue 21's goal for thousands of hairs: geometry + footprint + readback of
+// Thousands of hairs: geometry + footprint + readback of
 // the pressed calligraphy brush with range(0) strips at 56 px/mm (a window of
 // about 512^2, as above), so that 200 and 1,000 strips compare in one run.
 void BM_StripCountFootprint(benchmark::State& state) {

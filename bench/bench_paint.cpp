@@ -3,7 +3,8 @@
 // texture-coordinate kind is mapped), a footprint shaped like a pressed brush
 // (an ellipse filling ~79% of the window, depth falling off towards its rim,
 // texture coordinates of all three geometry kinds), moving 2 px per step over a
-// canvas with paper tooth, as a stroke does. Target (issue 5): <= 1 ms per step at 512^2.
+// canvas with paper tooth, as a stroke does. Figures in docs/PERFORMANCE.md,
+// "Paint transfer and composing".
 
 #include <benchmark/benchmark.h>
 

@@ -2,7 +2,8 @@
 // scene, simulate and paint every stroke onto one PaintCanvas, compose to 8-bit
 // sRGB (what `bristle render SCENE.json` does minus the PNG encoding). Manual
 // time around that; counters: strokes, simulation steps, ms per step, and the
-// paint laid down. Figures in docs/PERFORMANCE.md ("Scenes").
+// paint laid down. Figures in docs/PERFORMANCE.md ("Scenes, sheets and the golden
+// suite").
 
 #include <benchmark/benchmark.h>
 

@@ -1,4 +1,4 @@
-// The servo loop's achieved rate and period jitter (issue 6, item 8): a real
+// The servo loop's achieved rate and period jitter (paper §5): a real
 // live session -- the none device playing a trajectory at 1 kHz, the sim
 // thread (round brush, SLSQP, force model probes) and the recorder -- for
 // 10 s, timing every servo tick's start on CLOCK_MONOTONIC.
@@ -6,7 +6,7 @@
 //   build/bench/bench_servo [seconds] [sim_rate_hz]
 //
 // Not a Google Benchmark: one long run, whose figure is the distribution of
-// 10 000 periods. Results go to docs/PERFORMANCE.md.
+// 10 000 periods. Results in docs/PERFORMANCE.md, "Haptic servo loop".
 
 #include <cmath>
 #include <cstdio>

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The cost of rendering a gesture on one core, over an ensemble of presses
-# (docs/PERFORMANCE.md, "Hair volume's push held for a step"). A brush with
+# (docs/PERFORMANCE.md, "Side by side, in one run"). A brush with
 # hair volume on a tablet recording can take a third more or fewer solver
 # iterations after a change of round-off, so one render says little. Each
 # brush renders the gesture pressed 0, 0.02, 0.04 and 0.06 mm deeper, with

@@ -5,7 +5,7 @@
  * since the one before, inside begin/end_atomic), and prints the wall time
  * of the replay, best of N runs. The bristle side of the comparison is
  * `bristle render --trajectory` on the same file (docs/PERFORMANCE.md,
- * "bristle against libmypaint on a tablet recording").
+ * "Memory, and against libmypaint").
  *
  *   mypaint_replay EVENTS.dat [RUNS]   (default 5 runs)
  */

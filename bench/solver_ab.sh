@@ -24,8 +24,8 @@ run() {
     -o "$out/$tag.png" --stats "$out/$tag.json" > /dev/null 2> "$out/$tag.log"
   end=$(date +%s.%N)
   local its failed
-  # From the summary line on stderr: builds before 2026-11-26 have no
-  # solver_iterations in --stats.
+  # From the summary line on stderr, which older builds' --stats lack
+  # (no solver_iterations there).
   its=$(sed -n 's/.*), \([0-9]*\) solver iterations.*/\1/p' "$out/$tag.log")
   failed=$(sed -n 's/.*"failed_spine_solves": *\([0-9]*\).*/\1/p' "$out/$tag.json")
   awk -v a="$start" -v b="$end" -v i="${its:-0}" -v f="${failed:-0}" \

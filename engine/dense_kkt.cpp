@@ -96,10 +96,9 @@ long long realsNeeded(const std::vector<int>& size) {
 // At and above this block size a block is factored sparsely. Below it, the
 // dense Bunch-Kaufman factor costs a few microseconds; the blocks of brushes
 // without hair volume (one spine, 16-28 rows) all stay dense, with their
-// pixels as before. On the tablet recording the round, calligraphy and
-// badger brushes took 0.67-0.70 of MUMPS's CPU time with their coupled
-// blocks factored sparsely (docs/PERFORMANCE.md, "Hair-volume groups
-// factored sparsely").
+// pixels. The coupled blocks of the brushes with hair volume, factored
+// sparsely, take about two thirds of MUMPS's time (docs/PERFORMANCE.md,
+// "Hair-volume groups factored sparsely").
 constexpr int kSparseMinRows = 32;
 
 bool sparseBlock(int s) { return s >= kSparseMinRows; }
@@ -254,11 +253,11 @@ struct SparseBlockCache {
   std::vector<int> positive_order;
 };
 
-// How many patterns a block keeps. On the first 1.2 s of the tablet
-// recording, the round brush analysed 31% of its 15,528 factorisations
-// afresh with 1 kept, 25% with 2, 19% with 4 and 17% with 8; the badger 21%,
-// 17%, 13% and 11% of 14,824. The rest change for good as the stroke goes
-// on (which hairs touch the paper and which volume links are in range).
+// How many patterns a block keeps. A block's pattern changes as hairs touch
+// the paper and volume links come in range, and often comes back: with 4
+// kept the round analyses a fifth of its factorisations afresh, with 1 a
+// third, and 8 gain little more; the rest change for good as the stroke
+// goes on (docs/PERFORMANCE.md, "Hair-volume groups factored sparsely").
 constexpr std::size_t kPatternsKept = 4;
 
 // The slots of a block's structure in the order a->perm: off-diagonal
@@ -328,14 +327,12 @@ void positiveFirst(const std::vector<double>& diag, std::vector<int>* perm) {
 
 // At and above this many rows, a sparse block's rows of positive diagonal
 // are put in approximate minimum degree order (Eigen's AMD) before the
-// factorisation; smaller blocks keep the rows' own order. In the natural
-// order the badger's 15 spines coupled into one block of 140-220 rows filled
-// L with 4,000-8,000 entries from 1,300-2,100, and the factorisation was a
-// quarter of its S-curve render's instructions; ordered, the render takes
-// 0.86 of them, with the same iterations and pixels. The round's blocks
-// (91-140 rows) gained nothing from it (1.0005), and a new order moves the
-// last bits of their iterates (docs/PERFORMANCE.md, "The badger's large
-// blocks in minimum degree order").
+// factorisation; smaller blocks keep the rows' own order. The badger's 15
+// coupled spines make blocks of 140-220 rows whose natural order fills L to
+// three or four times its entries, and ordering them saves an eighth of its render with the same
+// iterations and pixels. The round's smaller blocks gain nothing, and a new
+// order would move the last bits of their iterates (docs/PERFORMANCE.md,
+// "Hair-volume groups factored sparsely").
 constexpr int kOrderedMinRows = 144;
 
 // The positive rows of a large block (perm's first part, from positiveFirst)

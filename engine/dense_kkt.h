@@ -9,9 +9,9 @@
 // Why: bristle's KKT systems are small (a spine of J joints gives 4J rows at most)
 // and, without hair volume, block diagonal, one block per spine. MUMPS 5.5
 // pays a fixed cost on every call (its driver sizes its own save file after
-// each analysis, factorisation and solve), which was 13-22% of a render's
-// time (docs/PERFORMANCE.md). A dense block of 20 rows factors in a few
-// microseconds.
+// each analysis, factorisation and solve), 13-22% of a render's time
+// (docs/PERFORMANCE.md, "A dense KKT solver for Ipopt"). A dense block of 20
+// rows factors in a few microseconds.
 //
 // MA27 keeps no state between calls: its caller holds the arrays. So the
 // block structure and the factors live in the caller's IW and A arrays, laid

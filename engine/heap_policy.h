@@ -4,12 +4,11 @@
 //
 // glibc's malloc hands freed memory at the top of its heap back to the kernel
 // once more than M_TRIM_THRESHOLD lies there, and by default it raises that
-// threshold only as far as twice the largest block it ever had to mmap. Every
-// Ipopt iteration on a brush with hair volume has MUMPS allocate and free a
-// work array a little larger than that: the heap grew and shrank with brk
-// about nine times per iteration (240,000 brk calls in a 26 s render of the
-// round brush), and every growth page-faulted fresh zeroed pages back in.
-// That was 2 of the 26 s as system time, and more as cache misses.
+// threshold only as far as twice the largest block it ever had to mmap. A
+// solver that allocates and frees a work array a little larger than that on
+// every factorisation (MUMPS does) makes the heap grow and shrink with brk
+// several times per iteration, and every growth page-faults fresh zeroed
+// pages back in: system time and cache misses for nothing.
 //
 // keepFreedHeap() fixes both thresholds (which also stops glibc adjusting
 // them): blocks below 32 MiB come from the heap, and up to 64 MiB of freed

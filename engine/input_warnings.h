@@ -17,7 +17,8 @@ namespace bristle {
 // (t_s 0..5350) spans an hour and a half.
 inline constexpr double kLongTrajectoryS = 600;
 // More planned simulation steps than this: over an hour of solving at the
-// few milliseconds a step takes (docs/PERFORMANCE.md).
+// few milliseconds a step takes (docs/PERFORMANCE.md, "Per step: Ipopt and
+// SLSQP").
 inline constexpr double kManyPlannedSteps = 1e6;
 // A brush whose spines and surface cage differ in size by more than this
 // factor: the two are drawn from one set of hairs, so they agree within a

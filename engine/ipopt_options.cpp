@@ -22,8 +22,8 @@ using T = IpoptOptionType;
 // (engine/dense_kkt.h) but no HSL, so no ma27/ma57 by name and no
 // equilibration-based scaling (MC19). The quasi-Newton Hessian
 // (hessian_approximation=limited-memory) is left out: no solve of the round
-// brush's S-curve converged with it in 200 iterations, so every step went
-// through the whole rescue and the render ran for over 5 minutes, not 1.3 s.
+// brush's S-curve converged with it in 200 iterations, so every step would go
+// through the whole rescue, a render hundreds of times longer.
 constexpr IpoptOptionRule kRules[] = {
     {"acceptable_compl_inf_tol", T::kNumber, 1e-12, 1e3, nullptr,
      "complementarity a solve may end at as acceptable"},

@@ -46,9 +46,8 @@ using Ipopt::Number;
 // How far above its norm each t starts. On the constraint itself (0), the
 // slack starts at Ipopt's 1e-9 push, so the first Newton step, which also has
 // to lift joints that the carried warm start put into the paper, is cut to a
-// sliver and 36 of the fan's 1,475 S-curve solves went into restoration. Its
-// iterations over that S-curve: 11,084 at 0, 8,552 at 1e-6, 8,097 at 1e-4,
-// 8,155 at 1e-3, 8,583 at 1e-2 (docs/PERFORMANCE.md).
+// sliver and solves go into restoration. 1e-4 mm took the fewest iterations
+// of 0 to 1e-2 mm (docs/PERFORMANCE.md, "Friction in epigraph form").
 constexpr double kEpigraphSlackMm = 1e-4;
 
 // How far above the paper a joint must stay, whatever the angles, for its
@@ -502,16 +501,16 @@ const char* ipoptStatusName(Ipopt::ApplicationReturnStatus s) {
 // mu ~1e-9 anyway, so a warm start begins at its final barrier and only
 // Newton's steps remain. From 1e-6 the round, badger and calligraphy brushes'
 // S-curves took 18-28% more iterations; from 1e-11 the round took 27% more
-// (too small a mu for the steps in which the contact set changes). Measured in
-// docs/PERFORMANCE.md, "Ipopt's warm starts, damping width and timers off".
+// (too small a mu for the steps in which the contact set changes;
+// docs/PERFORMANCE.md, "Ipopt's warm starts and its timers").
 constexpr double kWarmMuInit = 1e-9;
 
 // How far a warm start's iterate and multipliers are pushed into the interior:
 // the first try (the previous step's solution is nearly optimal), and the
 // re-centred retry of a failed one. On the round, calligraphy and badger on a
-// tablet recording (docs/PERFORMANCE.md, "A failed warm start, solved again
-// re-centred"), 1e-3 and 1e-5 took the same iterations within 1%, 1e-2 2%
-// more; the retry's adaptive barrier picks its own mu whatever mu_init says.
+// tablet recording (docs/PERFORMANCE.md, "Ipopt's warm starts and its
+// timers"), 1e-3 and 1e-5 took the same iterations within 1%, 1e-2 2% more;
+// the retry's adaptive barrier picks its own mu whatever mu_init says.
 constexpr double kWarmPush = 1e-9;
 constexpr double kRetryWarmPush = 1e-3;
 
@@ -604,8 +603,9 @@ class IpoptSolver : public SpineSolver {
     Ipopt::OptionsList& o = *app_->Options();
     o.SetStringValue("warm_start_init_point", warm ? "yes" : "no");
     // Warm starts begin next to the optimum: a monotone barrier from a tiny mu
-    // finishes them with ~20% less work than the adaptive update (measured on
-    // the round brush's S-curve: same iterations, 4.7 s instead of 6.1 s of CPU).
+    // finishes them with about a fifth less work than the adaptive update, in
+    // the same iterations (docs/PERFORMANCE.md, "Ipopt's warm starts and its
+    // timers").
     // Cold starts keep the adaptive strategy, which is the robust one there.
     if (!user_mu_strategy_) {
       o.SetStringValue("mu_strategy", warm ? "monotone" : "adaptive");

@@ -4,11 +4,10 @@
 //
 // Ipopt 3.11 (Debian bookworm's) times every task of every iteration through
 // getrusage(2), 100-300 system calls per iteration, up to about a quarter of a
-// brush solve (docs/PERFORMANCE.md, "Ipopt's warm starts, damping width and
-// timers off"). Ipopt 3.14 can switch
-// them off (option timing_statistics, off by default); 3.11 cannot. So bristle
-// defines getrusage itself: on a thread inside an IpoptTimersOff scope it
-// returns zero usage without a system call, and everywhere else it makes the
+// brush solve (docs/PERFORMANCE.md, "Ipopt's warm starts and its timers").
+// Ipopt 3.14 can switch them off (option timing_statistics, off by default);
+// 3.11 cannot. So bristle defines getrusage itself: on a thread inside an
+// IpoptTimersOff scope it returns zero usage without a system call, and everywhere else it makes the
 // real system call. Nothing of Ipopt's algorithm reads the timers except the
 // max_cpu_time limit, so the solver keeps them on when that limit is set.
 

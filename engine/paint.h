@@ -1,5 +1,5 @@
 #pragma once
-// The paint model (issue 5), after the painting system the paper's brush drives
+// The paint model, after the painting system the paper's brush drives
 // (dAb, Baxter et al. SIGGRAPH 2001; IMPaSTo, NPAR 2004): paint is a texture on
 // the brush; each step the footprint says which brush texel touches which canvas
 // pixel and how deep, and paint moves both ways between them.
@@ -317,9 +317,9 @@ struct TransferParams {
   // deposit (an amount) scales with it, and pickup, max_out_fraction and
   // reservoir_flow (fractions) compound as 1 - (1 - f)^exposure. So paint
   // transfer depends on how long the brush touched, not on how many steps
-  // the touch was cut into (issue "Marks": --max-step-mm 0.25 / 0.1 / 0.05
-  // laid 71 / 111 / 204 mm^3 on the round's straight pull when the rates were
-  // per step). 1 = one reference step, what a direct call gets by default.
+  // the touch was cut into (rates per step would make the round's straight
+  // pull lay 71, 111 and 204 mm^3 at --max-step-mm 0.25, 0.1 and 0.05).
+  // 1 = one reference step, what a direct call gets by default.
   double exposure = 1.0;
 };
 

@@ -550,8 +550,8 @@ std::vector<int> Simulation::startSpines(const Pose& handle, std::vector<SpineSo
 // most steps: its friction term then starts a whole step's motion from its
 // kink at the anchor, where its curvature is 1 / eps_mm times larger than at
 // the start, and Newton's steps overshoot until the line search has cut them
-// down (32 Ipopt iterations a step against 8 for sliding joints, measured on
-// the tablet recording; docs/PERFORMANCE.md). So the start is moved, by a few
+// down (about four times the iterations of a step whose joints slide;
+// docs/PERFORMANCE.md, "Where a solve starts"). So the start is moved, by a few
 // damped Gauss-Newton steps on the joint angles, to put
 //   - each joint that stuck at the previous step back on its anchor (x, y) at
 //     its previous height, and
@@ -621,9 +621,8 @@ void Simulation::predictStart(int s, const Pose& handle, std::vector<double>* q)
 // [0, 1], so a stroke that reverses or stops starts from the carried shape
 // and a steady one from the continued bend. This is the first-order
 // predictor of continuation methods; only the start moves, never the
-// minimum (eq. 3). Measured on the tablet recording: 0.61-0.82 of the
-// library brushes' Ipopt iterations (docs/PERFORMANCE.md, "The previous
-// step's bend continued").
+// minimum (eq. 3). It saves a fifth to two fifths of Ipopt's iterations
+// (docs/PERFORMANCE.md, "Where a solve starts").
 double Simulation::repeatedMotion(const Pose& handle) const {
   const HandleMove& before = state_.moved;
   const HandleMove now = handleMove(state_.handle, handle);
@@ -782,8 +781,8 @@ bool Simulation::relaxInAir(int s, const Pose& handle) {
   // The closed form knows nothing of hair volume: where the relaxed spine would
   // crowd a neighbour (or leave it beyond the cohesion limit), the neighbours
   // hold it and it is solved with them. (Relaxed regardless, such a spine
-  // sprang back into its neighbour, was pushed out by the next step's solve,
-  // sprang back again, and so on every step.)
+  // would spring back into its neighbour, be pushed out by the next step's
+  // solve, and spring back again, every step.)
   if (!volume_pairs_.empty()) {
     const std::vector<Eigen::Vector3d> mine(fk_.x.begin(), fk_.x.end());
     for (const VolumePair& vp : volume_pairs_) {

@@ -1,8 +1,9 @@
 // NLopt SLSQP backend: one optimisation per spine (the spines of a brush are
 // independent problems, and SLSQP's QP is dense, so small problems suit it),
 // using the energy's value and gradient, on Hessian-scaled angles (see
-// Callbacks). About 9 energy evaluations per 4-joint spine while dragging,
-// ~0.02-0.03 ms, against Ipopt's ~2 ms per whole-brush step (PERFORMANCE.md).
+// Callbacks). About 9 energy evaluations per 4-joint spine while dragging;
+// per step it is the faster solver for brushes of few spines
+// (docs/PERFORMANCE.md, "Per step: Ipopt and SLSQP").
 // Ipopt stays the reference; tests/test_solvers.cpp checks that the two agree.
 
 #include <Eigen/Dense>
@@ -28,8 +29,9 @@ namespace {
 // the energy's Hessian at the start point. SLSQP's quasi-Newton matrix starts
 // at the identity every solve; in y the true Hessian's diagonal is ~1, so its
 // first steps are close to Newton steps instead of gradient steps on a problem
-// whose curvature spans the stiffness profile, friction and damping (measured:
-// about 4x fewer evaluations while dragging, docs/PERFORMANCE.md).
+// whose curvature spans the stiffness profile, friction and damping: about a
+// third of the evaluations while dragging (docs/PERFORMANCE.md, "SLSQP and
+// Ipopt").
 struct Callbacks {
   const SpineProblem* problem = nullptr;
   std::vector<double> inv_w;  // 1 / w_v: q_v = y_v * inv_w[v]
@@ -241,10 +243,9 @@ class SlsqpSolver : public SpineSolver {
     // against K ~ 10) and friction's |dx| over 1e-3 mm (mu Fn / eps). Scaling by
     // it would make every step start far too short, so the scale is taken with
     // both smoothed wide enough to span a step's motion, and reflects springs,
-    // contact and the average friction drag. Measured on bench_solver's probes
-    // (evaluations per step, dragging / pressing, 4 joints): unscaled 40 / 52;
-    // damping widened only 13 / 60 (the exact Hessian failed a cold press);
-    // both widened, friction to 0.2 mm 11.8 / 40, 1 mm 9.3 / 36, 5 mm 10.0 / 32.
+    // contact and the average friction drag. Widening damping alone lets a cold
+    // press fail; widening both, friction to 1 mm, takes the fewest evaluations
+    // on bench_solver's probes (about 9 a dragging step, against 40 unscaled).
     constexpr double kScaleDampRad = 0.05;
     constexpr double kScaleFrictionMm = 1.0;
     const int nv = p.vars();

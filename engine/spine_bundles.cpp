@@ -55,9 +55,9 @@ struct BundleSection {
   // (|x|^24 + |y|^24)^(1/24) as m (1 + r^24)^(1/24), m the larger magnitude
   // and r <= 1 the ratio of the smaller to it: r^24 by squaring, and no root
   // at all where r^24 is below double precision's relative step (r < 0.22,
-  // most of a slab's outline, where the norm is m to the last bit). The
-  // three pow() calls this replaces took about a tenth of a flat's render
-  // with SLSQP (docs/PERFORMANCE.md, "Simulation and drawing on two threads").
+  // most of a slab's outline, where the norm is m to the last bit). Three
+  // pow() calls per outline point would be a tenth of a flat's render with
+  // SLSQP (docs/PERFORMANCE.md, "Three trims with the same bytes").
   static double slabNorm(double x, double y) {
     static_assert(kSlabSectionExponent == 24, "slabNorm computes r^24 by squaring");
     const double ax = std::fabs(x), ay = std::fabs(y);
@@ -218,9 +218,9 @@ void pushTriangle(const BrushVertex& a, const BrushVertex& b, const BrushVertex&
 constexpr double kCapCullMarginMm = 1e-3;
 
 // The unit directions the spines' dressing is built from, computed once:
-// when each vertex took its own sines and cosines, the dressing executed
-// 1.36 times the instructions it does now (the badger on the S-curve,
-// docs/PERFORMANCE.md, "Three trims with the same bytes").
+// every vertex of a half tube or half solid shares the same few angles, and
+// their sines and cosines per vertex were a quarter of the dressing's cost
+// (docs/PERFORMANCE.md, "Three trims with the same bytes").
 // tube[k]: (cos a, sin a) of the half tube's angle a = pi k / F, from side
 // (k = 0) through down to -side. cap[lat][lon]: the half solid's direction
 // at polar angle 90 deg lat / kCapRings from straight down (lat 0, its lowest

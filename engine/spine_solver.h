@@ -96,7 +96,7 @@ class SpineSolver {
   // their anchors (Simulation's predicted start, docs/dynamics.md "Where a
   // solve starts"): an interior-point method does; SLSQP, whose quasi-Newton
   // steps do not overshoot the friction cone's point in the same way, took
-  // more evaluations from it (docs/PERFORMANCE.md).
+  // more evaluations from it (docs/PERFORMANCE.md, "Where a solve starts").
   virtual bool wantsPredictedStart() const { return false; }
   virtual const char* name() const = 0;
 

@@ -1,5 +1,5 @@
 #pragma once
-// A live session (issue 6): the device's servo loop at 1 kHz, the simulation
+// A live session (paper §5): the device's servo loop at 1 kHz, the simulation
 // on its own thread at the sim rate from the latest stylus pose, and the
 // recorder (the calling thread) writing the session as it goes.
 //

@@ -34,7 +34,7 @@ void NoneDevice::run(TickFn tick, void* ctx) {
   // A servo thread wants the CPU the moment its deadline comes: real-time
   // FIFO priority when the system grants it (root, or CAP_SYS_NICE / an
   // rtprio limit), else it runs at normal priority, which jitters under load
-  // (docs/PERFORMANCE.md). The OpenHaptics scheduler does the same for itself.
+  // (docs/PERFORMANCE.md, "Haptic servo loop"). The OpenHaptics scheduler does the same for itself.
   sched_param sp{};
   sp.sched_priority = kRealtimePriority;
   realtime_ = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;

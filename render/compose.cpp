@@ -61,9 +61,8 @@ std::vector<float> composeLinear(const PaintCanvas& canvas, const ComposeOptions
 
 namespace {
 
-// linearToSrgb's pow was most of composing a canvas (1.8% of a whole render
-// of the badger on the S-curve, docs/PERFORMANCE.md, "Three trims with the
-// same bytes"), and a canvas holds few
+// linearToSrgb's pow would be most of composing a canvas (docs/PERFORMANCE.md,
+// "Three trims with the same bytes"), and a canvas holds few
 // distinct values: the bare paper, the flat inside of a stroke. A
 // direct-mapped memo keyed by the float's bits gives every value the very
 // result the function gives it, computed once per slot it lands in.

@@ -1,5 +1,5 @@
 #pragma once
-// The canvas's paint to an image (issue 5, "Compose"): per pixel the wet film
+// The canvas's paint to an image (docs/paint.md, "Compose"): per pixel the wet film
 // over the dry layer (engine/paint.h, Kubelka-Munk or linear RGB), encoded as
 // sRGB; optionally "impasto": the paint's thickness lit from one light, normals
 // from the gradient of the paint height (as IMPaSTo renders relief, NPAR 2004).

@@ -301,11 +301,10 @@ constexpr double kBoxSlackPx = 1.0 / 32;
 // A triangle whose box holds more centres than this goes to GL untested:
 // such a triangle is rarely a sliver between them.
 constexpr int kMaxCentresTested = 16;
-// The tests cost about what llvmpipe spends on one triangle in twenty: a
-// brush whose footprints drop fewer than one in kWorthwhileDropShare of their
-// triangles (the flat, bright, filbert and badger drop 1-5% on a tablet
-// recording) lost about 2% of its instructions to them. After such a draw
-// the next kUntestedDraws go to GL whole, then the tests run again. Either
+// The tests cost about what llvmpipe spends on one triangle in twenty, so
+// where a footprint drops fewer than one in kWorthwhileDropShare of its
+// triangles they cost more than they save. After such a draw the next
+// kUntestedDraws go to GL whole, then the tests run again. Either
 // way the bytes are the same, and the choice follows the draws alone, so it
 // is as deterministic as they are (docs/PERFORMANCE.md, "Triangles that can
 // mark no pixel left out").

@@ -44,10 +44,9 @@ void checkGalliumDriver() {
 // llvmpipe rasterises on LP_NUM_THREADS threads besides the caller's (by
 // default one per CPU). bristle's footprints are small windows, drawn once per
 // step: handing each to the threads and waiting for them costs more than the
-// rasterising it saves. With none (0), the calling thread rasterises, which
-// gave the same pixels with less wall and CPU time on the 2-core machine
-// (docs/PERFORMANCE.md, "llvmpipe's threads"): an S-curve render took 7.2
-// against 8.9 s, and a default-resolution footprint 1.7 against 2.7-3.2 ms.
+// rasterising it saves. With none (0), the calling thread rasterises: the
+// same pixels in less wall and CPU time (docs/PERFORMANCE.md, "Simulation
+// and drawing on two threads").
 // A value the user set is kept. Read once, when llvmpipe's screen is made.
 void chooseRasteriserThreads() {
   ::setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);

@@ -1,5 +1,5 @@
 #pragma once
-// Simulation and drawing on two threads (issue 21's pipelining): the steps of
+// Simulation and drawing on two threads: the steps of
 // a stroke are simulated on a second thread, up to kStepsAhead ahead, while the
 // calling thread draws the footprint and moves the paint of the steps already
 // solved. The simulation never reads the paint or the canvas, and the states

@@ -232,19 +232,16 @@ constexpr int kMaxSplitDepth = 5;
 // lines, one stamp per pixel, so the limit is the chord over which a tip's
 // path is drawn straight: at the defaults (0.25 mm, 8 px/mm) 0.5 mm, over
 // which a tip curling on a 2 mm radius strays from its arc by
-// c^2 / 8R = 0.016 mm, a tenth of a pixel. It was max(--max-step-mm, 2 px);
-// the first tries of the steps redone then held 45% of the round's
-// iterations on a tablet recording. Now the renders take 0.37-0.78 of the
-// time and stay at SSIM 0.976-0.998 of the old strokes on the S-curve
-// (docs/PERFORMANCE.md, "How far a step may move the hair"). A smaller
-// --max-step-mm still refines the steps' contact as before.
+// c^2 / 8R = 0.016 mm, a tenth of a pixel. A tighter limit redoes far more
+// steps for no visible gain (docs/PERFORMANCE.md, "How far a step may move
+// the hair"). A smaller --max-step-mm still refines the steps' contact.
 constexpr double kJumpPerRootStep = 2;
 constexpr double kJumpFloorPx = 2;
 
 // At most this many stamps sweep one step: the split above keeps a step's
 // contact jump within max(2 --max-step-mm, 2 px), 4 px at the default
 // 8 px/mm and 0.25 mm, so a sweep at one stamp per pixel needs 4-5; 32 covers
-// a --max-step-mm of 2 at 8 px/mm, as 16 did while the limit was one step.
+// a --max-step-mm of 2 at 8 px/mm.
 constexpr int kMaxSweepStamps = 32;
 
 // Which stamps of a sweep draw the half solid at each joint: (*plan)[k] for
@@ -302,7 +299,8 @@ bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& f
                   &stamp_plan_);
   // The blends stamp the hair only: the subdivision surface is the belly, many
   // pixels across, whose stamps a step apart overlap anyway; refining it again
-  // for each blend would double a step's footprint time (docs/PERFORMANCE.md).
+  // for each blend would nearly double a step's footprint time
+  // (docs/PERFORMANCE.md, "Footprints").
   // Of the half solids at the spines' joints, each stamp draws those planned
   // for it.
   for (int k = 1; k < stamps; ++k) {

@@ -31,16 +31,17 @@ struct StrokeOptions {
   // A step whose hair on the paper jumps further than a step may move it is
   // redone in halves. Its try is given up as soon as a solve's iterate has
   // moved that hair this many times that far (Ipopt; 0: every try runs to its
-  // end and is judged by its result). The first tries of such steps held a
-  // sixth of the round's solver iterations on a tablet recording
-  // (docs/PERFORMANCE.md, "A jumping step given up early").
+  // end and is judged by its result): a try that will be thrown away is the
+  // costliest kind of step (docs/PERFORMANCE.md, "A jumping step given up
+  // early").
   double stop_on_jump = 1;
   // Between two steps the sweep stamps the hair once per pixel of motion.
   // The half solids that round the spines' bundles off at the joints, many
   // pixels wide where they press on the paper, are stamped only as often as
   // keeps the notches between their copies within this (px; 0: every stamp
-  // draws them all). They were most of a pressed round's footprint
-  // triangles (docs/PERFORMANCE.md, "Joint caps stamped less often").
+  // draws them all): drawn at every stamp they would be most of a pressed
+  // round's footprint triangles (docs/PERFORMANCE.md, "Joint caps stamped
+  // less often").
   double sweep_notch_px = 0.25;
 };
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The repository explains itself (issue 16): no file may cite design notes that
+# The repository explains itself: no file may cite design notes that
 # live outside it, or a folder of one particular machine, because a user's clone
 # has neither. What those notes said is in docs/design.md; cite that instead
 # (`docs/design.md, "Heading"`).

@@ -1,4 +1,4 @@
-// The command line as a Unix tool's user expects it (issue 20): brushes by
+// The command line as a Unix tool's user expects it: brushes by
 // library name, `bristle pigments`, "-" for standard input and output, and
 // `replay` taking its brush from the session's header.
 

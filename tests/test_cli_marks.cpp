@@ -1,5 +1,5 @@
 // Marks of the library brushes measured as a painter would judge them
-// (issue "Brush body"): a steady pull keeps its width, a deeper press leaves a
+// (docs/fidelity.md): a steady pull keeps its width, a deeper press leaves a
 // wider stroke, and a straight press-and-lift leaves one filled blot. Each
 // stroke is rendered end to end by the bristle executable and measured on the
 // PNG (tests/support/mark_measure.h).
@@ -111,7 +111,7 @@ TEST_CASE("marks: a steady pull keeps its width (CV <= 15 % over the middle 60 %
   REQUIRE_FALSE(p.empty());
   const double cv = widthCv(p);
   INFO("mean width " << meanWidthMm(p) << " mm, CV " << cv);
-  // 15 %: what a steady hand achieves (the issue's figure); without hair
+  // 15 %: what a steady hand achieves (the acceptance figure); without hair
   // volume the calligraphy brush's pull at half its hair length reached 12 %
   // and narrowed from 19 to 10 mm along a 60 mm pull.
   CHECK(cv <= 0.15);
@@ -164,7 +164,7 @@ TEST_CASE("marks: a deeper press leaves a wider stroke", "[marks]") {
 TEST_CASE("marks: the calligraphy brush widens about linearly with press depth", "[marks]") {
   // Published robot-calligraphy measurements of a 30 mm brush: ~2 mm of width
   // at 1 mm of press, ~17 mm at 15 mm, close to a line of 1.1 mm per mm. The
-  // issue's bar: a least-squares line through the sweep from 1.5 to 15 mm
+  // acceptance bar: a least-squares line through the sweep from 1.5 to 15 mm
   // (5 to 50 % of the 30 mm hair) explains at least 90 % of the variance, and
   // its slope is within a factor 1.5 of 1.1.
   constexpr double kRealSlope = 1.1, kSlopeFactor = 1.5, kMinR2 = 0.9;
@@ -196,7 +196,7 @@ TEST_CASE("marks: the calligraphy brush widens about linearly with press depth",
 }
 
 TEST_CASE("marks: a straight press-and-lift leaves one filled blot", "[marks]") {
-  // Filled: the blot covers >= 85 % of its convex hull (the issue's figure; a
+  // Filled: the blot covers >= 85 % of its convex hull (the acceptance figure; a
   // six-pointed star covers 2/3). Hair volume's cohesion fills the badger's
   // ring and the round's star; graded stiffness lays the round's and the
   // calligraphy brush's bellies down into one teardrop. The fan is left out:
@@ -237,7 +237,7 @@ TEST_CASE("marks: a fan's pull draws a few distinct lines on the default paper",
                                                 toothy.px_per_mm));
     const int lines = lineCount(toothy, col);
     INFO("cross-section at " << f << " of the span: " << lines << " lines");
-    // At least 3 distinct lines (the issue's figure) ...
+    // At least 3 distinct lines (the acceptance figure) ...
     CHECK(lines >= 3);
     // ... and no more than two per bunch (a bunch straddling a pixel boundary
     // or broken by the grain can show as two): a few lines, not the 36-47
@@ -245,8 +245,8 @@ TEST_CASE("marks: a fan's pull draws a few distinct lines on the default paper",
     CHECK(lines <= 2 * fan.strips.clumps);
   }
   // Visible: the default tooth keeps at least 25 % of the coverage the same
-  // pull has on paper with no tooth (the issue's figure). Before single hairs
-  // followed the grain (docs/paint.md), it kept 13 %: dust.
+  // pull has on paper with no tooth (the acceptance figure). Single hairs that
+  // did not follow the grain (docs/paint.md) would keep 13 %: dust.
   const long toothy_px = inkedPixels(toothy), smooth_px = inkedPixels(smooth);
   INFO("inked pixels: " << toothy_px << " with the default tooth, " << smooth_px << " without");
   REQUIRE(smooth_px > 0);
@@ -300,7 +300,7 @@ TEST_CASE("marks: paint laid down converges as the steps shrink", "[marks][trans
   // Transfer rates are per unit of contact time, not per step (docs/paint.md,
   // "Transfer per unit of contact time"). The round's straight pull at
   // --max-step-mm 0.1 and 0.05 leaves the same paint on the paper to 5 % (the
-  // issue's figure; measured 1.1 %, where per-step rates laid 111 against
+  // acceptance figure; measured 1.1 %, where per-step rates laid 111 against
   // 204 mm^3), and the two images agree to an SSIM of 0.99 (the "loose" golden
   // tolerance of docs/golden-tests.md: saturated strokes differ only at their
   // edges). What stays on the paper is what the brush laid down less what it
@@ -333,7 +333,7 @@ TEST_CASE("marks: paint laid down converges as the steps shrink", "[marks][trans
 TEST_CASE("marks: a flat's broadside pull has square ends", "[marks]") {
   // A flat's hairs end together in a straight edge, so its stroke starts and
   // stops square: where the ink starts, and where it stops, varies by under
-  // 1 mm across the stroke's whole width (the issue's figure).
+  // 1 mm across the stroke's whole width (the acceptance figure).
   //
   // When the spines' bundles were round and ended in domes, each spine left a
   // bump: the start varied by 1.9 mm (flat) and 1.8 mm (bright), the stop by

@@ -1,5 +1,5 @@
 // A round lifted while it is still moving tapers to a point, as a real round
-// does (issue 17, "Marks", item 5): the hairs' load fades as the handle rises,
+// does: the hairs' load fades as the handle rises,
 // and a bundle that only just touches leaves a thin line (kBundleFlatLoadN,
 // engine/spine_bundles.h), not a blunt tail ending in a blob. Rendered end to
 // end by the bristle executable and measured on the PNG
@@ -106,15 +106,15 @@ TEST_CASE("taper: a round lifted while moving narrows to a point", "[marks][tape
   // The body is the pressed round's (5.6 mm at this 6.3 mm press): the taper
   // must not come from a thinner stroke.
   CHECK(median > 4.5);
-  // The bar (the issue's figure): the last 2 mm are narrower than a third of
+  // The bar (the acceptance figure): the last 2 mm are narrower than a third of
   // the stroke's median width. Edge pixels flip with sub-pixel shifts of the
   // hair, so the mean must clear the bar by one pixel of measurement
-  // (kTaperClearanceMm); the blunt tail this replaced was 1.9 mm against a bar
-  // of 1.87 mm, the taper measures 0.9 mm.
+  // (kTaperClearanceMm): a blunt tail measures 1.9 mm against a bar of
+  // 1.87 mm, the taper 0.9 mm.
   constexpr double kTaperClearanceMm = kPixelMm;
   CHECK(tail_mean + kTaperClearanceMm <= median / 3);
   // And it comes to a point rather than ending in a blob: nowhere in the last
   // 2 mm is the stroke as wide as it is, on average, in the 2 mm before them
-  // (the blunt tail's spring-back blob was 2.4 mm wide after 2.1 mm).
+  // (a blunt tail's spring-back blob is 2.4 mm wide after 2.1 mm).
   CHECK(tail_max < before_tail);
 }

@@ -176,7 +176,7 @@ TEST_CASE("a solve started from the stuck joints reaches the carried start's min
   std::vector<Pose> path;
   for (int i = 1; i <= 40; ++i) path.push_back(poseAt(0.08 * std::sin(0.4 * i), 0, 8));
   for (int i = 1; i <= 40; ++i) path.push_back(poseAt(0.25 * i, 0.05 * i, 8));
-  // The issue's bar for "the same minimum": joints within 1e-3 mm. Ipopt's
+  // The acceptance bar for "the same minimum": joints within 1e-3 mm. Ipopt's
   // tol of 1e-8 leaves ~1e-6 mm, and a joint that sticks in one and creeps in
   // the other would differ by the slip distance, 1e-2 mm.
   constexpr double kSameMinimumMm = 1e-3;
@@ -235,7 +235,7 @@ TEST_CASE("a solve that continues the last step's bend reaches the same minima i
   for (int i = 1; i <= 40; ++i) path.push_back(poseAt(0.2 * i, 0, 12.5 - 0.06 * i));
   const size_t back_from = path.size();
   for (int i = 1; i <= 10; ++i) path.push_back(poseAt(8 - 0.2 * i, 0, 10.1));
-  // The issue's bar for "the same minimum", as in the test above.
+  // The acceptance bar for "the same minimum", as in the test above.
   constexpr double kSameMinimumMm = 1e-3;
   long iterations_a = 0, iterations_b = 0;
   double worst_mm = 0;
@@ -457,10 +457,10 @@ TEST_CASE("a spine that springs back in the air never ends below the canvas or i
   // The badger (hair volume on) along the start of the S-curve, held 5 mm up as
   // the library sheet holds it. Neighbours push some spines up off the paper;
   // those spring back in closed form (relaxInAir) unless that would take them
-  // into the canvas. That check once read the pose from the old step's angles
-  // on the new base: a spine then sprang back to 0.02 mm below the paper, was
-  // solved back up the next step, and did so again every step (the renderer
-  // halved every such step five times: 7 minutes for a 3 s stroke).
+  // into the canvas. A check that read the pose from the old step's angles on
+  // the new base would let a spine spring back below the paper, be solved
+  // back up the next step, and do so again every step (the renderer halving
+  // every such step five times: minutes for a 3 s stroke).
   const Brush brush = loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/badger.json");
   const Trajectory traj =
       loadTrajectory(std::string(BRISTLE_SOURCE_DIR) + "/scenes/trajectories/s-curve.csv");
@@ -478,8 +478,8 @@ TEST_CASE("a spine that springs back in the air never ends below the canvas or i
   // Steps move every spine root by 0.25 mm at most (planStepTimes); a joint
   // near the paper that jumps four times that in one step is chattering
   // between two poses. Springing back regardless of the neighbours' hair
-  // volume, spines did so 45 times in this 0.6 s; now 2 (a hair slipping or
-  // buckling jumps once). The bound of 5 separates the two.
+  // volume, spines do so about 45 times in this 0.6 s; with the check, 2 (a
+  // hair slipping or buckling jumps once). The bound of 5 separates the two.
   constexpr double kJumpMm = 1.0, kNearPaperMm = 2.0;
   double lowest = 1e9;
   int relaxed_below = 0, jumps = 0;
@@ -642,7 +642,7 @@ TEST_CASE("a brush held still on the paper comes to rest and stops solving, wher
     CHECK(held_mm < kHeldMm);
 
     // Dragged again: every moving step solves, and the two stay on the same
-    // minima (the issue's bar, 1e-3 mm, as in the tests above).
+    // minima (the acceptance bar, 1e-3 mm, as in the tests above).
     constexpr double kSameMinimumMm = 1e-3;
     double dragged_mm = 0;
     for (int i = 1; i <= 40; ++i) {

@@ -1,4 +1,4 @@
-// Haptics (paper §5, issue 6): force model (eqs. 21-22), safety filter,
+// Haptics (paper §5): force model (eqs. 21-22), safety filter,
 // seqlock/ring, servo loop, devices through a stand-in libHD.so, record/replay.
 
 #include <catch2/catch.hpp>

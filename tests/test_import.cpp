@@ -571,8 +571,8 @@ TEST_CASE("import: smoothing a dense recording over the widest window is linear,
 }
 
 TEST_CASE("import: a UTF-8 byte-order mark at the head of a file is not data", "[import]") {
-  // Spreadsheets save "CSV UTF-8" with a BOM; it used to make the header's
-  // first column unknown (or the file "not a format bristle reads").
+  // Spreadsheets save "CSV UTF-8" with a BOM; read as data it makes the
+  // header's first column unknown (or the file "not a format bristle reads").
   const std::string csv =
       "timeStamp,clientX,clientY,pressure,buttons\n0,10,10,0,0\n10,11,10,0.5,1\n"
       "20,12,10,0.5,1\n30,13,10,0,0\n";
@@ -640,8 +640,8 @@ TEST_CASE("import: hidden layers, odd numbers and second pointers", "[import][er
   const Recording tiny =
       readRecording("0 1e-400 10 0.5\n0.01 11 10 0.5\n", "t.dat", Format::kMyPaint);
   CHECK(tiny.samples.front().x == 0);
-  // A second pointer is named as both rows wrote their ids (1e20 used to be
-  // cast to an integer, which is undefined).
+  // A second pointer is named as both rows wrote their ids (1e20 cast to an
+  // integer would be undefined).
   CHECK_THROWS_WITH(
       readRecording("timeStamp,clientX,clientY,pressure,pointerId\n0,1,1,0.5,1e20\n1,2,2,0.5,2\n",
                     "p.csv", Format::kPointerCsv),

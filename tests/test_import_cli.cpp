@@ -545,10 +545,9 @@ TEST_CASE("import cli: a warm start that fails is solved again re-centred, not s
   // costs less is not asserted here: the two runs part ways after their
   // first rescue, so one render's totals also differ by every step after it,
   // and a single rescue's cost varies (here 9 iterations for the retry
-  // against 53 for the one redo; 85 against 54 on another excerpt). Over the
-  // four-press ensemble of the first 1.2 s, warm_retry=no took 1.0-1.21 times
-  // the iterations (docs/PERFORMANCE.md, "Stuck joints held where they
-  // stuck").
+  // against 53 for the one redo; 85 against 54 on another excerpt). Over an
+  // ensemble of presses the retry saves iterations (docs/PERFORMANCE.md,
+  // "Ipopt's warm starts and its timers").
   for (const nlohmann::json* run : {&redo, &retry}) {
     CHECK((*run)["rescue_iterations"].get<long>() > 0);
     CHECK((*run)["rescue_iterations"].get<long>() < (*run)["solver_iterations"].get<long>());

@@ -145,10 +145,10 @@ TEST_CASE("the smallest turn between two axes stays a rotation near a half turn"
           "[kinematics]") {
   // Re-basing (canonicalRotations) turns each joint's rest axis onto its
   // current one every step. Axes that come out of many steps' products are
-  // unit only to rounding; a soft tip bent back towards a half turn then made
-  // Rodrigues' 1 / (1 + a.b) blow that rounding up into a matrix that was no
-  // rotation, and the tip segment of a graded round, pressed and lifted with
-  // coarse steps, grew from 3.5 to 43 mm. Whatever the axes' rounding, the
+  // unit only to rounding; a soft tip bent back towards a half turn makes a
+  // naive Rodrigues' 1 / (1 + a.b) blow that rounding up into a matrix that is
+  // no rotation, and the tip segment of a graded round, pressed and lifted
+  // with coarse steps, would grow from 3.5 to 43 mm. Whatever the axes' rounding, the
   // result must be a rotation (to 1e-12, a few ulps of products of order 1)
   // taking the one direction onto the other (to 1e-9: the inputs themselves
   // are off unit by up to 1e-9 here).

@@ -340,10 +340,10 @@ TEST_CASE("Transfer: a brush running dry leaves less and less, then only scratch
   }
   // Little paint: coverage falls steadily: the middle has lost at least 3% of
   // the beginning's coverage and the end 3% of the middle's. (Measured 5.1 %
-  // and 5.2 %: 3528, 3348, 3175 px. Before the hairs differed (hairNoise) the
-  // whole bundle dried at once and coverage fell 25 % over the same rows; now
+  // and 5.2 %: 3528, 3348, 3175 px. With every hair alike (no hairNoise) the
+  // whole bundle would dry at once and coverage fall 25 % over the same rows;
   // the best-loaded hairs keep drawing their lines while the barer ones drop
-  // out, so coverage falls more gently, as a real brush's dry streaks go on.
+  // out, so coverage falls gently, as a real brush's dry streaks go on.
   // The full brush above, the control, keeps its coverage to within 3 %; the
   // 7 % asked of the whole stretch here is outside that band.)
   CHECK(middle < 0.97 * first);

@@ -523,10 +523,10 @@ TEST_CASE("steady steps merge planned steps only while the contact set holds, an
   CHECK(steady.contact_held);
   // Fewer solves: observed 437 steps against 919 for the library's flat.
   CHECK(steady.stats.steps < 0.7 * planned.stats.steps);
-  // The same stroke to a painter. Observed SSIM 0.985 here with SLSQP (0.992
-  // with Ipopt, and 0.958 for the fan, whose hair-thin marks move most;
-  // docs/PERFORMANCE.md "Steady steps"); a stroke that lost its ends or its
-  // bends falls far below 0.98.
+  // The same stroke to a painter: steady steps move a library brush's
+  // S-curve to SSIM 0.95-1 of planned stepping, the fan's hair-thin marks
+  // most (docs/PERFORMANCE.md, "Steady steps"); a stroke that lost its ends
+  // or its bends falls far below 0.98.
   constexpr double kSameStrokeSsim = 0.98;
   const double same = ssim(planned.image, steady.image);
   INFO("SSIM " << same);

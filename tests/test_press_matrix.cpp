@@ -1,4 +1,4 @@
-// The reduced press matrix (issue "Brush body"): every library brush, pressed
+// The reduced press matrix (the whole one: bench/bench_matrix): every library brush, pressed
 // to 80 % of its hair length upright and pulled, pulled fast at a 60-degree
 // tilt, and pressed straight down and lifted, with the reference solver. Not
 // one step may fail. bench/bench_matrix runs the whole matrix (108 cases per

@@ -268,8 +268,9 @@ TEST_CASE("slsqp and ipopt follow the same press-then-drag stroke: one spine",
 TEST_CASE("preconditioned slsqp converges in few evaluations while dragging",
           "[solvers][slsqp]") {
   // The same probe as above. SLSQP works on Hessian-scaled angles (see
-  // engine/slsqp_solver.cpp); without the scaling it needed ~40 evaluations per
-  // dragging step (docs/PERFORMANCE.md, 2026-11-22), with it about 9. The bound
+  // engine/slsqp_solver.cpp); without the scaling it needs 30-40 evaluations
+  // per dragging step, with it about 9 (docs/PERFORMANCE.md, "SLSQP and
+  // Ipopt"). The bound
   // of 15 sits between the two: it fails if the scaling stops working, and
   // leaves room for solver-option changes that cost a few evaluations.
   constexpr double kMaxMeanEvaluations = 15;
@@ -521,8 +522,8 @@ TEST_CASE("ipopt: bristle's KKT solver reaches MUMPS's optima, with and without 
   // backward stable, so from the same start Ipopt takes the same Newton steps
   // up to round-off: the joints agreed to 1.1e-10 mm over this path. 1e-6 mm
   // and 1e-6 N leave room for a step where round-off changes Ipopt's last
-  // iteration, and are a thousandth of issue 21's bar for the same minima
-  // (1e-3 mm).
+  // iteration, and are a thousandth of the 1e-3 mm within which the two
+  // solvers' minima must agree.
   constexpr double kAgreeMm = 1e-6, kForceTolN = 1e-6;
   IpoptSettings mumps_settings;
   mumps_settings.extra_options = {{"linear_solver", "mumps"}};
