@@ -1,5 +1,6 @@
 #include "haptics/force_model.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace bristle::haptics {
@@ -46,12 +47,23 @@ Eigen::Vector3d ForceModel::bendTerm(const Eigen::Vector3d& dp) const {
   return f;
 }
 
-Eigen::Vector3d ForceModel::evaluate(const Eigen::Vector3d& p_mm) const {
+Eigen::Vector3d ForceModel::expansion(const Eigen::Vector3d& p_mm) const {
   if (!valid) return Eigen::Vector3d::Zero();
   Eigen::Vector3d dp = p_mm - p0();
   const double d = dp.norm();
   if (d > radius_mm) dp *= radius_mm / d;
   return f0() + compressTerm(dp) + bendTerm(dp);  // eqs. 21-22
+}
+
+Eigen::Vector3d ForceModel::evaluate(const Eigen::Vector3d& p_mm) const {
+  return limitToContactCone(expansion(p_mm), cone_mu);
+}
+
+Eigen::Vector3d limitToContactCone(const Eigen::Vector3d& f, double mu) {
+  const double n = std::max(f.z(), 0.0);
+  const double t = std::hypot(f.x(), f.y());
+  const double scale = t > mu * n ? mu * n / t : 1.0;  // t > 0 whenever it is < 1
+  return Eigen::Vector3d(f.x() * scale, f.y() * scale, n);
 }
 
 // An orthonormal basis whose first vector is u.
@@ -96,7 +108,8 @@ std::vector<SpineForceModel> spineForceModels(Simulation* sim, const ForceModelO
 }
 
 ForceModel averageForceModel(const std::vector<SpineForceModel>& spines, const Pose& handle,
-                             double sim_t_s, std::uint64_t frame, double radius_mm) {
+                             double sim_t_s, std::uint64_t frame, double radius_mm,
+                             double mu_static) {
   ForceModel m;
   Eigen::Vector3d f0 = Eigen::Vector3d::Zero();
   Eigen::Matrix3d rp = Eigen::Matrix3d::Zero(), rn = rp;
@@ -119,6 +132,8 @@ ForceModel averageForceModel(const std::vector<SpineForceModel>& spines, const P
   store(rp, m.response_pos);
   store(rn, m.response_neg);
   m.radius_mm = radius_mm;
+  const double f0_t = std::hypot(f0.x(), f0.y());
+  m.cone_mu = f0.z() > 0 ? std::max(mu_static, f0_t / f0.z()) : mu_static;
   m.sim_t_s = sim_t_s;
   m.frame = frame;
   m.valid = f0.allFinite() && rp.allFinite() && rn.allFinite();
@@ -128,7 +143,7 @@ ForceModel averageForceModel(const std::vector<SpineForceModel>& spines, const P
 ForceModel buildForceModel(Simulation* sim, std::uint64_t frame, const ForceModelOptions& options) {
   const std::vector<SpineForceModel> spines = spineForceModels(sim, options);
   return averageForceModel(spines, sim->state().handle, sim->state().t_s, frame,
-                           options.radius_mm);
+                           options.radius_mm, sim->brush().friction.mu_static);
 }
 
 }  // namespace bristle::haptics

@@ -42,12 +42,22 @@ struct ForceModel {
   double response_pos[9] = {}, response_neg[9] = {};
   // Beyond this distance from p0 the expansion is not trusted: dp is clamped.
   double radius_mm = 1.0;
+  // The paper can only push: the force it exerts through the brush lies in
+  // the cone |F_tangential| <= cone_mu * F_normal about the canvas normal +z
+  // (unilateral contact with Coulomb friction, §3.4). The brush's mu_static,
+  // widened when the simulated F0 itself leans further (a step's friction
+  // uses the normal force of the step before), so that F0 is always inside.
+  double cone_mu = 0;
   double sim_t_s = 0;       // simulation time of the state it expands about
   std::uint64_t frame = 0;  // sim frame counter, 0 = no model yet
   bool valid = false;
 
-  // eqs. 21-22 at the stylus position p (mm); the force on the handle in N.
+  // eqs. 21-22 at the stylus position p (mm), projected onto the contact
+  // cone: the force on the handle in N. A linear expansion extrapolated to a
+  // lifted stylus would otherwise pull the pen into the paper.
   Eigen::Vector3d evaluate(const Eigen::Vector3d& p_mm) const;
+  // eqs. 21-22 alone, unprojected.
+  Eigen::Vector3d expansion(const Eigen::Vector3d& p_mm) const;
   Eigen::Vector3d f0() const { return Eigen::Vector3d(f0_n[0], f0_n[1], f0_n[2]); }
   Eigen::Vector3d p0() const { return Eigen::Vector3d(p0_mm[0], p0_mm[1], p0_mm[2]); }
   // F_compress(dp), F_bend(dp) of eq. 22 (dp already clamped to radius_mm).
@@ -78,9 +88,18 @@ struct ForceModelOptions {
 // exactly as before (state and stats).
 std::vector<SpineForceModel> spineForceModels(Simulation* sim, const ForceModelOptions& options);
 
-// The average of the per-spine models (§5), expanded about the current handle.
+// f limited to the cone |f_xy| <= mu f_z as the contact's own rules limit it:
+// the normal part cannot pull (it is clamped at zero), and friction cannot
+// exceed mu times the normal part (the tangential part is shortened, its
+// direction kept). So no force appears that the expansion did not predict,
+// and the map is continuous in f: the device feels no step at the cone.
+Eigen::Vector3d limitToContactCone(const Eigen::Vector3d& f, double mu);
+
+// The average of the per-spine models (§5), expanded about the current handle;
+// mu_static is the brush's (ForceModel::cone_mu).
 ForceModel averageForceModel(const std::vector<SpineForceModel>& spines, const Pose& handle,
-                             double sim_t_s, std::uint64_t frame, double radius_mm);
+                             double sim_t_s, std::uint64_t frame, double radius_mm,
+                             double mu_static);
 
 // Both in one: what the sim thread sends the servo loop every frame.
 ForceModel buildForceModel(Simulation* sim, std::uint64_t frame, const ForceModelOptions& options);

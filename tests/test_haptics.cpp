@@ -140,15 +140,52 @@ TEST_CASE("force model is zero far from the canvas and clamps its reach",
   lin.response_pos[3] = -2.0;  // moving +x drags back 2 N/mm
   lin.response_neg[3] = -0.5;
   // 10 mm down, the expansion is evaluated at its 1 mm radius.
-  CHECK(lin.evaluate(Eigen::Vector3d(0, 0, -10)).isApprox(Eigen::Vector3d(0, 0, 1)));
-  CHECK(lin.evaluate(Eigen::Vector3d(0, 0, 0.5)).isApprox(Eigen::Vector3d(0, 0, -0.05)));
-  CHECK(lin.evaluate(Eigen::Vector3d(0.5, 0, 0)).isApprox(Eigen::Vector3d(-1, 0, 0)));
-  CHECK(lin.evaluate(Eigen::Vector3d(-0.5, 0, -0.5))
+  CHECK(lin.expansion(Eigen::Vector3d(0, 0, -10)).isApprox(Eigen::Vector3d(0, 0, 1)));
+  CHECK(lin.expansion(Eigen::Vector3d(0, 0, 0.5)).isApprox(Eigen::Vector3d(0, 0, -0.05)));
+  CHECK(lin.expansion(Eigen::Vector3d(0.5, 0, 0)).isApprox(Eigen::Vector3d(-1, 0, 0)));
+  CHECK(lin.expansion(Eigen::Vector3d(-0.5, 0, -0.5))
             .isApprox(Eigen::Vector3d(0.25, 0, 0.5)));
+  // What the device gets is in the contact cone: the lifted stylus's -0.05 N
+  // (a pull into the paper) and a drag with no normal force are zero; a
+  // press with friction inside the cone is the expansion itself.
+  lin.cone_mu = 0.5;
+  CHECK(lin.evaluate(Eigen::Vector3d(0, 0, 0.5)).norm() == 0);
+  CHECK(lin.evaluate(Eigen::Vector3d(0.5, 0, 0)).norm() == 0);
+  CHECK(lin.evaluate(Eigen::Vector3d(-0.5, 0, -0.5)).isApprox(Eigen::Vector3d(0.25, 0, 0.5)));
   CHECK(lin.compressTerm({0.3, 0, -0.2}).isApprox(Eigen::Vector3d(0, 0, 0.2)));
   CHECK(lin.bendTerm({0.3, 0, -0.2}).isApprox(Eigen::Vector3d(-0.6, 0, 0)));
   ForceModel none;
   CHECK(none.evaluate(Eigen::Vector3d(1, 2, 3)).norm() == 0);
+}
+
+TEST_CASE("the contact cone: the paper pushes, within friction, and never pulls",
+          "[haptics][force_model]") {
+  constexpr double kMu = 0.45;
+  // Round-off of a few products of O(1 N) values.
+  constexpr double kExactN = 1e-12;
+  const Eigen::Vector3d inside(0.3, -0.2, 1.0);
+  CHECK(limitToContactCone(inside, kMu) == inside);
+  // Any force into the paper, with or without a drag, is none at all: with
+  // no normal force there is no friction either.
+  for (const Eigen::Vector3d& f : {Eigen::Vector3d(0, 0, -0.3), Eigen::Vector3d(0.1, 0.2, -0.5),
+                                   Eigen::Vector3d(-1, 0.5, 0), Eigen::Vector3d(0.8, 0, -0.1)})
+    CHECK(limitToContactCone(f, kMu).norm() == 0);
+  // Friction beyond mu times the normal force is shortened to it, along its
+  // own direction; the normal force is kept.
+  const Eigen::Vector3d dragged(2, 1, 0.5);
+  const Eigen::Vector3d p = limitToContactCone(dragged, kMu);
+  CHECK(p.z() == dragged.z());
+  CHECK(std::hypot(p.x(), p.y()) == Approx(kMu * dragged.z()).margin(kExactN));
+  CHECK(std::fabs(p.x() * dragged.y() - p.y() * dragged.x()) < kExactN);
+  // Continuous across the cone's surface and where the normal force changes
+  // sign: forces a micronewton apart stay about a micronewton apart, so the
+  // device feels no step.
+  constexpr double kNudgeN = 1e-6;
+  for (const Eigen::Vector3d& f : {Eigen::Vector3d(kMu, 0, 1), Eigen::Vector3d(0.5, 0.2, 0)}) {
+    const Eigen::Vector3d a = limitToContactCone(f - Eigen::Vector3d(0, 0, kNudgeN), kMu);
+    const Eigen::Vector3d b = limitToContactCone(f + Eigen::Vector3d(0, 0, kNudgeN), kMu);
+    CHECK((a - b).norm() < 4 * kNudgeN);
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -785,6 +822,37 @@ TEST_CASE("an exceeded-force warning from the device zeroes that tick, the run g
   REQUIRE(sf.f.size() > 700);
   CHECK(pushedBefore(sf, 500));
   CHECK(sf.f[500].norm() == 0);
+}
+
+TEST_CASE("the 1 kHz force never pulls the pen into the paper: a lifting S-curve",
+          "[haptics][cli]") {
+  // The S-curve presses, drags and lifts: between sim frames the servo loop
+  // extrapolates the expansion of eqs. 21-22 to wherever the stylus went, and
+  // on the way up a linear expansion crosses zero normal force. Every tick's
+  // force must still push away from the paper, or be zero.
+  TempDir dir;
+  const RunResult rec = runBristle(
+      "record -q --device none --brush " + sourcePath("scenes/brushes/round.json") +
+      " --trajectory " + sourcePath("scenes/trajectories/s-curve.csv") + " -o " +
+      dir.file("s.csv") + " --forces " + dir.file("f.csv"));
+  INFO(rec.err);
+  REQUIRE(rec.code == 0);
+  std::istringstream in(bristle::testing::readAll(dir.file("f.csv")));
+  std::string line;
+  std::getline(in, line);
+  REQUIRE(line == "t_s,fx_n,fy_n,fz_n");
+  int ticks = 0, pushed = 0;
+  double lowest_n = 0;
+  while (std::getline(in, line)) {
+    double t = 0, fx = 0, fy = 0, fz = 0;
+    REQUIRE(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf", &t, &fx, &fy, &fz) == 4);
+    ++ticks;
+    pushed += fz > 0.05 ? 1 : 0;
+    lowest_n = std::min(lowest_n, fz);
+  }
+  CHECK(ticks > 3000);    // 3.2 s of the S-curve at 1 kHz
+  CHECK(pushed > 1000);   // the press is felt: a second of it or more
+  CHECK(lowest_n == 0);   // and nothing ever pulls (the log has 6 decimals)
 }
 
 TEST_CASE("record --device auto without a library falls back to none", "[haptics][cli]") {
