@@ -824,16 +824,20 @@ TEST_CASE("an exceeded-force warning from the device zeroes that tick, the run g
   CHECK(sf.f[500].norm() == 0);
 }
 
-TEST_CASE("the 1 kHz force never pulls the pen into the paper: a lifting S-curve",
+TEST_CASE("the 1 kHz force never pulls the pen into the paper: the standard set",
           "[haptics][cli]") {
-  // The S-curve presses, drags and lifts: between sim frames the servo loop
-  // extrapolates the expansion of eqs. 21-22 to wherever the stylus went, and
-  // on the way up a linear expansion crosses zero normal force. Every tick's
-  // force must still push away from the paper, or be zero.
+  // Each trajectory presses, moves and lifts: between sim frames the servo
+  // loop extrapolates the expansion of eqs. 21-22 to wherever the stylus went,
+  // and as the handle rises a linear expansion crosses zero normal force.
+  // Every tick's force must still push away from the paper, or be zero.
+  // (--device none plays in real time: about 3 s each, mostly waiting.)
+  const std::string name =
+      GENERATE(as<std::string>{}, "straight-pull", "s-curve", "press-lift", "tilted-drag");
+  INFO(name);
   TempDir dir;
   const RunResult rec = runBristle(
       "record -q --device none --brush " + sourcePath("scenes/brushes/round.json") +
-      " --trajectory " + sourcePath("scenes/trajectories/s-curve.csv") + " -o " +
+      " --trajectory " + sourcePath("scenes/trajectories/" + name + ".csv") + " -o " +
       dir.file("s.csv") + " --forces " + dir.file("f.csv"));
   INFO(rec.err);
   REQUIRE(rec.code == 0);
@@ -850,9 +854,9 @@ TEST_CASE("the 1 kHz force never pulls the pen into the paper: a lifting S-curve
     pushed += fz > 0.05 ? 1 : 0;
     lowest_n = std::min(lowest_n, fz);
   }
-  CHECK(ticks > 3000);    // 3.2 s of the S-curve at 1 kHz
-  CHECK(pushed > 1000);   // the press is felt: a second of it or more
-  CHECK(lowest_n == 0);   // and nothing ever pulls (the log has 6 decimals)
+  CHECK(ticks > 1000);  // every trajectory lasts more than a second, at 1 kHz
+  CHECK(pushed > 200);  // the press is felt, for a fifth of a second or more
+  CHECK(lowest_n == 0);  // and nothing ever pulls (the log has 6 decimals)
 }
 
 TEST_CASE("record --device auto without a library falls back to none", "[haptics][cli]") {
