@@ -6,7 +6,6 @@
 
 #include "engine/error.h"
 #include "engine/json_reader.h"
-#include "engine/spine_solver.h"
 #include "engine/text_file.h"
 
 namespace bristle {
@@ -262,6 +261,13 @@ void parseVolume(const JsonObject& v, VolumeSpec* out) {
 }
 
 }  // namespace
+
+std::optional<FrictionForm> parseFrictionForm(const std::string& name) {
+  if (name == "auto") return FrictionForm::kAuto;
+  if (name == "objective") return FrictionForm::kObjective;
+  if (name == "epigraph") return FrictionForm::kEpigraph;
+  return std::nullopt;
+}
 
 double SpineSpec::lengthMm() const {
   double l = 0;

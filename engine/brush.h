@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -115,6 +116,12 @@ struct VolumeSpec {
   double tip_spread = 1;
   bool present() const { return min_separation > 0; }
 };
+
+// Ipopt's form for friction (docs/dynamics.md, "Friction in epigraph form"),
+// as a brush file's "solver" block and --ipopt-option friction_form spell it.
+enum class FrictionForm { kAuto, kObjective, kEpigraph };
+inline constexpr const char* kFrictionFormNames = "\"auto\", \"objective\" or \"epigraph\"";
+std::optional<FrictionForm> parseFrictionForm(const std::string& name);
 
 // Hints to the solvers (docs/brush-format.md, "solver"): numerical choices
 // that leave the brush's equilibria where they are and change only how fast a

@@ -769,13 +769,6 @@ class IpoptSolver : public SpineSolver {
 
 }  // namespace
 
-std::optional<FrictionForm> parseFrictionForm(const std::string& name) {
-  if (name == "auto") return FrictionForm::kAuto;
-  if (name == "objective") return FrictionForm::kObjective;
-  if (name == "epigraph") return FrictionForm::kEpigraph;
-  return std::nullopt;
-}
-
 const char* toString(SolveStatus s) {
   switch (s) {
     case SolveStatus::kOk: return "ok";

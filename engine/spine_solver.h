@@ -24,12 +24,6 @@ enum class SolveStatus {
 };
 const char* toString(SolveStatus s);
 
-// Ipopt's form for friction (docs/dynamics.md, "Friction in epigraph form"),
-// as a brush file's "solver" block and --ipopt-option friction_form spell it.
-enum class FrictionForm { kAuto, kObjective, kEpigraph };
-inline constexpr const char* kFrictionFormNames = "\"auto\", \"objective\" or \"epigraph\"";
-std::optional<FrictionForm> parseFrictionForm(const std::string& name);
-
 struct SolveSummary {
   SolveStatus status = SolveStatus::kOk;
   int iterations = 0;
