@@ -22,7 +22,6 @@ using namespace bristle::testing;
 
 namespace {
 
-const std::string kRound = std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/round.json";
 // The protocol of every run here: short pulls, coarse pixels.
 const std::string kProtocol = " --px-per-mm 4 --pull-mm 12 ";
 // The stiffness profile of the measured copy: its tip joint this many times
