@@ -14,9 +14,9 @@
 
 #include "batch/job_cost.h"
 #include "batch/job_key.h"
-#include "engine/atomic_output.h"
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
 
 namespace bristle {
 namespace {
@@ -30,7 +30,7 @@ double secondsSince(Clock::time_point t0) {
 
 // The batch's own folders beneath --out (the job log's, the children's private
 // one) are never reached through a symbolic link: like the outputs
-// (engine/atomic_output.h), nothing the batch writes may land outside --out.
+// (engine/base/atomic_output.h), nothing the batch writes may land outside --out.
 void refuseSymlinkFolder(const std::string& dir) {
   std::error_code ec;
   if (fs::is_symlink(dir, ec))

@@ -3,11 +3,11 @@
 #include <exception>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/first_contact.h"
-#include "engine/scene.h"
-#include "engine/simulation.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/formats/scene.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/model/trajectory.h"
 
 namespace bristle {
 

@@ -4,11 +4,11 @@
 #include <nlohmann/json.hpp>
 
 #include "bristle/version.h"
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
-#include "engine/scene.h"
-#include "engine/sheet.h"
-#include "engine/text_file.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/formats/scene.h"
+#include "engine/formats/sheet.h"
+#include "engine/base/text_file.h"
 
 namespace bristle {
 
@@ -33,7 +33,7 @@ std::vector<std::string> batchJobInputs(const BatchJob& job, const std::string& 
       return loadScene(job.input).inputs;
     case BatchJobKind::kSheet:
       // The sheet, then its brushes and trajectories in the order listed: the
-      // files sheetInputsHash (engine/sheet.h) hashes into the sheet's PNG.
+      // files sheetInputsHash (engine/formats/sheet.h) hashes into the sheet's PNG.
       requireReadable(manifest, job.pointer + "/sheet", job.input);
       return loadSheet(job.input).inputs;
     case BatchJobKind::kStroke:

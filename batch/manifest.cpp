@@ -7,11 +7,11 @@
 #include <regex>
 #include <set>
 
-#include "engine/brush_library.h"
-#include "engine/error.h"
-#include "engine/ipopt_options.h"
-#include "engine/json_reader.h"
-#include "engine/text_file.h"
+#include "engine/formats/brush_library.h"
+#include "engine/base/error.h"
+#include "engine/solvers/ipopt/ipopt_options.h"
+#include "engine/base/json_reader.h"
+#include "engine/base/text_file.h"
 
 namespace bristle {
 namespace {
@@ -117,7 +117,7 @@ bool hasType(const nlohmann::json& v, OptionType type) {
 }
 
 // Each Ipopt option meets the allow-list a command line meets
-// (engine/ipopt_options.h), here before any job runs.
+// (engine/solvers/ipopt/ipopt_options.h), here before any job runs.
 void checkIpoptOptions(const JsonObject& owner, const std::string& where,
                        const nlohmann::json& value) {
   for (size_t i = 0; i < (value.is_array() ? value.size() : 1); ++i) {

@@ -12,7 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 extern char** environ;
 

@@ -5,7 +5,7 @@
 #include <regex>
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 namespace bristle {
 

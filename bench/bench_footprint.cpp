@@ -17,10 +17,10 @@
 
 #include "bench/bench_stats.h"
 #include "bench/bench_main.h"
-#include "engine/brush.h"
-#include "engine/brush_geometry.h"
-#include "engine/simulation.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/model/trajectory.h"
 #include "render/footprint_renderer.h"
 #include "render/stroke_renderer.h"
 

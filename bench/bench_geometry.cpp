@@ -1,4 +1,4 @@
-// The brush's geometry per simulation step (engine/brush_geometry.h): skinning
+// The brush's geometry per simulation step (engine/geometry/brush_geometry.h): skinning
 // and refining the surface (§4.1), the spines' bundles, the strips (§4.2), on
 // library brushes pressed 3 mm into the paper. Side by side in one run:
 //   - round, flat: what a step costs for a brush with a surface, strips and
@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/brush_geometry.h"
-#include "engine/simulation.h"
-#include "engine/spine_solver.h"
-#include "engine/spine_bundles.h"
+#include "engine/model/brush.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/solvers/spine_solver.h"
+#include "engine/geometry/spine_bundles.h"
 
 namespace {
 

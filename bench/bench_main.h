@@ -1,11 +1,11 @@
 #pragma once
 // The main of the benchmark programs that run bristle's solver in process:
-// the heap policy the CLI sets (engine/heap_policy.h), so that their figures
+// the heap policy the CLI sets (engine/base/heap_policy.h), so that their figures
 // are the command line's, then Google Benchmark's own main.
 
 #include <benchmark/benchmark.h>
 
-#include "engine/heap_policy.h"
+#include "engine/base/heap_policy.h"
 
 namespace bristle::bench {
 

@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "bench/bench_stats.h"
-#include "engine/brush.h"
-#include "engine/error.h"
+#include "engine/model/brush.h"
+#include "engine/base/error.h"
 #include "tests/support/press_matrix.h"
 
 namespace {

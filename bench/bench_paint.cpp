@@ -1,4 +1,4 @@
-// Paint transfer per step (engine/paint.h) on footprints of 256^2 and 512^2
+// Paint transfer per step (engine/paint/paint.h) on footprints of 256^2 and 512^2
 // pixels: the flat brush of the library (surface + strips + spines, so every
 // texture-coordinate kind is mapped), a footprint shaped like a pressed brush
 // (an ellipse filling ~79% of the window, depth falling off towards its rim,
@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/brush_geometry.h"
-#include "engine/paint.h"
+#include "engine/model/brush.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/paint/paint.h"
 
 namespace {
 

@@ -11,7 +11,7 @@
 
 #include "bench_stats.h"
 #include "bench/bench_main.h"
-#include "engine/scene.h"
+#include "engine/formats/scene.h"
 #include "render/compose.h"
 #include "render/scene_renderer.h"
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "bench/bench_stats.h"
-#include "engine/brush.h"
+#include "engine/model/brush.h"
 #include "haptics/live_session.h"
 #include "haptics/none_device.h"
 

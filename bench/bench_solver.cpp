@@ -19,10 +19,10 @@
 
 #include "bench/bench_stats.h"
 #include "bench/bench_main.h"
-#include "engine/brush.h"
-#include "engine/simulation.h"
-#include "engine/spine_kinematics.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/mechanics/spine_kinematics.h"
+#include "engine/model/trajectory.h"
 
 namespace {
 
@@ -123,9 +123,9 @@ Scenario pressThenHold(const Brush& brush) {
 
 // The benchmarks' solver argument: 0 Ipopt as bristle runs it, 1 SLSQP, 2 Ipopt
 // with its own getrusage timers on, as Ipopt 3.11 runs by itself
-// (engine/ipopt_timers.h), for the cost of those timers side by side; 3 Ipopt
+// (engine/solvers/ipopt/ipopt_timers.h), for the cost of those timers side by side; 3 Ipopt
 // with MUMPS for every KKT matrix, as before bristle's dense solver
-// (engine/dense_kkt.h).
+// (engine/solvers/ipopt/dense_kkt.h).
 std::unique_ptr<SpineSolver> makeBenchSolver(long solver) {
   if (solver == 1) return makeSlsqpSolver();
   IpoptSettings settings;

@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/mark_png.h"
 

@@ -19,8 +19,8 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/progress.h"
-#include "engine/atomic_output.h"
-#include "engine/error.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
 
 namespace bristle::cli {
 namespace {

@@ -13,10 +13,10 @@
 #include "cli/commands.h"
 #include "cli/inputs.h"
 #include "cli/options.h"
-#include "engine/brush.h"
-#include "engine/brush_library.h"
-#include "engine/error.h"
-#include "engine/first_contact.h"
+#include "engine/model/brush.h"
+#include "engine/formats/brush_library.h"
+#include "engine/base/error.h"
+#include "engine/geometry/first_contact.h"
 
 namespace bristle::cli {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 namespace bristle::cli {
 

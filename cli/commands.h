@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "cli/paint_options.h"
-#include "engine/simulation.h"
-#include "engine/solver_pair.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/solvers/solver_pair.h"
 
 namespace CLI {
 class App;
@@ -132,7 +132,7 @@ struct ReplayArgs : SessionRender {
 };
 int runReplay(const ReplayArgs& args);
 
-// `bristle sheet`: a grid of strokes, brushes x trajectories (engine/sheet.h).
+// `bristle sheet`: a grid of strokes, brushes x trajectories (engine/formats/sheet.h).
 struct SheetArgs {
   std::string sheet, output;
   double px_per_mm = 0;  // 0: the sheet's

@@ -18,10 +18,10 @@
 #include "cli/measure_plot.h"
 #include "cli/options.h"
 #include "cli/progress.h"
-#include "engine/atomic_output.h"
-#include "engine/error.h"
-#include "engine/spelling.h"
-#include "engine/text_file.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
+#include "engine/base/spelling.h"
+#include "engine/base/text_file.h"
 #include "render/brush_fit.h"
 
 namespace bristle::cli {

@@ -4,9 +4,9 @@
 #include <regex>
 #include <set>
 
-#include "engine/error.h"
-#include "engine/json_reader.h"
-#include "engine/text_file.h"
+#include "engine/base/error.h"
+#include "engine/base/json_reader.h"
+#include "engine/base/text_file.h"
 
 namespace bristle::cli {
 namespace {

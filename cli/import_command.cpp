@@ -11,10 +11,10 @@
 #include "cli/commands.h"
 #include "cli/inputs.h"
 #include "cli/options.h"
-#include "engine/atomic_output.h"
-#include "engine/brush.h"
-#include "engine/error.h"
-#include "engine/scene.h"
+#include "engine/base/atomic_output.h"
+#include "engine/model/brush.h"
+#include "engine/base/error.h"
+#include "engine/formats/scene.h"
 #include "input/import.h"
 #include "input/svg_geometry.h"
 
@@ -146,7 +146,7 @@ int runImport(ImportArgs a) {
   const std::string json = sceneJson(a, place, files, notes.front());
   parseScene(json, a.output, fs::path(a.output).parent_path().string());  // reads back
   // Every file is written to its temporary first and renamed only when all
-  // are (engine/atomic_output.h), one file open at a time.
+  // are (engine/base/atomic_output.h), one file open at a time.
   CommitGroup group;
   for (std::size_t k = 0; k < strokes.size(); ++k) {
     std::vector<std::string> stroke_notes = notes;

@@ -7,10 +7,10 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "engine/brush_library.h"
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
-#include "engine/text_file.h"
+#include "engine/formats/brush_library.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/base/text_file.h"
 #include "input/import.h"
 
 namespace bristle::cli {

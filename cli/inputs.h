@@ -8,18 +8,18 @@
 #include <string>
 #include <vector>
 
-#include "engine/atomic_output.h"
-#include "engine/brush.h"
-#include "engine/brush_library.h"
-#include "engine/text_file.h"
-#include "engine/trajectory.h"
+#include "engine/base/atomic_output.h"
+#include "engine/model/brush.h"
+#include "engine/formats/brush_library.h"
+#include "engine/base/text_file.h"
+#include "engine/model/trajectory.h"
 
 namespace bristle::cli {
 
 // "-": standard input (an input) or standard output (a PNG output).
 inline bool isStdio(const std::string& path) { return path == kStdioPath; }
 
-// The folders a brush name is looked up in (engine/brush_library.h), in order:
+// The folders a brush name is looked up in (engine/formats/brush_library.h), in order:
 // the source tree's scenes/brushes (only for the executable in the build tree:
 // an installed copy does not depend on the checkout it was built from), the
 // install's share/bristle/brushes (<exe dir>/../share/...), then each folder of
@@ -32,7 +32,7 @@ std::vector<std::string> cliBrushLibraryDirs();
 std::string findBrushFile(const std::string& ref, const std::string& option);
 
 
-// Standard input, read whole once (readStandardInput, engine/text_file.h);
+// Standard input, read whole once (readStandardInput, engine/base/text_file.h);
 // later calls return the same text.
 const std::string& stdinText();
 
@@ -45,7 +45,7 @@ Trajectory loadTrajectoryArg(const std::string& path, const Brush& brush);
 // hashed as the PNG's "bristle:inputs-fnv1a64" (render/compose.h).
 std::uint64_t inputsHash(const std::vector<std::string>& inputs);
 
-// A command's outputs and inputs checked as checkOutputs (engine/atomic_output.h)
+// A command's outputs and inputs checked as checkOutputs (engine/base/atomic_output.h)
 // does, with "-" allowed only for the outputs named in stdout_ok (the PNG's
 // option; kUsage otherwise), at most one of them, and as an input only for
 // the options in stdin_ok, at most one of them. "-" entries are then left out
@@ -54,7 +54,7 @@ void checkCliFiles(const std::vector<NamedFile>& outputs, const std::vector<Name
                    const std::vector<std::string>& stdout_ok,
                    const std::vector<std::string>& stdin_ok);
 
-// checkCanCreate (engine/atomic_output.h) for a file; nothing for "-".
+// checkCanCreate (engine/base/atomic_output.h) for a file; nothing for "-".
 void checkCanCreateArg(const std::string& path);
 
 // Refuses (kUsage) a PNG output named with another image format's extension

@@ -14,10 +14,10 @@
 #include "cli/commands.h"
 #include "cli/inputs.h"
 #include "cli/options.h"
-#include "engine/error.h"
-#include "engine/heap_policy.h"
-#include "engine/ipopt_options.h"
-#include "engine/temp_files.h"
+#include "engine/base/error.h"
+#include "engine/base/heap_policy.h"
+#include "engine/solvers/ipopt/ipopt_options.h"
+#include "engine/base/temp_files.h"
 
 namespace {
 
@@ -111,7 +111,7 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv) {
 
 int main(int argc, char** argv) {
   using namespace bristle::cli;
-  // Freed heap stays mapped between solves (engine/heap_policy.h): a tenth of
+  // Freed heap stays mapped between solves (engine/base/heap_policy.h): a tenth of
   // a hair-volume brush's render went to growing and trimming the heap.
   bristle::keepFreedHeap();
   // Brush names, on the command line and in the scenes, sheets and manifests it reads.
@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
   bristle::installTempFileCleanup();
   try {
     // A command's outputs appear together when it returns, or none when it
-    // throws (engine/atomic_output.h; docs/errors.md, "Outputs").
+    // throws (engine/base/atomic_output.h; docs/errors.md, "Outputs").
     bristle::CommitGroup outputs;
     for (const Subcommand& c : commands) {
       if (!c.app->parsed()) continue;

@@ -16,9 +16,9 @@
 #include "cli/measure_plot.h"
 #include "cli/options.h"
 #include "cli/progress.h"
-#include "engine/atomic_output.h"
-#include "engine/brush.h"
-#include "engine/error.h"
+#include "engine/base/atomic_output.h"
+#include "engine/model/brush.h"
+#include "engine/base/error.h"
 #include "render/brush_fit.h"
 #include "render/brush_measure.h"
 

@@ -15,10 +15,10 @@
 #include <memory>
 #include <sstream>
 
-#include "engine/atomic_output.h"
-#include "engine/error.h"
-#include "engine/temp_files.h"
-#include "engine/text_file.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
+#include "engine/base/temp_files.h"
+#include "engine/base/text_file.h"
 
 extern char** environ;
 
@@ -46,7 +46,7 @@ std::string safeTitle(const std::string& s) {
 }
 
 // A private folder removed with what it holds, its files registered so that a
-// signal removes them too (engine/temp_files.h).
+// signal removes them too (engine/base/temp_files.h).
 class TempFolder {
  public:
   TempFolder() {

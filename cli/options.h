@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cli/paint_options.h"
-#include "engine/solver_pair.h"
+#include "engine/solvers/solver_pair.h"
 
 namespace bristle::cli {
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/solver_pair.h"
+#include "engine/solvers/solver_pair.h"
 
-#include "engine/paint_spec.h"
+#include "engine/paint/paint_spec.h"
 
 namespace bristle::cli {
 

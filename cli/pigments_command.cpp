@@ -1,4 +1,4 @@
-// `bristle pigments`: the pigment table (engine/pigments.h), one line each:
+// `bristle pigments`: the pigment table (engine/paint/pigments.h), one line each:
 // the name, the colour a film of it shows, its Kubelka-Munk K and S per
 // channel and where they come from. On a terminal each line starts with a
 // swatch of that colour (24-bit ANSI background); in a pipe the text is plain
@@ -16,8 +16,8 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "engine/error.h"
-#include "engine/pigments.h"
+#include "engine/base/error.h"
+#include "engine/paint/pigments.h"
 
 namespace bristle::cli {
 namespace {

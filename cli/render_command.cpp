@@ -12,15 +12,15 @@
 #include "cli/progress.h"
 #include "cli/run_stats.h"
 #include "cli/stroke_png.h"
-#include "engine/atomic_output.h"
-#include "engine/brush.h"
-#include "engine/canvas.h"
-#include "engine/paint.h"
-#include "engine/pigments.h"
-#include "engine/error.h"
-#include "engine/first_contact.h"
-#include "engine/trace.h"
-#include "engine/trajectory.h"
+#include "engine/base/atomic_output.h"
+#include "engine/model/brush.h"
+#include "engine/model/canvas.h"
+#include "engine/paint/paint.h"
+#include "engine/paint/pigments.h"
+#include "engine/base/error.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/formats/trace.h"
+#include "engine/model/trajectory.h"
 #include "render/compose.h"
 #include "render/png_io.h"
 #include "render/stroke_renderer.h"
@@ -128,7 +128,7 @@ int runRender(const RenderArgs& args) {
 
   // Fail before the long run if an output cannot be created; each output is
   // written to a temporary file and all are renamed only when every one was
-  // written (engine/atomic_output.h).
+  // written (engine/base/atomic_output.h).
   checkCanCreateArg(args.output);
   CommitGroup outputs;
   if (!args.stats.empty()) checkCanCreate(args.stats);

@@ -1,5 +1,5 @@
 // `bristle render SCENE.json -o out.png`: a whole painting, stroke by stroke on
-// one canvas (engine/scene.h, render/scene_renderer.h).
+// one canvas (engine/formats/scene.h, render/scene_renderer.h).
 
 #include <unistd.h>
 
@@ -14,10 +14,10 @@
 #include "cli/inputs.h"
 #include "cli/progress.h"
 #include "cli/run_stats.h"
-#include "engine/atomic_output.h"
-#include "engine/error.h"
-#include "engine/scene.h"
-#include "engine/trace.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
+#include "engine/formats/scene.h"
+#include "engine/formats/trace.h"
 #include "render/compose.h"
 #include "render/png_io.h"
 #include "render/scene_renderer.h"
@@ -97,7 +97,7 @@ int runRenderScene(const RenderArgs& args) {
   checkCanCreateArg(args.output);
   if (!args.stats.empty()) checkCanCreate(args.stats);
   warnings = printWarnings(std::move(warnings));
-  CommitGroup outputs;  // -o, --trace and --stats appear together (engine/atomic_output.h)
+  CommitGroup outputs;  // -o, --trace and --stats appear together (engine/base/atomic_output.h)
   std::unique_ptr<AtomicOutput> trace;
   if (!args.trace.empty()) trace = std::make_unique<AtomicOutput>(args.trace);
 

@@ -3,8 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "engine/atomic_output.h"
-#include "engine/input_warnings.h"
+#include "engine/base/atomic_output.h"
+#include "engine/formats/input_warnings.h"
 
 namespace bristle::cli {
 

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/simulation.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/model/trajectory.h"
 
 namespace bristle::cli {
 
@@ -28,7 +28,7 @@ struct RunStats {
 // run's stats and its PNG text.
 std::vector<std::string> printWarnings(std::vector<std::string> warnings);
 
-// The warnings about a single stroke's inputs (engine/input_warnings.h): the
+// The warnings about a single stroke's inputs (engine/formats/input_warnings.h): the
 // brush's scale, the trajectory's length and its steps planned with
 // `options`, which throws as the render would at a step limit. Not printed:
 // a command prints them once every check before its run has passed, so that

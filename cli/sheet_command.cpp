@@ -1,5 +1,5 @@
 // `bristle sheet SHEET.json -o sheet.png`: a grid of strokes, brushes x
-// trajectories, every cell labelled (engine/sheet.h, render/sheet_renderer.h,
+// trajectories, every cell labelled (engine/formats/sheet.h, render/sheet_renderer.h,
 // docs/sheet-format.md).
 
 #include <unistd.h>
@@ -15,10 +15,10 @@
 #include "cli/inputs.h"
 #include "cli/progress.h"
 #include "cli/run_stats.h"
-#include "engine/atomic_output.h"
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
-#include "engine/sheet.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/formats/sheet.h"
 #include "render/compose.h"
 #include "render/png_io.h"
 #include "render/sheet_renderer.h"

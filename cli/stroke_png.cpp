@@ -6,10 +6,10 @@
 
 #include "cli/commands.h"
 #include "cli/inputs.h"
-#include "engine/canvas.h"
-#include "engine/error.h"
-#include "engine/ipopt_options.h"
-#include "engine/paint.h"
+#include "engine/model/canvas.h"
+#include "engine/base/error.h"
+#include "engine/solvers/ipopt/ipopt_options.h"
+#include "engine/paint/paint.h"
 #include "render/compose.h"
 #include "render/png_io.h"
 #include "render/stroke_pipeline.h"
@@ -24,7 +24,7 @@ MixModel mixOf(const StrokePngOptions& o) {
 
 // Paint options are input data: a paint, colour or amount that makes no sense
 // is a data error (65), named by its option, by the rules a scene's paint meets
-// (checkPaintLoad, engine/paint_spec.h).
+// (checkPaintLoad, engine/paint/paint_spec.h).
 PaintLoad paintLoadArgs(const StrokePngOptions& args) {
   PaintLoad load;
   load.mode = args.load == "across" ? PaintLoad::Mode::kAcross
@@ -71,7 +71,7 @@ SolverSettings solverSettings(const StrokePngOptions& o) {
   SolverSettings solvers;
   solvers.kind = o.solver;
   solvers.max_iterations = o.solver_max_iterations;
-  // Each one checked here, before any input is read (engine/ipopt_options.h).
+  // Each one checked here, before any input is read (engine/solvers/ipopt/ipopt_options.h).
   for (const std::string& kv : o.ipopt_options) {
     if (const std::optional<std::string> problem = ipoptOptionTextProblem(kv))
       throw Error(ExitCode::kUsage, "--ipopt-option " + *problem);

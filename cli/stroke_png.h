@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "cli/paint_options.h"
-#include "engine/brush.h"
-#include "engine/solver_pair.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/solvers/solver_pair.h"
+#include "engine/model/trajectory.h"
 #include "render/png_io.h"
 #include "render/stroke_renderer.h"
 

@@ -20,17 +20,17 @@
 #include "cli/inputs.h"
 #include "cli/options.h"
 #include "cli/run_stats.h"
-#include "engine/brush.h"
-#include "engine/brush_geometry.h"
-#include "engine/error.h"
-#include "engine/first_contact.h"
-#include "engine/input_warnings.h"
-#include "engine/json_reader.h"
-#include "engine/scene.h"
-#include "engine/sheet.h"
-#include "engine/simulation.h"
-#include "engine/text_file.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/base/error.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/formats/input_warnings.h"
+#include "engine/base/json_reader.h"
+#include "engine/formats/scene.h"
+#include "engine/formats/sheet.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/base/text_file.h"
+#include "engine/model/trajectory.h"
 #include "render/png_io.h"
 
 namespace bristle::cli {
@@ -229,7 +229,7 @@ int validateGolden(const std::string& f) {
   return 0;
 }
 
-// A brush's or a trajectory's own warning (engine/input_warnings.h), by the
+// A brush's or a trajectory's own warning (engine/formats/input_warnings.h), by the
 // file as a pair names it: told once the pairs are known, and not for a file
 // whose pair is refused, so that a refusal stays its one line.
 using FileWarnings = std::vector<std::pair<std::string, std::string>>;

@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 namespace bristle::fuzz {
 
@@ -19,7 +19,7 @@ inline std::string text(const std::uint8_t* data, std::size_t size) {
 }
 
 // A reader may refuse an input only with bristle::Error, whose message is one
-// printable line (engine/error.h): anything else escaping it (std::bad_alloc,
+// printable line (engine/base/error.h): anything else escaping it (std::bad_alloc,
 // a nlohmann exception, std::out_of_range) is what the CLI reports as an
 // internal error (exit 70), and the fuzzer reports it as a crash.
 inline void checkRefusal(const Error& e) {

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/first_contact.h"
-#include "engine/simulation.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/model/trajectory.h"
 #include "fuzz/fuzz_input.h"
 #include "input/import.h"
 #include "input/pen_mapping.h"

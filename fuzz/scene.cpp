@@ -1,7 +1,7 @@
 // Fuzz target: the scene reader (bristle-scene/1 JSON), the scene file alone:
 // the brushes and trajectories it names are not opened.
 
-#include "engine/scene.h"
+#include "engine/formats/scene.h"
 #include "fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

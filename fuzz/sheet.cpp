@@ -1,7 +1,7 @@
 // Fuzz target: the stroke-sheet reader (bristle-sheet/1 JSON), the sheet file
 // alone: the brushes and trajectories it lists are not opened.
 
-#include "engine/sheet.h"
+#include "engine/formats/sheet.h"
 #include "fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -4,11 +4,11 @@
 // the brush and the plan of its steps (limited per trajectory and per second
 // of gesture).
 
-#include "engine/brush.h"
-#include "engine/first_contact.h"
-#include "engine/simulation.h"
-#include "engine/trajectory.h"
-#include "engine/text_file.h"
+#include "engine/model/brush.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/model/trajectory.h"
+#include "engine/base/text_file.h"
 #include "fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include "engine/pose.h"
+#include "engine/model/pose.h"
 
 namespace bristle::haptics {
 

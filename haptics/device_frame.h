@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "engine/pose.h"
+#include "engine/model/pose.h"
 
 namespace bristle::haptics {
 

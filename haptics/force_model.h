@@ -7,7 +7,7 @@
 // one per spine, averaged over the spines (§5: "use the average as the force").
 //
 // Per spine, F0 is the canvas force on the spine in the simulated state
-// (contact normal forces plus friction, engine/simulation.h). The linear terms
+// (contact normal forces plus friction, engine/dynamics/simulation.h). The linear terms
 // are measured on the quasi-static solve itself: the engine's energy
 // minimisation stepped from the current state to p0 +- h b_k and restored,
 // along a basis b whose first vector u is the brush's chord -- the mean over
@@ -27,7 +27,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/simulation.h"
+#include "engine/dynamics/simulation.h"
 
 namespace bristle::haptics {
 

@@ -4,7 +4,7 @@
 
 #include <cstdlib>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 namespace bristle::haptics::hd {
 

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <thread>
 
-#include "engine/spine_kinematics.h"
-#include "engine/solver_pair.h"
+#include "engine/mechanics/spine_kinematics.h"
+#include "engine/solvers/solver_pair.h"
 
 namespace bristle::haptics {
 

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/simulation.h"
-#include "engine/solver_pair.h"
+#include "engine/model/brush.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/solvers/solver_pair.h"
 #include "haptics/device.h"
 #include "haptics/force_model.h"
 #include "haptics/servo_loop.h"

@@ -8,7 +8,7 @@
 #include <atomic>
 #include <thread>
 
-#include "engine/trajectory.h"
+#include "engine/model/trajectory.h"
 #include "haptics/device.h"
 
 namespace bristle::haptics {

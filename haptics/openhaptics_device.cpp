@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 namespace bristle::haptics {
 

@@ -8,10 +8,10 @@
 #include <cstring>
 #include <sstream>
 
-#include "engine/atomic_output.h"
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
-#include "engine/text_file.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/base/text_file.h"
 #include "haptics/monotonic_clock.h"
 
 namespace bristle::haptics {
@@ -30,7 +30,7 @@ std::string brushFileHash(const std::string& brush_path) {
 // A live session is written in place, not through a temporary file: rows
 // reach the disk every 50 ms so that a crash keeps the recording
 // (docs/haptics.md). Like every output it is a regular file or a new one,
-// never a device, a FIFO or a symbolic link (O_NOFOLLOW; engine/atomic_output.h).
+// never a device, a FIFO or a symbolic link (O_NOFOLLOW; engine/base/atomic_output.h).
 std::FILE* SessionWriter::open(const std::string& path) {
   outputTarget(path);
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);

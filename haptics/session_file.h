@@ -15,13 +15,13 @@
 #include <utility>
 #include <vector>
 
-#include "engine/trajectory.h"
+#include "engine/model/trajectory.h"
 #include "haptics/servo_loop.h"
 
 namespace bristle::haptics {
 
 // Hash of a brush file as sessions record it: hex64 of fnv1a64
-// (engine/fnv1a64.h) of its bytes; throws kNoInput if unreadable.
+// (engine/base/fnv1a64.h) of its bytes; throws kNoInput if unreadable.
 std::string brushFileHash(const std::string& brush_path);
 
 struct SessionHeader {

@@ -1,7 +1,7 @@
 #include "input/import.h"
 
-#include "engine/error.h"
-#include "engine/first_contact.h"
+#include "engine/base/error.h"
+#include "engine/geometry/first_contact.h"
 #include "input/svg_geometry.h"
 
 namespace bristle::input {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/model/trajectory.h"
 #include "input/pen_mapping.h"
 #include "input/recording.h"
 

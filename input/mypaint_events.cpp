@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "input/recording.h"
 #include "input/sample_checks.h"
 #include "input/text_fields.h"

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "input/pen_axis.h"
 #include "input/svg_geometry.h"
 

@@ -9,7 +9,7 @@
 
 #include <Eigen/Geometry>
 
-#include "engine/trajectory.h"
+#include "engine/model/trajectory.h"
 #include "input/recording.h"
 
 namespace bristle::input {

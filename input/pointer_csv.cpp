@@ -9,7 +9,7 @@
 #include <cmath>
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "input/pen_axis.h"
 #include "input/recording.h"
 #include "input/sample_checks.h"

@@ -4,7 +4,7 @@
 #include <cctype>
 #include <filesystem>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "input/text_fields.h"
 
 namespace bristle::input {

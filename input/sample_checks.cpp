@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "input/text_fields.h"
 
 namespace bristle::input::detail {

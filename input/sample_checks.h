@@ -13,7 +13,7 @@ namespace bristle::input::detail {
 // Positions in source units: beyond this no scale can bring them onto a canvas
 // (the trajectory limit is 1e5 mm; a source unit is rarely below 0.01 mm).
 inline constexpr double kMaxSourceCoordinate = 1e9;
-// Times: bristle-trajectory/1's own limit (engine/trajectory.h), 31 years.
+// Times: bristle-trajectory/1's own limit (engine/model/trajectory.h), 31 years.
 inline constexpr double kMaxSourceTimeS = 1e9;
 
 // A recording of `format` with no samples yet, its units described by `units_note`.

@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <mutex>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 namespace bristle::input {
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "input/recording.h"
 #include "input/svg_geometry.h"
 #include "input/text_fields.h"

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 namespace bristle::input::detail {
 

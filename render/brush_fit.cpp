@@ -11,11 +11,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "engine/error.h"
-#include "engine/first_contact.h"
-#include "engine/json_reader.h"
-#include "engine/spelling.h"
-#include "engine/text_file.h"
+#include "engine/base/error.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/base/json_reader.h"
+#include "engine/base/spelling.h"
+#include "engine/base/text_file.h"
 
 namespace bristle::render {
 
@@ -169,7 +169,7 @@ MeasurementTable readMeasurementTable(const std::string& path,
 
 double deepestPressMm(const Brush& brush) {
   // Upright, the ferrule is at first contact less the depth, and each spine's
-  // root at that plus its own z (engine/simulation.cpp refuses a root below 0).
+  // root at that plus its own z (engine/dynamics/simulation.cpp refuses a root below 0).
   double lowest_root = 0;
   for (const SpineSpec& s : brush.spines) lowest_root = std::min(lowest_root, s.root_mm.z());
   return firstContactHeightMm(brush) + lowest_root;

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/solver_pair.h"
+#include "engine/model/brush.h"
+#include "engine/solvers/solver_pair.h"
 #include "render/brush_measure.h"
 
 namespace bristle::render {

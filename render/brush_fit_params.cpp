@@ -7,15 +7,15 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
-#include "engine/error.h"
-#include "engine/json_reader.h"
-#include "engine/text_file.h"
+#include "engine/base/error.h"
+#include "engine/base/json_reader.h"
+#include "engine/base/text_file.h"
 #include "render/brush_fit.h"
 
 namespace bristle::render {
 namespace {
 
-// Friction coefficients a brush may hold (engine/brush.cpp's limit).
+// Friction coefficients a brush may hold (engine/model/brush.cpp's limit).
 constexpr double kMaxMu = 2.0;
 
 // One parameter's definition: its default bounds and the hard limits a

@@ -14,10 +14,10 @@
 #include <nlopt.hpp>
 
 #include "bristle/version.h"
-#include "engine/atomic_output.h"
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
-#include "engine/text_file.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/base/text_file.h"
 #include "render/brush_fit.h"
 
 namespace bristle::render {

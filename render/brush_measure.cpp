@@ -6,11 +6,11 @@
 #include <string>
 #include <utility>
 
-#include "engine/brush_geometry.h"
-#include "engine/canvas.h"
-#include "engine/error.h"
-#include "engine/first_contact.h"
-#include "engine/simulation.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/model/canvas.h"
+#include "engine/base/error.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/dynamics/simulation.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::render {

@@ -17,15 +17,15 @@
 #include <functional>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/solver_pair.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/solvers/solver_pair.h"
+#include "engine/model/trajectory.h"
 #include "render/footprint_renderer.h"
 
 namespace bristle::render {
 
 struct MeasureProtocol {
-  // Press depths past first contact (mm; engine/first_contact.h), each its own pull.
+  // Press depths past first contact (mm; engine/geometry/first_contact.h), each its own pull.
   std::vector<double> depths_mm = {1, 2, 4, 6, 8, 10};
   double speed_mm_s = 20;  // along +x, the handle upright
   double pull_mm = 40;     // long enough for the footprint to settle

@@ -7,7 +7,7 @@
 #include <span>
 
 #include "bristle/version.h"
-#include "engine/fnv1a64.h"
+#include "engine/base/fnv1a64.h"
 
 namespace bristle::render {
 

@@ -1,6 +1,6 @@
 #pragma once
 // The canvas's paint to an image (docs/paint.md, "Compose"): per pixel the wet film
-// over the dry layer (engine/paint.h, Kubelka-Munk or linear RGB), encoded as
+// over the dry layer (engine/paint/paint.h, Kubelka-Munk or linear RGB), encoded as
 // sRGB; optionally "impasto": the paint's thickness lit from one light, normals
 // from the gradient of the paint height (as IMPaSTo renders relief, NPAR 2004).
 
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/paint.h"
+#include "engine/paint/paint.h"
 #include "render/png_io.h"
 
 namespace bristle::render {
@@ -61,9 +61,9 @@ long inkPixels(const Image8& image, const std::array<std::uint8_t, 3>& paper);
 
 // The PNG text chunks every painting carries: "Software" (bristle and its
 // version), "bristle:version" and "bristle:inputs-fnv1a64" (16 hex digits of
-// FNV-1a 64 over the bytes of `inputs`, in order; engine/fnv1a64.h).
+// FNV-1a 64 over the bytes of `inputs`, in order; engine/base/fnv1a64.h).
 PngText provenanceText(const std::vector<std::string>& inputs);
-// The same with the hash already computed (e.g. engine/sheet.h's sheetInputsHash),
+// The same with the hash already computed (e.g. engine/formats/sheet.h's sheetInputsHash),
 // so that writer and checker use one function.
 PngText provenanceText(std::uint64_t inputs_fnv1a64);
 

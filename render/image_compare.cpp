@@ -12,9 +12,9 @@
 #include <map>
 #include <stdexcept>
 
-#include "engine/canvas.h"
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
+#include "engine/model/canvas.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
 #include "render/compose.h"
 
 namespace bristle::render {

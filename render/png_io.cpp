@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/atomic_output.h"
-#include "engine/canvas.h"
-#include "engine/error.h"
-#include "engine/text_file.h"
+#include "engine/base/atomic_output.h"
+#include "engine/model/canvas.h"
+#include "engine/base/error.h"
+#include "engine/base/text_file.h"
 
 namespace bristle::render {
 
@@ -195,7 +195,7 @@ void writePngRows(const std::string& path, int width, int height, int channels,
   const EncodeJob job{width, height, channels, bit_depth, rows.data(), chunks.data(),
                       static_cast<int>(chunks.size())};
   if (path == kStdoutPath) {
-    // After the run's files are in place (engine/atomic_output.h): a run that
+    // After the run's files are in place (engine/base/atomic_output.h): a run that
     // fails on another output writes nothing to standard output.
     std::string bytes = encodeToMemory(job, "stdout");
     if (CommitGroup* group = CommitGroup::open())
@@ -204,12 +204,12 @@ void writePngRows(const std::string& path, int width, int height, int channels,
       writeToStdout(bytes);
     return;
   }
-  // One atomic output (engine/atomic_output.h): complete or absent, never
+  // One atomic output (engine/base/atomic_output.h): complete or absent, never
   // through a symbolic link, and renamed with the run's other outputs.
   writeFileAtomically(path, encodeToMemory(job, path));
 }
 
-// Refuse images larger than any canvas bristle writes (64 Mpx, engine/canvas.h):
+// Refuse images larger than any canvas bristle writes (64 Mpx, engine/model/canvas.h):
 // their 16-bit RGBA decode needs at most 512 MiB, and a small file whose header
 // claims 16384 x 16384 px (a decompression bomb) is an error before anything
 // is allocated for it, not 2 GiB per image and an allocation failure.
@@ -251,7 +251,7 @@ std::string shownName(const std::string& path) {
   return path == kStdioPath ? std::string(kStdinName) : path;
 }
 
-// Standard input, read whole (engine/text_file.h's limits) into a memory file
+// Standard input, read whole (engine/base/text_file.h's limits) into a memory file
 // that is then read as any PNG file is.
 int standardInputAsFile() {
   const std::string bytes = readStandardInput();

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush_vertex.h"
-#include "engine/pose.h"
+#include "engine/geometry/brush_vertex.h"
+#include "engine/model/pose.h"
 #include "render/footprint_renderer.h"
 #include "render/png_io.h"
 

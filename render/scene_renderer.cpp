@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <memory>
 
-#include "engine/solver_pair.h"
+#include "engine/solvers/solver_pair.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::render {

@@ -1,13 +1,13 @@
 #pragma once
-// A whole painting: the strokes of a scene (engine/scene.h) painted in order onto
+// A whole painting: the strokes of a scene (engine/formats/scene.h) painted in order onto
 // one canvas, each by its own brush along its placed trajectory, through the
 // same simulation -> geometry -> footprint -> paint path as a single stroke.
 
 #include <functional>
 
-#include "engine/paint.h"
-#include "engine/scene.h"
-#include "engine/simulation.h"
+#include "engine/paint/paint.h"
+#include "engine/formats/scene.h"
+#include "engine/dynamics/simulation.h"
 
 namespace bristle::render {
 

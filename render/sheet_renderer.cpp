@@ -4,7 +4,7 @@
 #include <cmath>
 #include <memory>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "render/stroke_pipeline.h"
 #include "render/text.h"
 
@@ -50,7 +50,7 @@ Image8 fittedText(Font& font, std::string text, int size_px, int max_width) {
   return mask;
 }
 
-// The sheet's picture must stay within the canvas limits of engine/canvas.h.
+// The sheet's picture must stay within the canvas limits of engine/model/canvas.h.
 // What makes it too large is named: the title when it alone is wider than
 // the limit, else the cells' size.
 void checkSheetSize(const Sheet& sheet, double width, double height, double title_width) {

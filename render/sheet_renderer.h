@@ -1,5 +1,5 @@
 #pragma once
-// A stroke sheet (engine/sheet.h) as one picture: a grid of cells, brushes x
+// A stroke sheet (engine/formats/sheet.h) as one picture: a grid of cells, brushes x
 // trajectories, each cell one stroke painted on its own canvas through the same
 // simulation -> geometry -> footprint -> paint path as `bristle render --brush
 // --trajectory` (render/stroke_renderer.h), shown at one scale for every cell
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/sheet.h"
+#include "engine/formats/sheet.h"
 #include "render/compose.h"
 #include "render/png_io.h"
 #include "render/stroke_renderer.h"
@@ -77,7 +77,7 @@ inline constexpr double kSheetCellPadMm = 3;
 
 // Renders every cell and lays the sheet out. Throws bristle::Error(kDataError)
 // naming the sheet when the picture would exceed the canvas limits of
-// engine/canvas.h, and whatever the stroke pipeline throws.
+// engine/model/canvas.h, and whatever the stroke pipeline throws.
 SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options = {},
                        const SheetStepCallback& on_step = {});
 

@@ -3,7 +3,7 @@
 #include <Eigen/Core>
 #include <utility>
 
-#include "engine/simulation.h"
+#include "engine/dynamics/simulation.h"
 
 namespace bristle::render {
 

@@ -7,11 +7,11 @@
 
 #include <string>
 
-#include "engine/brush.h"
-#include "engine/paint.h"
-#include "engine/paint_spec.h"
-#include "engine/solver_pair.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/paint/paint.h"
+#include "engine/paint/paint_spec.h"
+#include "engine/solvers/solver_pair.h"
+#include "engine/model/trajectory.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::render {

@@ -6,10 +6,10 @@
 #include <limits>
 #include <memory>
 
-#include "engine/brush_geometry.h"
-#include "engine/canvas.h"
-#include "engine/paint.h"
-#include "engine/simulation.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/model/canvas.h"
+#include "engine/paint/paint.h"
+#include "engine/dynamics/simulation.h"
 #include "render/footprint_renderer.h"
 
 namespace bristle::render {
@@ -21,7 +21,7 @@ struct StrokeOptions {
   // About a hair's radius: spine joints resting on the canvas sit at z = 0.
   double contact_band_mm = 0.1;
   SimOptions sim;
-  // Paint transfer per step (engine/paint.h).
+  // Paint transfer per step (engine/paint/paint.h).
   TransferParams transfer;
   // 1: simulation and drawing take turns on the calling thread. 2: the steps
   // are simulated on a second thread while the calling thread draws the ones
@@ -61,7 +61,7 @@ struct StrokeResult {
 
 // The canvas a stroke needs when no scene gives one: everything the brush can
 // reach along the trajectory plus a margin. Throws kDataError (naming the
-// trajectory) if it would exceed the canvas limits of engine/canvas.h.
+// trajectory) if it would exceed the canvas limits of engine/model/canvas.h.
 CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
                            const StrokeOptions& options);
 

@@ -1,4 +1,4 @@
-// The atomic-output facility (engine/atomic_output.h; docs/errors.md,
+// The atomic-output facility (engine/base/atomic_output.h; docs/errors.md,
 // "Outputs"): a commit group's outputs appear all together or none, the
 // temporary file is created exclusively and never through a link, an output
 // that is a symbolic link is refused, and every failure removes the
@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/atomic_output.h"
-#include "engine/error.h"
+#include "engine/base/atomic_output.h"
+#include "engine/base/error.h"
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;

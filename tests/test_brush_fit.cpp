@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "render/brush_fit.h"
 #include "temp_dir.h"
 

@@ -13,10 +13,10 @@
 
 #include "bristle/version.h"
 #include "cli_runner.h"
-#include "engine/fnv1a64.h"
-#include "engine/spine_bundles.h"
-#include "engine/brush.h"
-#include "engine/trajectory.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/geometry/spine_bundles.h"
+#include "engine/model/brush.h"
+#include "engine/model/trajectory.h"
 #include "render/png_io.h"
 #include "render/stroke_renderer.h"
 
@@ -469,7 +469,7 @@ TEST_CASE("render: bad paint input is a one-line data error (65), no PNG", "[cli
            Case{"--paint unobtainium", "--paint unobtainium: unknown pigment 'unobtainium'"},
            Case{"--paint '#12g456'", "--paint #12g456: colour '#12g456' does not parse"},
            Case{"--paint ultramarine,sumi-ink", "--paint ultramarine,sumi-ink: --load solid takes 1 paint"},
-           // The rules of a scene's paint (engine/paint_spec.h): a tip load has two
+           // The rules of a scene's paint (engine/paint/paint_spec.h): a tip load has two
            // paints, and a tip_length of 0 or 1 would make it a solid load.
            Case{"--paint ultramarine --load tip", "--load tip takes 2 paints (body, then tip)"},
            Case{"--paint ultramarine,sumi-ink --load tip --tip-length 1",

@@ -16,7 +16,7 @@
 #include <thread>
 
 #include "cli_runner.h"
-#include "engine/fnv1a64.h"
+#include "engine/base/fnv1a64.h"
 #include "render/png_io.h"
 
 using namespace bristle;

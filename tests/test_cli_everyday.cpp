@@ -13,9 +13,9 @@
 #include <string>
 
 #include "cli_runner.h"
-#include "engine/brush.h"
-#include "engine/first_contact.h"
-#include "engine/pigments.h"
+#include "engine/model/brush.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/paint/pigments.h"
 #include "render/png_io.h"
 
 using namespace bristle;
@@ -404,7 +404,7 @@ TEST_CASE("brushes: each brush's hair length and first contact held upright", "[
                   d.path() / "lib" / (std::string(name) + ".json"));
   const RunResult r = runShell(d, "'" + kBin + "' brushes --library lib");
   REQUIRE(r.code == 0);
-  // The listing prints one decimal, as engine/first_contact.h computes it:
+  // The listing prints one decimal, as engine/geometry/first_contact.h computes it:
   // the round's 20 mm of hair touch at 20.4 mm (its bundles reach below the
   // tips), the bright's 11 mm at 12.0 (its slabs' half solids, 1 mm deep).
   for (const char* name : {"round", "bright"}) {

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "cli_runner.h"
-#include "engine/brush.h"
+#include "engine/model/brush.h"
 #include "render/png_io.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/mark_png.h"

@@ -13,7 +13,7 @@
 #include <string>
 
 #include "cli_runner.h"
-#include "engine/fnv1a64.h"
+#include "engine/base/fnv1a64.h"
 #include "render/image_compare.h"
 #include "render/png_io.h"
 #include "tests/support/mark_png.h"
@@ -283,7 +283,7 @@ TEST_CASE("a stroke that never touches the canvas is a warning naming the stroke
 
 TEST_CASE("a scene, a sheet and a render that name no paper colour share one paper",
           "[cli][scene][paper]") {
-  // kDefaultPaperColour (engine/paint_spec.h): the same stroke as a one-stroke
+  // kDefaultPaperColour (engine/paint/paint_spec.h): the same stroke as a one-stroke
   // scene, a one-cell sheet or a render lands on the same paper.
   TempDir dir;
   std::string dab = "# bristle-trajectory/1\nt_s,x_mm,y_mm,depth_mm,qw,qx,qy,qz\n";

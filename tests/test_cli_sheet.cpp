@@ -1,6 +1,6 @@
 // `bristle sheet SHEET.json -o sheet.png` and `bristle validate SHEET.json` end
 // to end: a small sheet renders to the picture the renderer makes, with the
-// inputs hash of engine/sheet.h that changes when a listed file does; a cell is
+// inputs hash of engine/formats/sheet.h that changes when a listed file does; a cell is
 // the very stroke `bristle render --brush --trajectory` paints; every bad input
 // exits with its code and one line, and leaves no PNG (docs/sheet-format.md).
 
@@ -12,8 +12,8 @@
 #include <string>
 
 #include "cli_runner.h"
-#include "engine/fnv1a64.h"
-#include "engine/sheet.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/formats/sheet.h"
 #include "render/png_io.h"
 #include "tests/support/mark_png.h"
 #include "render/sheet_renderer.h"

@@ -1,7 +1,7 @@
 // A round lifted while it is still moving tapers to a point, as a real round
 // does: the hairs' load fades as the handle rises,
 // and a bundle that only just touches leaves a thin line (kBundleFlatLoadN,
-// engine/spine_bundles.h), not a blunt tail ending in a blob. Rendered end to
+// engine/geometry/spine_bundles.h), not a blunt tail ending in a blob. Rendered end to
 // end by the bristle executable and measured on the PNG
 // (tests/support/mark_measure.h).
 
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "cli_runner.h"
-#include "engine/brush.h"
+#include "engine/model/brush.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/mark_png.h"
 #include "tests/support/press_matrix.h"

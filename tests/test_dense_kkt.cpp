@@ -1,4 +1,4 @@
-// The dense KKT solver that Ipopt can use in MA27's place (engine/dense_kkt.h),
+// The dense KKT solver that Ipopt can use in MA27's place (engine/solvers/ipopt/dense_kkt.h),
 // through MA27's own calling sequence as Ipopt's interface makes it: solutions
 // against the matrix, inertia against Eigen's eigenvalues, and MA27's error
 // codes for singular matrices, short workspaces and bad indices.
@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/dense_kkt.h"
+#include "engine/solvers/ipopt/dense_kkt.h"
 
 using namespace bristle;
 
@@ -242,7 +242,7 @@ TEST_CASE("KKT solver: blocks that hair volume couples are factored sparsely, sa
           "[solvers][dense_kkt]") {
   // 3 spines make one 48-row block, past kSparseMinRows (32): it is factored
   // as a sparse LDL^T with the rows of positive diagonal first
-  // (engine/dense_kkt.cpp). Its solutions solve the matrix, and its inertia is
+  // (engine/solvers/ipopt/dense_kkt.cpp). Its solutions solve the matrix, and its inertia is
   // the eigenvalues' count, whether H is positive definite (then exactly the
   // 12 constraints are negative) or not. The residual bound is the dense
   // test's: these matrices are as well conditioned (Sigma within 0.01-100).
@@ -390,7 +390,7 @@ TEST_CASE("KKT solver: a large sparse block is factored in minimum degree order,
           "less fill", "[solvers][dense_kkt]") {
   // 10 spines coupled make one 160-row block, past kOrderedMinRows (144):
   // its rows of positive diagonal are factored in Eigen's approximate
-  // minimum degree order (engine/dense_kkt.cpp). The solutions and inertia
+  // minimum degree order (engine/solvers/ipopt/dense_kkt.cpp). The solutions and inertia
   // are held as for the smaller blocks. The fill is compared with the same
   // block factored in its rows' own order (the positive rows first, as the
   // smaller blocks are; these rows are shuffled, volumeKkt): the degree order

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/simulation.h"
+#include "engine/model/brush.h"
+#include "engine/dynamics/simulation.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -634,7 +634,7 @@ TEST_CASE("a brush held still on the paper comes to rest and stops solving, wher
     CHECK(first_settled > 0);
     CHECK(b.stats().settled_steps == 0);
     // Where the solves would have kept it: within Ipopt's own accuracy at
-    // tol 1e-8, about 3e-5 mm (engine/simulation.h, kSettledMm). Observed:
+    // tol 1e-8, about 3e-5 mm (engine/dynamics/simulation.h, kSettledMm). Observed:
     // 2.0e-6 and 2.5e-6 mm.
     constexpr double kHeldMm = 3e-5;
     const double held_mm = maxJointDistanceMm(a.state(), b.state());

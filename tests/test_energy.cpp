@@ -6,9 +6,9 @@
 #include <cmath>
 #include <random>
 
-#include "engine/friction.h"
-#include "engine/smooth.h"
-#include "engine/spine_energy.h"
+#include "engine/mechanics/friction.h"
+#include "engine/base/smooth.h"
+#include "engine/mechanics/spine_energy.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -150,7 +150,7 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
 }
 
 TEST_CASE("hair volume between two free spines matches finite differences", "[energy][volume]") {
-  // Two spines of a whole-brush NLP (engine/ipopt_solver.cpp) coupled by one link
+  // Two spines of a whole-brush NLP (engine/solvers/ipopt/ipopt_solver.cpp) coupled by one link
   // per joint: gradient in both spines' angles, both diagonal blocks and the
   // cross block d2E / dq_b dq_a, all against central differences of the energy
   // and of the gradient. Re-based (bent past 90 degrees) and not.
@@ -336,7 +336,7 @@ TEST_CASE("anisotropic friction: C_eta removes friction along the pull direction
 
 TEST_CASE("friction joint by joint: the energy's friction, with its own derivatives",
           "[energy][friction]") {
-  // The epigraph form of engine/ipopt_solver.cpp takes the friction out of the
+  // The epigraph form of engine/solvers/ipopt/ipopt_solver.cpp takes the friction out of the
   // objective (EnergyParts::kWithoutFriction) and puts each joint's weight * G
   // into a constraint: the two must add back up to spineEnergy, and G's
   // gradient and Hessian must be G's own (central differences as above).

@@ -1,4 +1,4 @@
-// A brush's first-contact height (engine/first_contact.h) against closed forms,
+// A brush's first-contact height (engine/geometry/first_contact.h) against closed forms,
 // against the geometry the renderer draws, and trajectories whose heights are
 // press depths past it (resolveDepths).
 
@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush_geometry.h"
-#include "engine/first_contact.h"
-#include "engine/simulation.h"
-#include "engine/spine_solver.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/solvers/spine_solver.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -135,7 +135,7 @@ TEST_CASE("every library brush held at its first contact plus a gap draws nothin
   // The renderer's own geometry (surface, strips and spine tubes) of the brush
   // at rest, its ferrule at first contact + 1 mm: its lowest vertex is 1 mm
   // above the paper. Below: nothing may reach lower, the strips included
-  // (left out of first contact, engine/first_contact.h), but for the float
+  // (left out of first contact, engine/geometry/first_contact.h), but for the float
   // vertices' rounding (1e-4 mm). Above: the drawn half solids are sampled at
   // their pole, which for a slab tilted sideways lies above the solid's lowest
   // point (the flats' slabs: 0.034 mm, measured): allowed 0.05 mm, a third of

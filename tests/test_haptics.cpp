@@ -6,9 +6,9 @@
 #include <cmath>
 #include <thread>
 
-#include "engine/brush.h"
-#include "engine/simulation.h"
-#include "engine/spine_solver.h"
+#include "engine/model/brush.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/solvers/spine_solver.h"
 #include <atomic>
 #include <csignal>
 #include <fstream>

@@ -1,4 +1,4 @@
-// The process heap policy of engine/heap_policy.h: blocks of a few MiB come
+// The process heap policy of engine/base/heap_policy.h: blocks of a few MiB come
 // from the heap and stay mapped once freed, so that the next solve's work
 // arrays do not fault fresh pages in; very large blocks are still mapped on
 // their own. Read off glibc's own accounting (mallinfo2): hblks counts the
@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "engine/heap_policy.h"
+#include "engine/base/heap_policy.h"
 
 #if defined(__GLIBC__)
 #include <malloc.h>

@@ -8,11 +8,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/brush.h"
-#include "engine/error.h"
-#include "engine/simulation.h"
-#include "engine/spine_kinematics.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/base/error.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/mechanics/spine_kinematics.h"
+#include "engine/model/trajectory.h"
 
 namespace bristle::testing {
 

@@ -8,10 +8,10 @@
 #include <cmath>
 #include <string>
 
-#include "engine/brush.h"
-#include "engine/error.h"
-#include "engine/first_contact.h"
-#include "engine/text_file.h"
+#include "engine/model/brush.h"
+#include "engine/base/error.h"
+#include "engine/geometry/first_contact.h"
+#include "engine/base/text_file.h"
 #include "input/import.h"
 #include "input/pen_axis.h"
 #include "input/pen_mapping.h"

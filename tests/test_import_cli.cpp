@@ -21,9 +21,9 @@
 #include <vector>
 
 #include "cli_runner.h"
-#include "engine/brush.h"
-#include "engine/text_file.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/base/text_file.h"
+#include "engine/model/trajectory.h"
 #include "input/recording.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/mark_png.h"

@@ -1,5 +1,5 @@
 // Inputs every rule accepts but that are almost surely a mistake
-// (engine/input_warnings.h): a trajectory in milliseconds, one that plans
+// (engine/formats/input_warnings.h): a trajectory in milliseconds, one that plans
 // hours of solving, a brush whose spines and surface are in different units.
 // Each warning is checked as the whole line a user reads.
 
@@ -8,11 +8,11 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "engine/brush.h"
-#include "engine/input_warnings.h"
-#include "engine/simulation.h"
-#include "engine/text_file.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/formats/input_warnings.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/base/text_file.h"
+#include "engine/model/trajectory.h"
 
 using namespace bristle;
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "engine/simulation.h"
-#include "engine/spine_kinematics.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/mechanics/spine_kinematics.h"
 #include "test_helpers.h"
 
 using namespace bristle;

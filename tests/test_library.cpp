@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <functional>
 
-#include "engine/brush_geometry.h"
-#include "engine/simulation.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/dynamics/simulation.h"
 #include "render/stroke_renderer.h"
 
 using namespace bristle;
@@ -281,7 +281,7 @@ TEST_CASE("the footprint of a fixed pose is the same in two runs", "[library][de
 TEST_CASE("the hair left out above the contact band is exactly what the footprint drops",
           "[library][footprint]") {
   // BrushGeometry::build and buildHair, given the contact band, leave out
-  // the hair's triangles that stay above it (engine/brush_vertex.h,
+  // the hair's triangles that stay above it (engine/geometry/brush_vertex.h,
   // reachesDown). The footprint renderer drops such triangles anyway, so the
   // hair must be the full build's with them filtered out: the same
   // triangles, bit for bit, in the same order. The surface's triangles are

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/simulation.h"
+#include "engine/model/brush.h"
+#include "engine/dynamics/simulation.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/press_matrix.h"
 

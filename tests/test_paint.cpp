@@ -1,15 +1,15 @@
-// The paint model without GL (engine/pigments.h, engine/paint.h): Kubelka-Munk
+// The paint model without GL (engine/paint/pigments.h, engine/paint/paint.h): Kubelka-Munk
 // layers, mixing, loading, and transfer driven by synthetic footprints.
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
-#include "engine/brush_geometry.h"
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
-#include "engine/paint.h"
-#include "engine/pigments.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/paint/paint.h"
+#include "engine/paint/pigments.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -492,7 +492,7 @@ TEST_CASE("Transfer and paper are deterministic", "[paint][transfer]") {
 
 TEST_CASE("PaintCanvas: a pixel's tooth is the paper's at its centre, in any order of use",
           "[paint]") {
-  // The canvas works a pixel's tooth out on first use (engine/paint.h). It
+  // The canvas works a pixel's tooth out on first use (engine/paint/paint.h). It
   // must be paperTooth at the pixel's centre, exactly (the float of the
   // double), whichever pixels were asked for before: here every pixel of a
   // canvas, first in reverse order, then again from the start.

@@ -14,11 +14,11 @@
 #include <utility>
 #include <vector>
 
-#include "engine/fnv1a64.h"
-#include "engine/paint.h"
-#include "engine/pigments.h"
-#include "engine/solver_pair.h"
-#include "engine/spine_solver.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/paint/paint.h"
+#include "engine/paint/pigments.h"
+#include "engine/solvers/solver_pair.h"
+#include "engine/solvers/spine_solver.h"
 #include "render/compose.h"
 #include "render/image_compare.h"
 #include "render/step_pipeline.h"

@@ -6,8 +6,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "engine/simulation.h"
-#include "engine/spine_kinematics.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/mechanics/spine_kinematics.h"
 #include "test_helpers.h"
 
 using namespace bristle;

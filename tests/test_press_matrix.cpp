@@ -7,7 +7,7 @@
 #include <catch2/catch.hpp>
 #include <string>
 
-#include "engine/brush.h"
+#include "engine/model/brush.h"
 #include "tests/support/press_matrix.h"
 
 using namespace bristle;

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "batch/process_pool.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "temp_dir.h"
 
 using namespace bristle;

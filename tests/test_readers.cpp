@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/error.h"
-#include "engine/json_reader.h"
-#include "engine/spelling.h"
-#include "engine/text_file.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/base/error.h"
+#include "engine/base/json_reader.h"
+#include "engine/base/spelling.h"
+#include "engine/base/text_file.h"
+#include "engine/model/trajectory.h"
 #include "test_helpers.h"
 #include "temp_dir.h"
 

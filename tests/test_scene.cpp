@@ -1,4 +1,4 @@
-// The scene reader (`bristle-scene/1`, engine/scene.h): what a good scene turns
+// The scene reader (`bristle-scene/1`, engine/formats/scene.h): what a good scene turns
 // into, placement, and every bad input with its exit code and a message that
 // names the file, the JSON pointer and the rule (docs/scene-format.md).
 
@@ -11,8 +11,8 @@
 #include <sstream>
 #include <string>
 
-#include "engine/error.h"
-#include "engine/scene.h"
+#include "engine/base/error.h"
+#include "engine/formats/scene.h"
 #include "test_helpers.h"
 #include "temp_dir.h"
 
@@ -189,7 +189,7 @@ TEST_CASE("bad values are 65 naming the JSON pointer and the rule", "[scene]") {
        "scene.json: /strokes/0/paint/paints = [\"viridian\"]: ", "takes 2..3 paints"},
       {"tip_length without tip", [](json& j) { j["strokes"][0]["paint"]["tip_length"] = 0.2; },
        "scene.json: /strokes/0/paint/tip_length = 0.2: ", "applies only to mode \"tip\""},
-      // A tip over the whole hair, or none of it, is a solid load (engine/paint_spec.h).
+      // A tip over the whole hair, or none of it, is a solid load (engine/paint/paint_spec.h).
       {"tip_length 1", [](json& j) { j["strokes"][1]["paint"]["tip_length"] = 1; },
        "scene.json: /strokes/1/paint/tip_length = 1: ", "must be in (0, 1) (a fraction"},
       {"tip_length 0", [](json& j) { j["strokes"][1]["paint"]["tip_length"] = 0; },

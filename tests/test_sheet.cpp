@@ -1,4 +1,4 @@
-// The stroke-sheet reader (`bristle-sheet/1`, engine/sheet.h): what a good sheet
+// The stroke-sheet reader (`bristle-sheet/1`, engine/formats/sheet.h): what a good sheet
 // turns into, its defaults, and every bad input with its exit code and a message
 // naming the file, the JSON pointer and the rule (docs/sheet-format.md); the
 // inputs it lists and their hash.
@@ -13,10 +13,10 @@
 #include <sstream>
 #include <string>
 
-#include "engine/error.h"
-#include "engine/fnv1a64.h"
-#include "engine/sheet.h"
-#include "engine/text_file.h"
+#include "engine/base/error.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/formats/sheet.h"
+#include "engine/base/text_file.h"
 #include "test_helpers.h"
 #include "temp_dir.h"
 

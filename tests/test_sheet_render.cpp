@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <string>
 
-#include "engine/fnv1a64.h"
-#include "engine/sheet.h"
+#include "engine/base/fnv1a64.h"
+#include "engine/formats/sheet.h"
 #include "render/sheet_renderer.h"
 #include "render/text.h"
 #include "temp_dir.h"

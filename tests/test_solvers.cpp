@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "engine/error.h"
-#include "engine/ipopt_options.h"
-#include "engine/ipopt_timers.h"
-#include "engine/simulation.h"
-#include "engine/solver_pair.h"
-#include "engine/text_file.h"
+#include "engine/base/error.h"
+#include "engine/solvers/ipopt/ipopt_options.h"
+#include "engine/solvers/ipopt/ipopt_timers.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/solvers/solver_pair.h"
+#include "engine/base/text_file.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -268,7 +268,7 @@ TEST_CASE("slsqp and ipopt follow the same press-then-drag stroke: one spine",
 TEST_CASE("preconditioned slsqp converges in few evaluations while dragging",
           "[solvers][slsqp]") {
   // The same probe as above. SLSQP works on Hessian-scaled angles (see
-  // engine/slsqp_solver.cpp); without the scaling it needs 30-40 evaluations
+  // engine/solvers/slsqp_solver.cpp); without the scaling it needs 30-40 evaluations
   // per dragging step, with it about 9 (docs/PERFORMANCE.md, "SLSQP and
   // Ipopt"). The bound
   // of 15 sits between the two: it fails if the scaling stops working, and
@@ -340,7 +340,7 @@ TEST_CASE("ipopt: a hard press lays the belly on the paper, and joints out of re
           "[solvers][ipopt]") {
   // Ipopt's NLP leaves out the canvas constraint of a joint that no angles
   // could put on the paper: its root is higher than the segments before it
-  // are long (engine/ipopt_solver.cpp, reachingJoints). The probe spine of
+  // are long (engine/solvers/ipopt/ipopt_solver.cpp, reachingJoints). The probe spine of
   // 4 x 4 mm tilted 60 degrees is lowered from 20 mm, where no joint can
   // reach, until its root is 0.6 mm up, where every joint can and the belly
   // lies on the paper; then dragged. Along the way, joints drop in and out
@@ -363,7 +363,7 @@ TEST_CASE("ipopt: a hard press lays the belly on the paper, and joints out of re
   constexpr double kUnderPaperMm = 1e-6;
   // Out of reach: the root higher above the paper than the segments before
   // the joint are long, by more than the solver's margin for rounding
-  // (kCanvasClearanceMm in engine/ipopt_solver.cpp).
+  // (kCanvasClearanceMm in engine/solvers/ipopt/ipopt_solver.cpp).
   constexpr double kOutOfReachMm = 1e-3;
   int belly_contacts = 0, out_of_reach = 0;
   for (size_t i = 1; i < path.size(); ++i) {
@@ -454,7 +454,7 @@ TEST_CASE("one whole-brush Ipopt NLP and per-spine Ipopt solves reach the same o
 
 TEST_CASE("ipopt: friction in epigraph form reaches the objective form's optima",
           "[solvers][ipopt]") {
-  // engine/ipopt_solver.cpp can move each joint's friction into a constraint
+  // engine/solvers/ipopt/ipopt_solver.cpp can move each joint's friction into a constraint
   // on a variable t (the epigraph form, friction_form=epigraph). The minimum
   // is the same: from the same start, each step's problems solved both ways
   // agree as closely as two Ipopt optima at tol 1e-8 do (the test above).
@@ -518,7 +518,7 @@ TEST_CASE("ipopt: friction in epigraph form reaches the objective form's optima"
 TEST_CASE("ipopt: bristle's KKT solver reaches MUMPS's optima, with and without hair volume",
           "[solvers][ipopt][dense_kkt]") {
   // The default linear solver factors each block of Ipopt's KKT matrix
-  // densely (engine/dense_kkt.h); linear_solver=mumps is Ipopt's own. Both are
+  // densely (engine/solvers/ipopt/dense_kkt.h); linear_solver=mumps is Ipopt's own. Both are
   // backward stable, so from the same start Ipopt takes the same Newton steps
   // up to round-off: the joints agreed to 1.1e-10 mm over this path. 1e-6 mm
   // and 1e-6 N leave room for a step where round-off changes Ipopt's last
@@ -552,7 +552,7 @@ TEST_CASE("ipopt: bristle's KKT solver reaches MUMPS's optima, with and without 
   INFO(compared << " steps compared, joints at most " << worst_mm << " mm apart");
   CHECK(compared >= 20);
   // Two spines of 4 joints linked by hair volume: one KKT block of 32 rows,
-  // which bristle's solver factors sparsely (engine/dense_kkt.cpp). Splayed
+  // which bristle's solver factors sparsely (engine/solvers/ipopt/dense_kkt.cpp). Splayed
   // apart at rest, in the air, held by cohesion at their tips and kept apart
   // at their first joints: the same optimum as MUMPS's, to the same bound.
   SpineSpec sa = makeSpine({5.0, 5.0, 4.0, 3.0}, {3, 2, 1.5, 1}, 0.0, Eigen::Vector3d(1.0, 0, 0));
@@ -1066,7 +1066,7 @@ TEST_CASE("makeSolverPair: a brush's friction_form hint reaches Ipopt, and a run
 }
 
 // Ipopt 3.11 reads getrusage ~290 times per iteration; bristle answers those
-// reads with zeros inside a solve (engine/ipopt_timers.h). Nothing of Ipopt's
+// reads with zeros inside a solve (engine/solvers/ipopt/ipopt_timers.h). Nothing of Ipopt's
 // algorithm depends on them, so the same problems give bit-identical
 // solutions with the timers off (the default) and on (timing_statistics=yes).
 TEST_CASE("ipopt: its own timers are off while it solves, with bit-identical results",

@@ -9,10 +9,10 @@
 #include <numbers>
 #include <random>
 
-#include "engine/bristle_strips.h"
-#include "engine/spine_bundles.h"
-#include "engine/spine_solver.h"
-#include "engine/trajectory.h"
+#include "engine/geometry/bristle_strips.h"
+#include "engine/geometry/spine_bundles.h"
+#include "engine/solvers/spine_solver.h"
+#include "engine/model/trajectory.h"
 #include "test_helpers.h"
 
 using namespace bristle;
@@ -571,7 +571,8 @@ TEST_CASE("strips built for the contact band are exactly the whole strips' quads
   }
 }
 
-// ---- The spines' own bundles flatten and spread on the paper (engine/spine_bundles.h) ----
+// ---- The spines' own bundles flatten and spread on the paper ----
+// (engine/geometry/spine_bundles.h)
 
 TEST_CASE("a bundle pressed onto the paper keeps its area and spreads sideways", "[strips]") {
   const double r = 1.3;

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "engine/brush_surface.h"
-#include "engine/error.h"
-#include "engine/spine_bundles.h"
-#include "engine/spine_kinematics.h"
+#include "engine/geometry/brush_surface.h"
+#include "engine/base/error.h"
+#include "engine/geometry/spine_bundles.h"
+#include "engine/mechanics/spine_kinematics.h"
 #include "test_helpers.h"
 #include "tests/support/tube_cage.h"
 

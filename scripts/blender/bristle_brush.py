@@ -44,7 +44,7 @@ import bpy
 
 FORMAT = "bristle-brush/1"
 
-# Limits of the brush format (docs/brush-format.md, engine/brush.h).
+# Limits of the brush format (docs/brush-format.md, engine/model/brush.h).
 MAX_SPINES = 64
 MAX_JOINTS_PER_SPINE = 16
 MAX_CAGE_VERTICES = 4096

@@ -50,7 +50,7 @@ CASES = {
                             signal.SIGTERM, scene_setup),
 }
 # Every other catchable signal whose default action ends the process cleans up
-# alike (engine/temp_files.cpp); the faults of a bad instruction are left out.
+# alike (engine/base/temp_files.cpp); the faults of a bad instruction are left out.
 OTHER_SIGNALS = ["SIGHUP", "SIGQUIT", "SIGABRT", "SIGUSR1", "SIGUSR2", "SIGPIPE", "SIGALRM",
                  "SIGSTKFLT", "SIGXCPU", "SIGXFSZ", "SIGVTALRM", "SIGPROF", "SIGIO", "SIGPWR",
                  "SIGRTMIN", "SIGRTMAX"]

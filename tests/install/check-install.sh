@@ -24,9 +24,16 @@ for f in bin/bristle share/bristle/brushes/round.json share/bristle/brushes/fan.
          share/bristle/paintings/petals/dot.csv share/bristle/sheets/library.json \
          share/bristle/batch/standard.json share/bristle/blender/bristle_brush.py \
          share/bristle/docs/README.md share/bristle/docs/errors.md \
-         share/man/man1/bristle.1 include/bristle/engine/brush.h include/bristle/bristle/version.h \
+         share/man/man1/bristle.1 include/bristle/engine/model/brush.h \
+         include/bristle/engine/solvers/ipopt/ipopt_options.h include/bristle/bristle/version.h \
          lib/libbristle_engine.a lib/cmake/bristle/bristleConfig.cmake; do
   [[ -f prefix/$f ]] || fail "prefix/$f was not installed"
+done
+# Engine headers sit in their sub-folders (engine/CMakeLists.txt); the JSON
+# reader's, which names nlohmann-json, is not installed.
+for f in include/bristle/engine/brush.h include/bristle/engine/base/json_reader.h \
+         include/bristle/engine/CMakeLists.txt; do
+  [[ ! -e prefix/$f ]] || fail "prefix/$f was installed"
 done
 
 # A name is the install's brush: the installed copy does not look in the source tree.

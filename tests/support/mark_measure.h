@@ -7,7 +7,7 @@
 // 1 = fully inked, row 0 at the top (as in the PNGs bristle writes). A pixel is
 // "inked" when v > threshold. Pixel (c, r) covers canvas x in
 // [x0 + c / ppm, x0 + (c + 1) / ppm] and y in [y0 + (h - r - 1) / ppm, y0 + (h - r) / ppm]
-// (engine/canvas.h: x0, y0 is the bottom-left corner). coverageFromRgba8 and the
+// (engine/model/canvas.h: x0, y0 is the bottom-left corner). coverageFromRgba8 and the
 // PNG loader (mark_png.h) make one from a bristle image.
 
 #include <cstddef>

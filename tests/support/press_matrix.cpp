@@ -7,9 +7,9 @@
 #include <memory>
 #include <numbers>
 
-#include "engine/error.h"
-#include "engine/simulation.h"
-#include "engine/spine_solver.h"
+#include "engine/base/error.h"
+#include "engine/dynamics/simulation.h"
+#include "engine/solvers/spine_solver.h"
 
 namespace bristle::testsupport {
 

@@ -3,7 +3,7 @@
 // straight down to a fraction of its hair length, then pulled along +x or lifted
 // again, at a handle tilt -- and what the simulation made of it (failed steps,
 // time per step). Only the public simulation API is used, so the matrix measures
-// any implementation of engine/simulation.h.
+// any implementation of engine/dynamics/simulation.h.
 //
 // Tilt convention: the handle is rotated by `tilt_deg` about the world +y axis
 // (Eigen::AngleAxisd(tilt, UnitY)). The brush's +z (towards the handle) then
@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/brush.h"
-#include "engine/trajectory.h"
+#include "engine/model/brush.h"
+#include "engine/model/trajectory.h"
 
 namespace bristle::testsupport {
 
@@ -29,7 +29,7 @@ double restLowestZMm(const Brush& brush, const Pose& handle);
 // The handle height (z of the pose, mm) at which the brush at rest, with this
 // orientation, first touches z = 0 with a spine joint: where the solver's
 // contact (eq. 5) begins. The hair bundles around the spines reach lower and
-// touch first (bristle::firstContactHeightMm, engine/first_contact.h, what a
+// touch first (bristle::firstContactHeightMm, engine/geometry/first_contact.h, what a
 // trajectory's depth_mm counts from); the press matrix counts from the spines.
 double spineContactHeightMm(const Brush& brush, const Eigen::Quaterniond& tilt);
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/error.h"
-#include "engine/spine_kinematics.h"  // restPoints
+#include "engine/base/error.h"
+#include "engine/mechanics/spine_kinematics.h"  // restPoints
 
 namespace bristle {
 

@@ -2,7 +2,7 @@
 // A Catmull-Clark cage (paper §4.1) around any brush's spines, so that tests
 // can give a surface to brushes they build in code.
 
-#include "engine/brush.h"
+#include "engine/model/brush.h"
 
 namespace bristle {
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "bristle/version.h"
-#include "engine/brush.h"
+#include "engine/model/brush.h"
 #include "render/png_io.h"
 
 int main(int argc, char** argv) {

@@ -1,0 +1,679 @@
+#include "engine/paint/paint.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "engine/geometry/bristle_strips.h"
+#include "engine/geometry/brush_geometry.h"
+#include "engine/geometry/brush_surface.h"
+#include "engine/base/error.h"
+
+namespace bristle {
+namespace {
+
+double smoothstep(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3 - 2 * x);
+}
+
+// Half-width (in w) of the blend between two paints loaded side by side: a
+// painter dabs a double-loaded brush back and forth on the palette, which works
+// the two colours into each other over a band in the middle of the brush.
+constexpr double kAcrossBlendHalfWidth = 0.15;
+// Half-width (in v) of the blend between body and tip paint.
+constexpr double kTipBlendHalfWidth = 0.05;
+// How much a fully diluted paint (dilution 1) thins its pigment: K and S scaled
+// by 1 - this, and how much faster it flows (flow = 1 + dilution).
+constexpr double kDilutionThinning = 0.7;
+// How far apart the hairs' dry thresholds lie (see transfer): a fully dry
+// texel's barest hair (hair noise 0) needs tooth 0.9 + 1.0, which no paper
+// has, and its best (1) needs 0.9 - 1.0, which all has; so a spent brush
+// draws the lines of its best hairs, broken by the grain, not the grain's
+// dots (docs/paint.md, "Hair streaks").
+constexpr float kHairVariation = 2.0f;
+// The width of the tooth band over which a drying hair goes from no paint to full paint.
+constexpr float kInvDryEdge = 1 / 0.15f;
+// Volumes below this (mm^3) are treated as no paint (float noise, ~1e-6 of a pixel's film).
+constexpr float kVolumeEpsMm3 = 1e-12f;
+
+void mixInto(PaintCell& cell, float keep_mm3, const Optics& add, float add_mm3) {
+  const float total = keep_mm3 + add_mm3;
+  if (total <= kVolumeEpsMm3) {
+    cell.volume_mm3 = std::max(total, 0.0f);
+    return;
+  }
+  const float a = keep_mm3 / total, b = add_mm3 / total;
+  for (int i = 0; i < 3; ++i) {
+    cell.optics.k[i] = a * cell.optics.k[i] + b * add.k[i];
+    cell.optics.s[i] = a * cell.optics.s[i] + b * add.s[i];
+  }
+  cell.volume_mm3 = total;
+}
+
+std::uint64_t splitmix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+double latticeValue(std::int64_t ix, std::int64_t iy, std::uint64_t seed) {
+  const std::uint64_t h =
+      splitmix(seed ^ splitmix(static_cast<std::uint64_t>(ix) * 0x632be59bd9b4e019ULL ^
+                               splitmix(static_cast<std::uint64_t>(iy))));
+  return (h >> 11) * (1.0 / 9007199254740992.0);  // 53 bits -> [0, 1)
+}
+
+double valueNoise(double x, double y, std::uint64_t seed) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+  const double tx = smoothstep(x - fx), ty = smoothstep(y - fy);
+  const double a = latticeValue(ix, iy, seed), b = latticeValue(ix + 1, iy, seed);
+  const double c = latticeValue(ix, iy + 1, seed), d = latticeValue(ix + 1, iy + 1, seed);
+  return (a + (b - a) * tx) * (1 - ty) + (c + (d - c) * tx) * ty;
+}
+
+// Hair noise at s mm along a row of hairs `span` mm long: two octaves of value
+// noise, features kHairStreakMm and half that wide, stretched so that the
+// hairs range from nearly bare to fully loaded (value noise of two octaves
+// keeps mostly to its middle). `periodic`: the row closes on itself (around a
+// cross-section), so its noise wraps with no seam.
+double hairRowNoise(double s, double span, bool periodic, std::uint64_t seed) {
+  double sum = 0;
+  const double weights[2] = {0.6, 0.4};
+  for (int octave = 0; octave < 2; ++octave) {
+    const double feature = BrushTexelMap::kHairStreakMm / (1 << octave);
+    const std::int64_t cells =
+        std::max<std::int64_t>(1, std::llround(span / feature));
+    const double x = s / span * static_cast<double>(cells);
+    const double fx = std::floor(x);
+    std::int64_t i0 = static_cast<std::int64_t>(fx), i1 = i0 + 1;
+    if (periodic) {
+      i0 = ((i0 % cells) + cells) % cells;
+      i1 = ((i1 % cells) + cells) % cells;
+    }
+    const double a = latticeValue(i0, octave, seed), b = latticeValue(i1, octave, seed);
+    sum += weights[octave] * (a + (b - a) * smoothstep(x - fx));
+  }
+  return smoothstep((sum - 0.2) / 0.6);
+}
+
+constexpr std::uint64_t kHairSeedAround = 0x68616972'61726fULL;
+constexpr std::uint64_t kHairSeedAcross = 0x68616972'616372ULL;
+constexpr std::uint64_t kHairSeedStrips = 0x68616972'737472ULL;
+
+}  // namespace
+
+// ---------------------------------------------------------------- BrushTexelMap
+
+BrushTexelMap::BrushTexelMap(const Brush& brush) {
+  spines_ = static_cast<int>(brush.spines.size());
+  double lo = 1e300, hi = -1e300, length = 0;
+  for (const SpineSpec& s : brush.spines) {
+    const double half = s.width_mm.empty() ? 0 : 0.5 * s.width_mm.front();
+    lo = std::min(lo, s.root_mm.x() - half);
+    hi = std::max(hi, s.root_mm.x() + half);
+    double l = 0;
+    for (double seg : s.segment_lengths_mm) l += seg;
+    length = std::max(length, l);
+  }
+  std::unique_ptr<BrushSurface> surface;
+  if (brush.surface.present()) {
+    surface = std::make_unique<BrushSurface>(brush);
+    for (int i = 0; i < surface->refinedVertexCount(); ++i) {
+      const double x = surface->refinedRestPosition(i).x();
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  }
+  if (!(hi > lo)) {
+    lo = -0.5;
+    hi = 0.5;
+  }
+  x0_ = lo;
+  x1_ = hi;
+  texel_area_mm2_ = std::max(hi - lo, 1e-3) * std::max(length, 1e-3) / kTexels;
+
+  for (const SpineSpec& s : brush.spines) {
+    spine_w_.push_back(lateral(s.root_mm.x()));
+    const double width = s.width_mm.empty() ? 0 : s.width_mm.front();
+    spine_dw_.push_back(static_cast<float>(width / (x1_ - x0_)));
+  }
+
+  if (brush.strips.present()) {
+    const StripLayout layout = layoutStrips(brush);
+    strips_ = layout.count;
+    strip_root_width_mm_ = static_cast<float>(brush.strips.root_width_mm);
+    strip_tip_width_mm_ = static_cast<float>(brush.strips.tip_width_mm);
+    for (int k = 0; k < layout.count; ++k) {
+      strip_w_.push_back(lateral(layout.roots_mm[k].x()));
+      strip_hair_.push_back(static_cast<float>(
+          smoothstep((latticeValue(k, 0, kHairSeedStrips) - 0.1) / 0.8)));
+    }
+  }
+  const double width = x1_ - x0_;
+  if (spines_ > 0) {
+    const size_t n = static_cast<size_t>(std::ceil(width / kHairTableStepMm));
+    for (size_t i = 0; i <= n; ++i)
+      hair_across_.push_back(static_cast<float>(
+          hairRowNoise(width * static_cast<double>(i) / n, width, false, kHairSeedAcross)));
+  }
+
+  // Surface: mean rest x of the refined vertices in each (u, v) bin; an empty
+  // bin takes the mean of its u column, and an empty column a straight brush's
+  // cos(2 pi u) across the width.
+  surface_w_.assign(kSurfaceBinsU * kSurfaceBinsV, 0.5f);
+  if (surface) {
+    std::vector<double> sum(surface_w_.size(), 0), col_sum(kSurfaceBinsU, 0);
+    std::vector<int> n(surface_w_.size(), 0), col_n(kSurfaceBinsU, 0);
+    for (int i = 0; i < surface->refinedVertexCount(); ++i) {
+      const Eigen::Vector2f uv = surface->uv(i);
+      double u = uv.x() - std::floor(uv.x());
+      const int bu = std::min(kSurfaceBinsU - 1, static_cast<int>(u * kSurfaceBinsU));
+      const int bv = std::clamp(static_cast<int>(uv.y() * kSurfaceBinsV), 0, kSurfaceBinsV - 1);
+      const double w = lateral(surface->refinedRestPosition(i).x());
+      sum[bv * kSurfaceBinsU + bu] += w;
+      n[bv * kSurfaceBinsU + bu] += 1;
+      col_sum[bu] += w;
+      col_n[bu] += 1;
+    }
+    for (int bu = 0; bu < kSurfaceBinsU; ++bu) {
+      const double u = (bu + 0.5) / kSurfaceBinsU;
+      const double col = col_n[bu] > 0 ? col_sum[bu] / col_n[bu]
+                                       : 0.5 + 0.5 * std::cos(2 * M_PI * u);
+      for (int bv = 0; bv < kSurfaceBinsV; ++bv) {
+        const int b = bv * kSurfaceBinsU + bu;
+        surface_w_[b] = static_cast<float>(n[b] > 0 ? sum[b] / n[b] : col);
+      }
+    }
+    buildSurfaceHair(*surface);
+  }
+}
+
+// The rest cross-section as a closed curve in u: the mean rest (x, y) of the
+// refined vertices in each populated u bin, in order of u. Arc length along it
+// gives each surface hair its place in the bundle in mm.
+void BrushTexelMap::buildSurfaceHair(const BrushSurface& surface) {
+  struct Bin {
+    double u = 0, x = 0, y = 0;
+    int n = 0;
+  };
+  std::vector<Bin> bins(kSurfaceBinsU);
+  for (int i = 0; i < surface.refinedVertexCount(); ++i) {
+    const double u = surface.uv(i).x() - std::floor(surface.uv(i).x());
+    Bin& b = bins[std::min(kSurfaceBinsU - 1, static_cast<int>(u * kSurfaceBinsU))];
+    const Eigen::Vector3d p = surface.refinedRestPosition(i);
+    b.u += u;
+    b.x += p.x();
+    b.y += p.y();
+    ++b.n;
+  }
+  std::vector<Bin> ring;
+  for (Bin& b : bins)
+    if (b.n > 0) {
+      b.u /= b.n;
+      b.x /= b.n;
+      b.y /= b.n;
+      ring.push_back(b);
+    }
+  if (ring.size() < 3) return;
+  // Cumulative arc length at each populated bin, and the closed perimeter.
+  const size_t m = ring.size();
+  std::vector<double> arc(m, 0.0);
+  double run = 0;
+  for (size_t k = 1; k < m; ++k) {
+    run += std::hypot(ring[k].x - ring[k - 1].x, ring[k].y - ring[k - 1].y);
+    arc[k] = run;
+  }
+  const double perimeter = run + std::hypot(ring[0].x - ring[m - 1].x, ring[0].y - ring[m - 1].y);
+  if (!(perimeter > 1e-6)) return;
+  // Arc length at each bin edge u = e / kSurfaceBinsU, interpolated between
+  // populated bins (wrapping past the last to the first plus the perimeter).
+  surface_s_.assign(kSurfaceBinsU + 1, 0);
+  for (int e = 0; e <= kSurfaceBinsU; ++e) {
+    const double u = static_cast<double>(e) / kSurfaceBinsU;
+    size_t hi = 0;
+    while (hi < ring.size() && ring[hi].u < u) ++hi;
+    double u0, s0, u1, s1;
+    if (hi == 0) {
+      u0 = ring[m - 1].u - 1;
+      s0 = run - perimeter;
+      u1 = ring[0].u;
+      s1 = 0;
+    } else if (hi == m) {
+      u0 = ring[m - 1].u;
+      s0 = run;
+      u1 = ring[0].u + 1;
+      s1 = perimeter;
+    } else {
+      u0 = ring[hi - 1].u;
+      s0 = arc[hi - 1];
+      u1 = ring[hi].u;
+      s1 = arc[hi];
+    }
+    const double t = u1 > u0 ? (u - u0) / (u1 - u0) : 0;
+    double s = s0 + t * (s1 - s0);
+    s = std::fmod(s + perimeter, perimeter);  // in [0, perimeter)
+    surface_s_[e] = static_cast<float>(s);
+  }
+  // A bin straddling the seam would interpolate from near the perimeter back
+  // to near 0: unwrap so that each bin's edges increase.
+  for (int e = 1; e <= kSurfaceBinsU; ++e)
+    while (surface_s_[e] < surface_s_[e - 1]) surface_s_[e] += static_cast<float>(perimeter);
+  const size_t n = static_cast<size_t>(std::ceil(perimeter / kHairTableStepMm));
+  for (size_t i = 0; i < n; ++i)
+    hair_around_.push_back(static_cast<float>(hairRowNoise(
+        perimeter * static_cast<double>(i) / n, perimeter, true, kHairSeedAround)));
+  inv_step_around_ = static_cast<float>(n / perimeter);
+}
+
+float BrushTexelMap::lateral(double x_mm) const {
+  return static_cast<float>(std::clamp((x_mm - x0_) / (x1_ - x0_), 0.0, 1.0));
+}
+
+// ---------------------------------------------------------------- BrushPaint
+
+BrushPaint::BrushPaint(const Brush& brush)
+    : map_(brush), capacity_(brush.paint_capacity), cells_(BrushTexelMap::kTexels) {}
+
+void BrushPaint::clean() {
+  for (PaintCell& c : cells_) c = PaintCell{};
+  capacity_mm3_ = 0;
+}
+
+void BrushPaint::load(const PaintLoad& load, MixModel model, const std::string& where) {
+  auto fail = [&](const std::string& field, const std::string& rule) {
+    return dataError(where, field, rule);
+  };
+  const std::string mode = std::string("mode \"") + paintModeName(load.mode) + "\"";
+  if (const std::optional<PaintLoadProblem> e = checkPaintLoad(load, mode))
+    throw fail("/" + e->field, e->rule);
+  std::vector<Optics> paints(load.paints.size());
+  for (size_t i = 0; i < paints.size(); ++i) {
+    std::string why;
+    if (!resolvePaint(load.paints[i], model, &paints[i], &why))
+      throw fail("/paints/" + std::to_string(i), why);
+    const float thin = static_cast<float>(1 - kDilutionThinning * load.dilution);
+    if (model == MixModel::kKubelkaMunk)
+      for (int c = 0; c < 3; ++c) paints[i].k[c] *= thin, paints[i].s[c] *= thin;
+    else
+      for (int c = 0; c < 3; ++c) paints[i].s[c] *= thin;
+  }
+  model_ = model;
+  flow_ = 1 + load.dilution;
+  full_film_mm_ = kFullLoadFilmMm * capacity_;
+  const double film = full_film_mm_ * load.amount;
+  const float volume = static_cast<float>(film * map_.texelAreaMm2());
+  capacity_mm3_ = full_film_mm_ * map_.texelAreaMm2() * BrushTexelMap::kTexels;
+
+  for (int row = 0; row < BrushTexelMap::kRows; ++row)
+    for (int col = 0; col < BrushTexelMap::kColumns; ++col) {
+      const double w = BrushTexelMap::columnCentre(col), v = BrushTexelMap::rowCentre(row);
+      std::vector<double> weight(paints.size(), 0.0);
+      if (paints.size() == 1) {
+        weight[0] = 1;
+      } else if (load.mode == PaintLoad::Mode::kAcross) {
+        // Boundaries at k / n; each a smooth step of half-width kAcrossBlendHalfWidth.
+        const int n = static_cast<int>(paints.size());
+        double rest = 1;
+        for (int k = 0; k + 1 < n; ++k) {
+          const double b = double(k + 1) / n;
+          const double t = smoothstep((w - (b - kAcrossBlendHalfWidth)) /
+                                      (2 * kAcrossBlendHalfWidth));
+          weight[k] = rest * (1 - t);
+          rest *= t;
+        }
+        weight[n - 1] = rest;
+      } else {  // tip
+        const double b = 1 - load.tip_length;
+        const double t = smoothstep((v - (b - kTipBlendHalfWidth)) / (2 * kTipBlendHalfWidth));
+        weight[0] = 1 - t;
+        weight[1] = t;
+      }
+      PaintCell& cell = cells_[row * BrushTexelMap::kColumns + col];
+      cell = PaintCell{};
+      cell.volume_mm3 = volume;
+      for (size_t p = 0; p < paints.size(); ++p)
+        for (int c = 0; c < 3; ++c) {
+          cell.optics.k[c] += static_cast<float>(weight[p]) * paints[p].k[c];
+          cell.optics.s[c] += static_cast<float>(weight[p]) * paints[p].s[c];
+        }
+    }
+}
+
+double BrushPaint::totalVolumeMm3() const {
+  double v = 0;
+  for (const PaintCell& c : cells_) v += c.volume_mm3;
+  return v;
+}
+
+// ---------------------------------------------------------------- PaintCanvas
+
+double paperTooth(const PaperSpec& paper, double x_mm, double y_mm) {
+  if (paper.tooth_scale_mm <= 0) return 1;
+  const double x = x_mm / paper.tooth_scale_mm, y = y_mm / paper.tooth_scale_mm;
+  // Two octaves: the grain and a finer grain at half its size, 0.35 as strong.
+  const double n = valueNoise(x, y, paper.seed) + 0.35 * valueNoise(2 * x, 2 * y, paper.seed + 1);
+  return n / 1.35;
+}
+
+PaintCanvas::PaintCanvas(const CanvasGrid& grid, const PaperSpec& paper, MixModel model)
+    : grid_(grid), paper_(paper), model_(model) {
+  if (grid.width_px <= 0 || grid.height_px <= 0 || grid.width_px > kMaxCanvasSidePx ||
+      grid.height_px > kMaxCanvasSidePx ||
+      double(grid.width_px) * grid.height_px > double(kMaxCanvasPixels))
+    throw Error(ExitCode::kDataError,
+                "canvas of " + std::to_string(grid.width_px) + " x " +
+                    std::to_string(grid.height_px) +
+                    " px: must be 1 .. 16384 px a side and at most 64 Mpx");
+  Rgb colour;
+  if (!parseHexColour(paper.colour, &colour))
+    throw Error(ExitCode::kDataError,
+                "paper colour '" + paper.colour + "': must be a colour like " + kDefaultPaperColour);
+  if (!(paper.tooth_depth_mm >= 0) || !(paper.tooth_scale_mm > 0))
+    throw Error(ExitCode::kDataError,
+                "paper tooth: depth must be >= 0 mm and scale > 0 mm");
+  const size_t n = static_cast<size_t>(grid.width_px) * grid.height_px;
+  wet_.assign(n, PaintCell{});
+  const std::array<float, 3> bg = {static_cast<float>(srgbToLinear(colour.r)),
+                                   static_cast<float>(srgbToLinear(colour.g)),
+                                   static_cast<float>(srgbToLinear(colour.b))};
+  dry_.assign(n, bg);
+  dry_height_.assign(n, 0.0f);
+  tooth_.assign(n, -1.0f);  // tooth() fills each pixel in on first use
+}
+
+float PaintCanvas::toothAt(size_t i) const {
+  const int c = static_cast<int>(i % static_cast<size_t>(grid_.width_px));
+  const int r = static_cast<int>(i / static_cast<size_t>(grid_.width_px));
+  const double x = grid_.x0_mm + (c + 0.5) / grid_.px_per_mm;
+  const double y = grid_.y0_mm + (grid_.height_px - r - 0.5) / grid_.px_per_mm;
+  return static_cast<float>(paperTooth(paper_, x, y));
+}
+
+std::array<double, 3> PaintCanvas::reflectance(size_t i) const {
+  const std::array<double, 3> bg = {dry_[i][0], dry_[i][1], dry_[i][2]};
+  const PaintCell& w = wet_[i];
+  if (w.volume_mm3 <= kVolumeEpsMm3) return bg;
+  const double d = w.volume_mm3 / pixelAreaMm2() / kKmUnitFilmMm;
+  return filmOver(w.optics, d, bg, model_);
+}
+
+double PaintCanvas::heightMm(size_t i) const {
+  return dry_height_[i] + wet_[i].volume_mm3 / pixelAreaMm2();
+}
+
+void PaintCanvas::dry() {
+  for (size_t i = 0; i < wet_.size(); ++i) {
+    if (wet_[i].volume_mm3 > kVolumeEpsMm3) {
+      const std::array<double, 3> r = reflectance(i);
+      for (int c = 0; c < 3; ++c) dry_[i][c] = static_cast<float>(r[c]);
+      dry_height_[i] += static_cast<float>(wet_[i].volume_mm3 / pixelAreaMm2());
+    }
+    wet_[i] = PaintCell{};
+  }
+}
+
+double PaintCanvas::wetVolumeMm3() const {
+  double v = 0;
+  for (const PaintCell& c : wet_) v += c.volume_mm3;
+  return v;
+}
+
+double PaintCanvas::dryVolumeMm3() const {
+  double v = 0;
+  for (float h : dry_height_) v += h;
+  return v * pixelAreaMm2();
+}
+
+bool PaintCanvas::blank() const {
+  for (size_t i = 0; i < wet_.size(); ++i)
+    if (wet_[i].volume_mm3 > kVolumeEpsMm3 || dry_height_[i] > 0) return false;
+  return true;
+}
+
+// ---------------------------------------------------------------- transfer
+
+double compoundFraction(double fraction, double exposure) {
+  const double f = std::clamp(fraction, 0.0, 1.0);
+  if (!(exposure > 0)) return 0;
+  if (f >= 1) return 1;
+  return -std::expm1(exposure * std::log1p(-f));  // 1 - (1 - f)^exposure, exact near 0
+}
+
+namespace {
+
+constexpr int kTexels = BrushTexelMap::kTexels;
+
+// A pixel a texel of the brush touches in one step, and how hard: contact
+// sets the pickup, deposit (contact gated by dryness, scaled by the hair's
+// noise) the paint laid down.
+struct Touch {
+  std::uint32_t pixel;
+  std::uint16_t texel;
+  float contact, deposit;
+};
+
+// Per-step working arrays, reused from step to step (the engine runs on one
+// thread per canvas), so a step allocates nothing once warm.
+struct TransferScratch {
+  std::vector<Touch> touches;
+  std::vector<double> demand;    // per texel: the sum of its touches' deposit weights
+  std::vector<double> out_sum;   // per texel: paint given to the canvas (mm^3)
+  std::vector<double> in_sum;    // per texel: paint picked up (mm^3)
+  std::vector<std::array<float, 6>> in_optics;  // per texel: volume-weighted K and S picked up
+
+  void reset(size_t pixels) {
+    touches.clear();
+    demand.assign(kTexels, 0.0);
+    out_sum.assign(kTexels, 0.0);
+    in_sum.assign(kTexels, 0.0);
+    in_optics.assign(kTexels, {0, 0, 0, 0, 0, 0});
+    touches.reserve(pixels);
+  }
+};
+
+// Per texel: how far it has run dry (0 at dry_load or more, 1 empty).
+std::array<float, kTexels> texelDryness(const BrushPaint& brush, const TransferParams& params) {
+  std::array<float, kTexels> dryness;
+  const double texel_area = brush.map().texelAreaMm2();
+  const double full_film = std::max(brush.fullFilmMm(), 1e-12);
+  for (int t = 0; t < kTexels; ++t) {
+    const double load = brush.cell(t).volume_mm3 / texel_area / full_film;
+    dryness[t] = static_cast<float>(std::clamp(1 - load / params.dry_load, 0.0, 1.0));
+  }
+  return dryness;
+}
+
+// Stage 1 of transfer: who touches what, and how hard. Fills scratch.touches
+// and scratch.demand; returns the number of touching pixels.
+int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintCanvas& canvas,
+                  const TransferParams& params, const std::array<float, kTexels>& dryness,
+                  TransferScratch& scratch) {
+  std::vector<Touch>& touches = scratch.touches;
+  std::vector<double>& demand = scratch.demand;
+  const CanvasGrid& g = canvas.grid();
+  const BrushTexelMap& map = brush.map();
+  const float tooth_depth = static_cast<float>(canvas.paper().tooth_depth_mm);
+  const float bridging = static_cast<float>(std::max(params.hair_bridging, 1.0));
+  const float valley_reach = tooth_depth * bridging;
+  const float inv_scale = static_cast<float>(1.0 / canvas.paper().tooth_scale_mm);
+  const float inv_band = static_cast<float>(1.0 / fp.contact_band_mm);
+  const float streaks = static_cast<float>(std::clamp(params.hair_streaks, 0.0, 2.0));
+  const float dry_threshold = static_cast<float>(params.dry_threshold);
+  int contact_px = 0;
+  for (int r = 0; r < fp.height; ++r) {
+    const int row = fp.row0 + r;
+    if (row < 0 || row >= g.height_px) continue;
+    const float* px = fp.texels + static_cast<size_t>(r) * fp.width * 4;
+    for (int c = 0; c < fp.width; ++c, px += 4) {
+      if (px[3] <= 0) continue;
+      const int col = fp.col0 + c;
+      if (col < 0 || col >= g.width_px) continue;
+      const size_t i = canvas.index(col, row);
+      // The brush reaches the paper where it dips below the paper's surface: the
+      // peaks (tooth 1) at the top of the contact band, the valleys lower. Hairs
+      // bridge the grain rather than follow it: reaching the floor of a valley
+      // tooth_depth deep takes hair_bridging times that much pressing (footprint
+      // depth), so a light touch catches only the peaks.
+      // Contact saturates (x (2 - x)): hairs bend and spread as they press, so a
+      // hair half-way into the band already lays down three quarters of its paint.
+      // A hair strip narrower than the grain bridges it less (hair_bridging).
+      const float strip_w = map.stripWidthMm(px[0], px[1]);
+      const float reach =
+          strip_w > 0 ? tooth_depth * (1 + (bridging - 1) * std::min(1.0f, strip_w * inv_scale))
+                      : valley_reach;
+      const float x =
+          std::clamp((px[2] - reach * (1 - canvas.tooth(i))) * inv_band, 0.0f, 1.0f);
+      // A hair finer than the pixel touches only its share of it (px[3] < 1).
+      const float contact = x * (2 - x) * std::min(px[3], 1.0f);
+      if (contact <= 0) continue;
+      const int t = map.texel(px[0], px[1]);
+      // Hairs differ (hairNoise, fixed per hair, so its effects streak along
+      // the stroke): a hair holding less lays a thinner film (streaks), and
+      // as its texel runs dry it gives paint only where the paper stands
+      // higher (tooth) than a threshold that grows with the dryness, sooner
+      // for the barer hairs: streaks along travel, broken by the grain's
+      // valleys (dry brush). A texel that is not running dry is not gated.
+      const float hair = map.hairNoise(px[0], px[1]);
+      const float d = dryness[t];
+      const float need = d * (dry_threshold - d * kHairVariation * (hair - 0.5f));
+      const float gate =
+          std::clamp((canvas.tooth(i) - need) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
+      const float dep = contact * gate * (1 + streaks * (hair - 0.5f));
+      touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), contact,
+                         dep});
+      demand[t] += dep;
+      ++contact_px;
+    }
+  }
+  return contact_px;
+}
+
+// Stage 2: deposit and pickup per pixel, from the texels' paint at the start
+// of the step. Rates are per reference step of contact
+// (TransferParams::exposure): an amount per step scales with the exposure, a
+// fraction taken per step compounds as 1 - (1 - f)^exposure. Sums what each
+// texel gave and took up in scratch.out_sum, in_sum and in_optics.
+void depositAndPickUp(const BrushPaint& brush, PaintCanvas& canvas, const TransferParams& params,
+                      double exposure, TransferScratch& scratch) {
+  const double area_px = canvas.pixelAreaMm2();
+  const double full_film = std::max(brush.fullFilmMm(), 1e-12);
+  const double rate = params.deposit_rate * exposure * brush.flow();
+  const double max_out = compoundFraction(params.max_out_fraction, exposure);
+  std::array<float, kTexels> per_pixel;  // deposit per unit of `deposit` contact (mm^3)
+  for (int t = 0; t < kTexels; ++t) {
+    const double v = brush.cell(t).volume_mm3;
+    // The paper takes paint at a rate set by the paint, not by how much the hairs
+    // hold: a fixed share of a full load's film per step, as long as the texel
+    // has it. So a lightly loaded brush runs out sooner, not thinner.
+    const double want = rate * full_film * area_px;
+    const double total = want * scratch.demand[t];
+    const double cap = max_out * v;
+    per_pixel[t] = static_cast<float>(total > cap && total > 0 ? want * cap / total : want);
+  }
+  const float pickup = static_cast<float>(compoundFraction(params.pickup_rate, exposure));
+  for (const Touch& h : scratch.touches) {
+    PaintCell& px = canvas.wet(h.pixel);
+    const PaintCell& tex = brush.cell(h.texel);
+    const float out = per_pixel[h.texel] * h.deposit;
+    const float in = pickup * h.contact * px.volume_mm3;
+    if (in > 0) {
+      scratch.in_sum[h.texel] += in;
+      // Optics sums in float: they set a colour, not a volume (1e-7 is invisible).
+      std::array<float, 6>& acc = scratch.in_optics[h.texel];
+      for (int k = 0; k < 3; ++k) {
+        acc[k] += in * px.optics.k[k];
+        acc[3 + k] += in * px.optics.s[k];
+      }
+    }
+    scratch.out_sum[h.texel] += out;
+    mixInto(px, px.volume_mm3 - in, tex.optics, out);
+  }
+}
+
+// Stage 3: the brush texture loses what it gave and mixes in what it picked up.
+void settleTexels(BrushPaint& brush, const TransferScratch& scratch, TransferStats* stats) {
+  for (int t = 0; t < kTexels; ++t) {
+    if (scratch.out_sum[t] == 0 && scratch.in_sum[t] == 0) continue;
+    PaintCell& cell = brush.cell(t);
+    Optics picked;
+    if (scratch.in_sum[t] > 0)
+      for (int k = 0; k < 3; ++k) {
+        picked.k[k] = static_cast<float>(scratch.in_optics[t][k] / scratch.in_sum[t]);
+        picked.s[k] = static_cast<float>(scratch.in_optics[t][3 + k] / scratch.in_sum[t]);
+      }
+    mixInto(cell, static_cast<float>(cell.volume_mm3 - scratch.out_sum[t]), picked,
+            static_cast<float>(scratch.in_sum[t]));
+    stats->deposited_mm3 += scratch.out_sum[t];
+    stats->picked_up_mm3 += scratch.in_sum[t];
+  }
+}
+
+// Stage 4, the reservoir: within each column (one lateral position of the
+// hair bundle) paint flows from texels holding more than the column's mean
+// towards those holding less, a fraction `flow` of the difference. The givers'
+// paint is pooled, so the receivers get the givers' mixture.
+void flowWithinColumns(BrushPaint& brush, double flow) {
+  constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
+  const float phi = static_cast<float>(flow);
+  for (int col = 0; col < C; ++col) {
+    double mean = 0;
+    for (int row = 0; row < R; ++row) mean += brush.cell(row * C + col).volume_mm3;
+    mean /= R;
+    double pool = 0, pool_k[3] = {0, 0, 0}, pool_s[3] = {0, 0, 0}, want = 0;
+    for (int row = 0; row < R; ++row) {
+      PaintCell& cell = brush.cell(row * C + col);
+      const double excess = cell.volume_mm3 - mean;
+      if (excess > 0) {
+        const float give = static_cast<float>(phi * excess);
+        cell.volume_mm3 -= give;
+        pool += give;
+        for (int k = 0; k < 3; ++k) {
+          pool_k[k] += double(give) * cell.optics.k[k];
+          pool_s[k] += double(give) * cell.optics.s[k];
+        }
+      } else {
+        want += phi * -excess;
+      }
+    }
+    if (pool <= 0 || want <= 0) continue;
+    Optics pooled;
+    for (int k = 0; k < 3; ++k) {
+      pooled.k[k] = static_cast<float>(pool_k[k] / pool);
+      pooled.s[k] = static_cast<float>(pool_s[k] / pool);
+    }
+    // Receivers share the pool in proportion to their shortfall (pool == want up to
+    // rounding; scaling by pool / want keeps the sum exact).
+    const double scale = pool / want;
+    for (int row = 0; row < R; ++row) {
+      PaintCell& cell = brush.cell(row * C + col);
+      // Only texels that were below the mean before the givers gave (a giver
+      // ends at or above the mean, so "below the mean" still picks them).
+      if (cell.volume_mm3 >= mean) continue;
+      const float take = static_cast<float>(phi * (mean - cell.volume_mm3) * scale);
+      mixInto(cell, cell.volume_mm3, pooled, take);
+    }
+  }
+}
+
+}  // namespace
+
+TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& canvas,
+                       const TransferParams& params) {
+  thread_local TransferScratch tl_scratch;
+  TransferScratch& scratch = tl_scratch;  // no thread-local lookup inside the loops
+  scratch.reset(static_cast<size_t>(fp.width) * fp.height);
+  const std::array<float, kTexels> dryness = texelDryness(brush, params);
+  TransferStats stats;
+  stats.contact_px = gatherTouches(fp, brush, canvas, params, dryness, scratch);
+  const double exposure = std::max(params.exposure, 0.0);
+  depositAndPickUp(brush, canvas, params, exposure, scratch);
+  settleTexels(brush, scratch, &stats);
+  const double flow = compoundFraction(params.reservoir_flow, exposure);
+  if (flow > 0) flowWithinColumns(brush, flow);
+  return stats;
+}
+
+}  // namespace bristle
