@@ -314,7 +314,8 @@ class LibraryRoundTrip(unittest.TestCase):
     """Import each library brush, save the .blend, reopen it, export: the same brush."""
 
     def test_every_library_brush(self):
-        self.assertEqual(len(LIBRARY), 7)
+        # The glob found the library: its seven hand-made brushes and the fitted ones.
+        self.assertGreaterEqual(len(LIBRARY), 8)
         lib = os.path.join(TMP, "library")
         os.makedirs(lib, exist_ok=True)
         script = os.path.join(HERE, "tests", "round_trip.py")
@@ -338,7 +339,7 @@ class LibraryRoundTrip(unittest.TestCase):
                 exported.append(out)
         rc, out, err = run_bristle(["validate"] + exported)
         self.assertEqual(rc, 0, err)
-        self.assertEqual(out.count(": ok"), 7, out)
+        self.assertEqual(out.count(": ok"), len(LIBRARY), out)
 
     def test_edit_and_export_again(self):
         # Import round, edit it in Blender (tests/edit_round.py: turn a tip bone, lower
