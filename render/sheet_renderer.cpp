@@ -54,19 +54,23 @@ Image8 fittedText(Font& font, std::string text, int size_px, int max_width) {
 // What makes it too large is named: the title when it alone is wider than
 // the limit, else the cells' size.
 void checkSheetSize(const Sheet& sheet, double width, double height, double title_width) {
+  if (title_width > kMaxCanvasSidePx)
+    throw dataError(sheet.path, "/title",
+                    "the title alone makes the sheet " + std::to_string(long(title_width)) +
+                        " px wide, above the limit of 16384 px a side; shorten it");
   if (width <= kMaxCanvasSidePx && height <= kMaxCanvasSidePx &&
       width * height <= double(kMaxCanvasPixels))
     return;
-  const std::string size = "the sheet would be " + std::to_string(long(width)) + " x " +
-                           std::to_string(long(height)) +
-                           " px or more, above the limit of 16384 px a side and 64 Mpx";
-  if (title_width > kMaxCanvasSidePx)
-    throw dataError(sheet.path, "/title",
-                    size + ": the title alone is " + std::to_string(long(title_width)) +
-                        " px wide; shorten it");
   throw dataError(sheet.path, sheet.autoCell() ? "/px_per_mm" : "/cell_mm",
-                  size + "; lower px_per_mm or the cell size");
+                  "the sheet would be " + std::to_string(long(width)) + " x " +
+                      std::to_string(long(height)) +
+                      " px or more, above the limit of 16384 px a side and 64 Mpx; lower "
+                      "px_per_mm or the cell size");
 }
+
+// The title's size and the margins around it (the title is 1.5 times the labels).
+int labelMarginPx(const Sheet& sheet) { return std::max(8, sheet.label_px); }
+int titlePx(const Sheet& sheet) { return sheet.label_px * 3 / 2; }
 
 }  // namespace
 
@@ -178,8 +182,8 @@ Labels layOutLabels(const Sheet& sheet, SheetLayout* L) {
   Font font;
   Labels labels;
   const int label_px = sheet.label_px;
-  const int title_px = label_px * 3 / 2;
-  labels.margin = std::max(8, label_px);
+  const int title_px = titlePx(sheet);
+  labels.margin = labelMarginPx(sheet);
   const int margin = labels.margin;
   const int gap = std::max(4, label_px / 2);
   const int line_h = font.rasterize("Ag", label_px).height;
@@ -291,6 +295,12 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
     const double grid_w = L.cols * (std::lround(sheet.cell_width_mm * ppm) + 1.0) + 1;
     const double grid_h = L.rows * (std::lround(sheet.cell_height_mm * ppm) + 1.0) + 1;
     checkSheetSize(sheet, grid_w, grid_h, 0);
+  }
+  // So does the title's width.
+  if (!sheet.title.empty()) {
+    Font font;
+    checkSheetSize(sheet, 0, 0,
+                   2.0 * labelMarginPx(sheet) + font.rasterize(sheet.title, titlePx(sheet)).width);
   }
 
   const std::vector<Image8> strokes = paintCells(sheet, options, plan, on_step, &out);
