@@ -1,6 +1,7 @@
 #include "bristle/render.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "api/model.h"
@@ -13,14 +14,20 @@ namespace bristle::api {
 namespace {
 
 // The ranges `bristle render` checks on its options (cli/options.cpp,
-// cli/render_command.cpp), for the fields of the same names.
-void checkRange(const char* field, double v, double lo, double hi, bool lo_open = false) {
-  const bool ok = std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi;
+// cli/render_command.cpp), for the fields of the same names. The paint's and
+// paper's fields meet their rules in strokeSetupOf, as the CLI's do.
+std::string shortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+void checkRange(const char* field, double v, double lo, double hi) {
+  const bool ok = std::isfinite(v) && v >= lo && v <= hi;
   if (!ok)
-    throw api::Error(ErrorCategory::kUsage,
-                     std::string("RenderOptions.") + field + " " + std::to_string(v) +
-                         ": must be in " + (lo_open ? "(" : "[") + std::to_string(lo) + ", " +
-                         std::to_string(hi) + "]");
+    throw api::Error(ErrorCategory::kUsage, std::string("RenderOptions.") + field + " " +
+                                                shortNumber(v) + ": must be in [" +
+                                                shortNumber(lo) + ", " + shortNumber(hi) + "]");
 }
 
 void checkRenderRanges(const RenderOptions& o) {
@@ -30,8 +37,6 @@ void checkRenderRanges(const RenderOptions& o) {
   checkRange("steady_step_mm", o.steady_step_mm, 0, 5);
   checkRange("min_rate_hz", o.min_rate_hz, 1, 10000);
   checkRange("contact_band_mm", o.contact_band_mm, 0.001, 2);
-  checkRange("amount", o.amount, 0, 1, true);
-  checkRange("tip_length", o.tip_length, 0, 1, true);
 }
 
 }  // namespace

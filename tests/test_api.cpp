@@ -179,8 +179,12 @@ TEST_CASE("api: bad input raises Error naming the argument and the rule", "[api]
   const api::Trajectory t = api::Trajectory::fromArrays({0, 0.1, 0.2}, {{0, 0, 30}, {1, 0, 30}, {2, 0, 30}}, kUpright);
   api::RenderOptions bad_px;
   bad_px.px_per_mm = 0;
-  CHECK_THAT(errorOf([&] { api::renderStroke(round, t, bad_px); }, C::kUsage),
-             Catch::StartsWith("RenderOptions.px_per_mm 0.000000: must be in [0.500000"));
+  CHECK(errorOf([&] { api::renderStroke(round, t, bad_px); }, C::kUsage) ==
+        "RenderOptions.px_per_mm 0: must be in [0.5, 100]");
+  api::RenderOptions bad_amount;
+  bad_amount.amount = nan;
+  CHECK_THAT(errorOf([&] { api::renderStroke(round, t, bad_amount); }, C::kDataError),
+             Catch::StartsWith("RenderOptions.amount nan: "));
   api::RenderOptions bad_paint;
   bad_paint.paint = "no-such-pigment";
   CHECK_THAT(errorOf([&] { api::renderStroke(round, t, bad_paint); }, C::kDataError),
