@@ -8,6 +8,9 @@
 #include "api/stroke_setup.h"
 #include "engine/dynamics/simulation.h"
 #include "engine/geometry/first_contact.h"
+#include "engine/model/canvas.h"
+#include "render/compose.h"
+#include "render/stroke_pipeline.h"
 
 namespace bristle::api {
 
@@ -39,6 +42,27 @@ void checkRenderRanges(const RenderOptions& o) {
   checkRange("contact_band_mm", o.contact_band_mm, 0.001, 2);
 }
 
+// An 8-bit composition of a canvas as the public Image, placed on the canvas.
+Image imageOf(const render::Image8& image8, const CanvasGrid& grid) {
+  Image image;
+  image.width_px = image8.width;
+  image.height_px = image8.height;
+  image.channels = image8.channels;
+  image.pixels = image8.pixels;
+  image.px_per_mm = grid.px_per_mm;
+  image.x0_mm = grid.x0_mm;
+  image.y0_mm = grid.y0_mm;
+  return image;
+}
+
+// As `bristle render` (cli/render_command.cpp): depths become this brush's
+// ferrule heights, then the trajectory is checked against the brush.
+bristle::Trajectory placedFor(const Trajectory& trajectory, const bristle::Brush& brush) {
+  bristle::Trajectory t = resolveDepths(trajectory.model().trajectory, brush);
+  validateTrajectoryForBrush(t, brush);
+  return t;
+}
+
 }  // namespace
 
 RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
@@ -47,27 +71,92 @@ RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
     checkRenderRanges(options);
     const render::StrokeSetup setup = strokeSetupOf(options, {}, apiOptionNames());
     const bristle::Brush& b = brush.model().brush;
-    // As `bristle render` (cli/render_command.cpp): depths become this brush's
-    // ferrule heights, then the trajectory is checked against the brush and
-    // the canvas's size before anything is simulated.
-    const bristle::Trajectory t = resolveDepths(trajectory.model().trajectory, b);
-    validateTrajectoryForBrush(t, b);
-    render::canvasForStroke(b, t, setup.stroke);
+    const bristle::Trajectory t = placedFor(trajectory, b);
+    render::canvasForStroke(b, t, setup.stroke);  // fails early if too large
     const StrokePixels pixels = paintStrokePixels(b, t, setup, options.impasto);
     RenderResult r;
-    const CanvasGrid& grid = pixels.painted.canvas.grid();
-    r.image.width_px = pixels.image.width;
-    r.image.height_px = pixels.image.height;
-    r.image.channels = pixels.image.channels;
-    r.image.pixels = pixels.image.pixels;
-    r.image.px_per_mm = grid.px_per_mm;
-    r.image.x0_mm = grid.x0_mm;
-    r.image.y0_mm = grid.y0_mm;
+    r.image = imageOf(pixels.image, pixels.painted.canvas.grid());
     r.touched = pixels.painted.stroke.touched;
     r.ink_pixels = pixels.ink_pixels;
     r.paint_laid_mm3 = pixels.painted.stroke.deposited_mm3;
     r.failed_spine_solves = pixels.painted.stroke.stats.failed_spine_solves;
     return r;
+  });
+}
+
+struct Canvas::Impl {
+  render::StrokeRenderer renderer;  // one GL context for every stroke
+  PaintCanvas canvas;
+  render::StrokeSetup paper;  // the canvas's paper, mix and resolution
+};
+
+namespace {
+
+CanvasGrid canvasGrid(double x0_mm, double y0_mm, int width_px, int height_px,
+                      double px_per_mm) {
+  const bool fits = width_px >= 1 && height_px >= 1 && width_px <= kMaxCanvasSidePx &&
+                    height_px <= kMaxCanvasSidePx &&
+                    long(width_px) * height_px <= kMaxCanvasPixels;
+  if (!fits)
+    throw api::Error(ErrorCategory::kUsage,
+                     "Canvas: " + std::to_string(width_px) + " x " + std::to_string(height_px) +
+                         " px: must be 1 to 16384 px a side and at most 64 Mpx");
+  if (!std::isfinite(x0_mm) || !std::isfinite(y0_mm) || std::fabs(x0_mm) > kMaxPositionMm ||
+      std::fabs(y0_mm) > kMaxPositionMm)
+    throw api::Error(ErrorCategory::kUsage,
+                     "Canvas: x0_mm, y0_mm: must be finite and within +-100000 mm");
+  CanvasGrid grid;
+  grid.x0_mm = x0_mm;
+  grid.y0_mm = y0_mm;
+  grid.width_px = width_px;
+  grid.height_px = height_px;
+  grid.px_per_mm = px_per_mm;
+  return grid;
+}
+
+}  // namespace
+
+Canvas::Canvas(double x0_mm, double y0_mm, int width_px, int height_px,
+               const RenderOptions& paper) {
+  translateErrors([&] {
+    checkRenderRanges(paper);
+    const render::StrokeSetup setup = strokeSetupOf(paper, {}, apiOptionNames());
+    const CanvasGrid grid = canvasGrid(x0_mm, y0_mm, width_px, height_px, paper.px_per_mm);
+    impl_.reset(new Impl{render::StrokeRenderer(), PaintCanvas(grid, setup.paper, setup.mix),
+                         setup});
+  });
+}
+
+Canvas::~Canvas() = default;
+Canvas::Canvas(Canvas&&) noexcept = default;
+Canvas& Canvas::operator=(Canvas&&) noexcept = default;
+
+StrokeFacts Canvas::addStroke(const Brush& brush, const Trajectory& trajectory,
+                              const RenderOptions& options) {
+  return translateErrors([&] {
+    RenderOptions own = options;
+    own.px_per_mm = impl_->canvas.grid().px_per_mm;
+    checkRenderRanges(own);
+    render::StrokeSetup setup = strokeSetupOf(own, {}, apiOptionNames());
+    setup.paper = impl_->paper.paper;
+    setup.mix = impl_->paper.mix;
+    const bristle::Brush& b = brush.model().brush;
+    const bristle::Trajectory t = placedFor(trajectory, b);
+    render::StrokeResult stroke;
+    double loaded_mm3 = 0, left_mm3 = 0;
+    render::paintStrokeOnto(impl_->renderer, b, t, setup, &impl_->canvas, &stroke, &loaded_mm3,
+                            &left_mm3);
+    return StrokeFacts{stroke.touched, stroke.deposited_mm3, stroke.stats.failed_spine_solves};
+  });
+}
+
+void Canvas::dry() { impl_->canvas.dry(); }
+
+Image Canvas::image(bool impasto) const {
+  return translateErrors([&] {
+    render::ComposeOptions compose;
+    compose.impasto = impasto;
+    return imageOf(render::composeRgb8(impl_->canvas, compose), impl_->canvas.grid());
   });
 }
 

@@ -124,6 +124,50 @@ TEST_CASE("api: renderStroke paints bristle render's pixels byte for byte", "[ap
   }
 }
 
+// Pixels of an image unlike its corner (bare paper): kInkLevels's rule
+// (render/compose.h), more than 6 levels summed over R, G, B.
+long inkedPixels(const api::Image& image) {
+  const auto& px = image.pixels;
+  long n = 0;
+  for (size_t i = 0; i < px.size(); i += 3)
+    n += std::abs(px[i] - px[0]) + std::abs(px[i + 1] - px[1]) + std::abs(px[i + 2] - px[2]) > 6;
+  return n;
+}
+
+TEST_CASE("api: a Canvas paints renderStroke's pixels, and a second stroke adds to them",
+          "[api]") {
+  unsetenv("GALLIUM_DRIVER");
+  TempDir dir("bristle-api");
+  const bristle::Trajectory t = bristle::loadTrajectory(shortStroke(dir));
+  std::vector<double> t_s;
+  std::vector<std::array<double, 3>> xyz, shifted;
+  api::Trajectory::Quaternions q;
+  for (const bristle::TrajectorySample& s : t.samples) {
+    const Eigen::Vector3d& p = s.pose.position_mm;
+    t_s.push_back(s.t_s);
+    xyz.push_back({p.x(), p.y(), p.z()});
+    shifted.push_back({p.x(), p.y() + 3, p.z()});  // 3 mm up the canvas: inside its margin
+    q.push_back({s.pose.rotation.w(), s.pose.rotation.x(), s.pose.rotation.y(),
+                 s.pose.rotation.z()});
+  }
+  const api::Brush round = api::Brush::load(sourcePath("scenes/brushes/round.json"));
+  api::RenderOptions options;
+  options.px_per_mm = 4;
+  const api::RenderResult alone =
+      api::renderStroke(round, api::Trajectory::fromArrays(t_s, xyz, q), options);
+  api::Canvas canvas(alone.image.x0_mm, alone.image.y0_mm, alone.image.width_px,
+                     alone.image.height_px, options);
+  const api::StrokeFacts first =
+      canvas.addStroke(round, api::Trajectory::fromArrays(t_s, xyz, q), options);
+  CHECK(first.touched);
+  const api::Image one = canvas.image();
+  CHECK(one.pixels == alone.image.pixels);  // one stroke: the same path to the same pixels
+  canvas.addStroke(round, api::Trajectory::fromArrays(t_s, shifted, q), options);
+  const long after_two = inkedPixels(canvas.image());
+  CHECK(after_two > inkedPixels(one));  // the second stroke laid paint where the first had none
+  CHECK_THROWS_AS(api::Canvas(0, 0, 0, 10), api::Error);
+}
+
 TEST_CASE("api: RenderOptions' defaults are bristle render's", "[api]") {
   const api::RenderOptions o;
   const bristle::SimOptions sim;

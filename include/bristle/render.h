@@ -10,6 +10,7 @@
 // plus a 5 mm margin; Image says where it lies on the canvas (mm).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -64,5 +65,42 @@ struct RenderResult {
 // sample, kDataError for a canvas too large (16384 px a side).
 RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
                           const RenderOptions& options = {});
+
+struct StrokeFacts {
+  bool touched = false;
+  double paint_laid_mm3 = 0;
+  int failed_spine_solves = 0;
+};
+
+// A canvas that accumulates strokes, as a painting's does: each stroke loads
+// its brush afresh and paints onto the paint already there, wet into wet
+// until dry() (docs/paint.md). One stroke on a canvas placed and sized as
+// renderStroke's image paints renderStroke's pixels.
+class Canvas {
+ public:
+  // The canvas's lower-left corner at (x0_mm, y0_mm) in canvas mm, width_px x
+  // height_px at paper.px_per_mm, with paper's paper_colour, paper_tooth_mm,
+  // paper_scale_mm, paper_seed and mix. Throws Error (kUsage) for a size
+  // outside 1..16384 px a side or over 64 Mpx, or as renderStroke for a field.
+  Canvas(double x0_mm, double y0_mm, int width_px, int height_px,
+         const RenderOptions& paper = {});
+  ~Canvas();
+  Canvas(Canvas&&) noexcept;
+  Canvas& operator=(Canvas&&) noexcept;
+  Canvas(const Canvas&) = delete;
+  Canvas& operator=(const Canvas&) = delete;
+
+  // One stroke with options' paint, solver and steps; the canvas keeps its
+  // own paper, mix and px_per_mm (those fields of options are not read). A
+  // stroke may reach past the canvas's edge: what lies outside is lost.
+  StrokeFacts addStroke(const Brush& brush, const Trajectory& trajectory,
+                        const RenderOptions& options = {});
+  void dry();  // the wet paint becomes the dry layer under later strokes
+  Image image(bool impasto = false) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace bristle::api
