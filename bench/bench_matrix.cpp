@@ -21,6 +21,7 @@
 #include "bench/bench_stats.h"
 #include "engine/model/brush.h"
 #include "engine/base/error.h"
+#include "process/process_hooks.h"
 #include "tests/support/press_matrix.h"
 
 namespace {
@@ -104,6 +105,7 @@ std::string fmtMs(double s) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  bristle::installProcessHooks();  // the CLI's solver set-up (process/process_hooks.h)
   std::string solver = "ipopt", csv_path;
   std::vector<std::string> brushes;
   bool quick = false, fallback = true;

@@ -18,6 +18,7 @@
 #include "engine/base/heap_policy.h"
 #include "engine/solvers/ipopt/ipopt_options.h"
 #include "engine/base/temp_files.h"
+#include "process/process_hooks.h"
 
 namespace {
 
@@ -111,6 +112,9 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv) {
 
 int main(int argc, char** argv) {
   using namespace bristle::cli;
+  // Ipopt's MA27 is bristle's dense KKT solver (process/process_hooks.h): the
+  // libraries leave process-wide choices to the program.
+  bristle::installProcessHooks();
   // Freed heap stays mapped between solves (engine/base/heap_policy.h): a tenth of
   // a hair-volume brush's render went to growing and trimming the heap.
   bristle::keepFreedHeap();

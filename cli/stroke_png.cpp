@@ -1,5 +1,7 @@
 #include "cli/stroke_png.h"
 
+#include "api/stroke_setup.h"
+
 #include <memory>
 #include <optional>
 #include <string>
@@ -8,7 +10,6 @@
 #include "cli/inputs.h"
 #include "engine/model/canvas.h"
 #include "engine/base/error.h"
-#include "engine/solvers/ipopt/ipopt_options.h"
 #include "engine/paint/paint.h"
 #include "render/compose.h"
 #include "render/png_io.h"
@@ -18,83 +19,46 @@ namespace bristle::cli {
 
 namespace {
 
-MixModel mixOf(const StrokePngOptions& o) {
-  return o.mix == "rgb" ? MixModel::kLinearRgb : MixModel::kKubelkaMunk;
+// The command line's options as the public API's (include/bristle/render.h):
+// one conversion to a StrokeSetup for both (api/stroke_setup.h), so that
+// bristle::api::renderStroke paints what `bristle render` paints.
+api::RenderOptions renderOptionsOf(const StrokePngOptions& o) {
+  api::RenderOptions r;
+  r.paint = o.paint;
+  r.load = o.load == "across" ? api::PaintLoad::kAcross
+           : o.load == "tip"  ? api::PaintLoad::kTip
+                              : api::PaintLoad::kSolid;
+  r.amount = o.amount;
+  r.tip_length = o.tip_length;
+  r.mix = o.mix == "rgb" ? api::PaintMix::kLinearRgb : api::PaintMix::kKubelkaMunk;
+  r.paper_colour = o.background;
+  r.paper_tooth_mm = o.paper_tooth_mm;
+  r.paper_scale_mm = o.paper_scale_mm;
+  r.paper_seed = o.paper_seed;
+  r.impasto = o.impasto;
+  r.px_per_mm = o.px_per_mm;
+  r.solver = o.solver == SolverKind::kSlsqp ? api::Solver::kSlsqp : api::Solver::kIpopt;
+  r.solver_max_iterations = o.solver_max_iterations;
+  r.max_step_mm = o.max_step_mm;
+  r.steady_step_mm = o.steady_step_mm;
+  r.min_rate_hz = o.min_rate_hz;
+  r.contact_band_mm = o.contact_band_mm;
+  return r;
 }
 
-// Paint options are input data: a paint, colour or amount that makes no sense
-// is a data error (65), named by its option, by the rules a scene's paint meets
-// (checkPaintLoad, engine/paint/paint_spec.h).
-PaintLoad paintLoadArgs(const StrokePngOptions& args) {
-  PaintLoad load;
-  load.mode = args.load == "across" ? PaintLoad::Mode::kAcross
-              : args.load == "tip"  ? PaintLoad::Mode::kTip
-                                    : PaintLoad::Mode::kSolid;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = args.paint.find(',', start);
-    load.paints.push_back(args.paint.substr(start, comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  load.amount = args.amount;
-  load.tip_length = args.tip_length;
-  if (const std::optional<PaintLoadProblem> e = checkPaintLoad(load, "--load " + args.load)) {
-    std::string option = "--paint " + args.paint;
-    if (e->field == "amount") option = "--amount " + std::to_string(args.amount);
-    if (e->field == "tip_length") option = "--tip-length " + std::to_string(args.tip_length);
-    throw Error(ExitCode::kDataError, option + ": " + e->rule);
-  }
-  return load;
-}
-
-PaperSpec paperArgs(const StrokePngOptions& args) {
-  PaperSpec paper;
-  Rgb c;
-  if (!parseHexColour(args.background, &c))
-    throw Error(ExitCode::kDataError,
-                "--background " + args.background + ": must be a colour like " + kDefaultPaperColour);
-  if (!(args.paper_tooth_mm >= 0 && args.paper_tooth_mm <= 1))
-    throw Error(ExitCode::kDataError, "--paper-tooth: must be in [0, 1] mm");
-  if (!(args.paper_scale_mm > 0 && args.paper_scale_mm <= 100))
-    throw Error(ExitCode::kDataError, "--paper-scale: must be in (0, 100] mm");
-  paper.colour = args.background;
-  paper.tooth_depth_mm = args.paper_tooth_mm;
-  paper.tooth_scale_mm = args.paper_scale_mm;
-  paper.seed = args.paper_seed;
-  return paper;
-}
-
-// The chosen solver is the primary; a spine it fails on is tried with the other.
-// --solver-max-iterations limits both: Ipopt's iterations, SLSQP's energy evaluations.
-SolverSettings solverSettings(const StrokePngOptions& o) {
-  SolverSettings solvers;
-  solvers.kind = o.solver;
-  solvers.max_iterations = o.solver_max_iterations;
-  // Each one checked here, before any input is read (engine/solvers/ipopt/ipopt_options.h).
-  for (const std::string& kv : o.ipopt_options) {
-    if (const std::optional<std::string> problem = ipoptOptionTextProblem(kv))
-      throw Error(ExitCode::kUsage, "--ipopt-option " + *problem);
-    solvers.ipopt_options.push_back(*splitIpoptOption(kv));
-  }
-  return solvers;
+render::StrokeSetup strokeSetup(const StrokePngOptions& o) {
+  render::StrokeSetup setup =
+      api::strokeSetupOf(renderOptionsOf(o), o.ipopt_options, api::cliOptionNames());
+  setup.stroke.threads = o.threads;  // how, not what: the same pixels on any count
+  return setup;
 }
 
 }  // namespace
 
-void checkStrokePngOptions(const StrokePngOptions& o) {
-  paintLoadArgs(o);
-  paperArgs(o);
-  solverSettings(o);
-}
+void checkStrokePngOptions(const StrokePngOptions& o) { strokeSetup(o); }
 
 render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
-  render::StrokeOptions options;
-  options.px_per_mm = o.px_per_mm;
-  options.contact_band_mm = o.contact_band_mm;
-  options.sim.max_step_mm = o.max_step_mm;
-  options.sim.steady_step_mm = o.steady_step_mm;
-  options.sim.min_rate_hz = o.min_rate_hz;
+  render::StrokeOptions options = api::strokeOptionsOf(renderOptionsOf(o));
   options.threads = o.threads;
   return options;
 }
@@ -103,22 +67,15 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
                                 const StrokePngOptions& o, const std::string& output,
                                 const render::StepCallback& on_step,
                                 const MorePngText& more_text) {
-  render::StrokeSetup setup;
-  setup.load = paintLoadArgs(o);
-  setup.load_where = "--paint";
-  setup.mix = mixOf(o);
-  setup.paper = paperArgs(o);
-  setup.solvers = solverSettings(o);
-  setup.stroke = strokeOptions(o);
-  render::StrokeRenderer renderer;
-  const render::PaintedStroke painted =
-      render::paintStroke(renderer, brush, trajectory, setup, on_step);
-  const PaintCanvas& canvas = painted.canvas;
+  const render::StrokeSetup setup = strokeSetup(o);
+  const api::StrokePixels pixels =
+      api::paintStrokePixels(brush, trajectory, setup, o.impasto, on_step);
+  const PaintCanvas& canvas = pixels.painted.canvas;
   const CanvasGrid& grid = canvas.grid();
   StrokePngResult r;
-  r.stroke = painted.stroke;
-  r.left_on_brush_mm3 = painted.left_on_brush_mm3;
-  r.loaded_mm3 = painted.loaded_mm3;
+  r.stroke = pixels.painted.stroke;
+  r.left_on_brush_mm3 = pixels.painted.left_on_brush_mm3;
+  r.loaded_mm3 = pixels.painted.loaded_mm3;
 
   render::ComposeOptions compose;
   compose.impasto = o.impasto;
@@ -126,9 +83,8 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
   text.push_back({"bristle:brush", brush.name});
   text.push_back({"bristle:canvas", canvasText(grid)});
   text.push_back({"bristle:paint", o.paint + " load=" + o.load + " mix=" + o.mix});
-  const render::Image8 image8 = render::composeRgb8(canvas, compose);
-  r.ink_pixels = render::inkPixels(
-      image8, render::paperColour8(setup.paper, setup.mix, grid.px_per_mm, compose));
+  const render::Image8& image8 = pixels.image;
+  r.ink_pixels = pixels.ink_pixels;
   r.pixels = long(image8.width) * image8.height;
   if (more_text)
     for (auto& entry : more_text(r)) text.push_back(std::move(entry));

@@ -13,14 +13,22 @@ PaintedStroke paintStroke(StrokeRenderer& renderer, const Brush& brush,
   PaintedStroke out{PaintCanvas(canvasForStroke(brush, trajectory, setup.stroke), setup.paper,
                                 setup.mix),
                     {}, 0, 0};
+  paintStrokeOnto(renderer, brush, trajectory, setup, &out.canvas, &out.stroke, &out.loaded_mm3,
+                  &out.left_on_brush_mm3, on_step);
+  return out;
+}
+
+void paintStrokeOnto(StrokeRenderer& renderer, const Brush& brush, const Trajectory& trajectory,
+                     const StrokeSetup& setup, PaintCanvas* canvas, StrokeResult* stroke,
+                     double* loaded_mm3, double* left_on_brush_mm3,
+                     const StepCallback& on_step) {
   BrushPaint paint(brush);
   paint.load(setup.load, setup.mix, setup.load_where);
-  out.loaded_mm3 = paint.capacityMm3() * setup.load.amount;
+  *loaded_mm3 = paint.capacityMm3() * setup.load.amount;
   SolverPair solvers = makeSolverPair(setup.solvers, brush);
-  out.stroke = renderer.render(brush, trajectory, std::move(solvers.primary), setup.stroke,
-                               &out.canvas, &paint, on_step, std::move(solvers.fallback));
-  out.left_on_brush_mm3 = paint.totalVolumeMm3();
-  return out;
+  *stroke = renderer.render(brush, trajectory, std::move(solvers.primary), setup.stroke, canvas,
+                            &paint, on_step, std::move(solvers.fallback));
+  *left_on_brush_mm3 = paint.totalVolumeMm3();
 }
 
 BrushState strokeStateAt(const Brush& brush, const Trajectory* trajectory,

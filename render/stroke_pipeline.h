@@ -39,6 +39,16 @@ PaintedStroke paintStroke(StrokeRenderer& renderer, const Brush& brush,
                           const Trajectory& trajectory, const StrokeSetup& setup,
                           const StepCallback& on_step = {});
 
+// The same stroke painted onto a canvas that already exists (and may hold
+// earlier strokes: bristle::api::Canvas), with a freshly loaded brush and the
+// run's solvers. setup.mix must be the canvas's (the brush's paint is mixed
+// by it); setup.paper is not read. Fills `stroke`, `loaded_mm3` and
+// `left_on_brush_mm3`.
+void paintStrokeOnto(StrokeRenderer& renderer, const Brush& brush, const Trajectory& trajectory,
+                     const StrokeSetup& setup, PaintCanvas* canvas, StrokeResult* stroke,
+                     double* loaded_mm3, double* left_on_brush_mm3,
+                     const StepCallback& on_step = {});
+
 // The brush as the stroke's render leaves it at time at_s: simulated with the
 // run's solvers and stepped exactly as the render steps (stepAlongTrajectory),
 // up to its last step at or before at_s. Without a trajectory, the brush at

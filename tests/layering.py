@@ -18,7 +18,7 @@ import tempfile
 # Bottom first. A file may include its own folder and any folder before it.
 LAYERS = ["base", "model", "mechanics", "solvers", "solvers/ipopt", "dynamics", "geometry",
           "paint", "formats"]
-ABOVE_ENGINE = ("render/", "input/", "batch/", "haptics/", "cli/")
+ABOVE_ENGINE = ("render/", "input/", "batch/", "haptics/", "cli/", "process/", "api/")
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^">]+)[">]', re.MULTILINE)
 LINK = re.compile(r"target_link_libraries\(bristle_engine_(\w+)([^)]*)\)")
 

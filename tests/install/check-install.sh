@@ -3,8 +3,9 @@
 # user would, from outside the source tree: a brush by name (found in the
 # install's share/bristle/brushes), a trajectory piped in with `--trajectory -`,
 # the PNG piped out with `-o -` into `bristle compare -` against a render made
-# the ordinary way (files in, a file out); the layout, the man page, and a
-# project of someone else's built with find_package(bristle) against it.
+# the ordinary way (files in, a file out); the layout (only the public API's
+# headers: docs/api.md), the man page, and a project of someone else's built
+# with find_package(bristle) against it, using the public API alone.
 #
 #   check-install.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
@@ -23,18 +24,29 @@ for f in bin/bristle share/bristle/brushes/round.json share/bristle/brushes/fan.
          share/bristle/trajectories/s-curve.csv share/bristle/paintings/petals.json \
          share/bristle/paintings/petals/dot.csv share/bristle/sheets/library.json \
          share/bristle/batch/standard.json share/bristle/blender/bristle_brush.py \
-         share/bristle/docs/README.md share/bristle/docs/errors.md \
-         share/man/man1/bristle.1 include/bristle/engine/model/brush.h \
-         include/bristle/engine/solvers/ipopt/ipopt_options.h include/bristle/bristle/version.h \
-         lib/libbristle_engine.a lib/cmake/bristle/bristleConfig.cmake; do
+         share/bristle/docs/README.md share/bristle/docs/errors.md share/bristle/docs/api.md \
+         share/man/man1/bristle.1 include/bristle/render.h include/bristle/brush.h \
+         include/bristle/trajectory.h include/bristle/simulation.h include/bristle/png.h \
+         include/bristle/error.h include/bristle/version.h \
+         lib/libbristle.a lib/libbristle_engine.a lib/cmake/bristle/bristleConfig.cmake; do
   [[ -f prefix/$f ]] || fail "prefix/$f was not installed"
 done
-# Engine headers sit in their sub-folders (engine/CMakeLists.txt); the JSON
-# reader's, which names nlohmann-json, is not installed.
-for f in include/bristle/engine/brush.h include/bristle/engine/base/json_reader.h \
-         include/bristle/engine/CMakeLists.txt; do
+# Only the public API's headers are installed (docs/api.md): no internal one
+# (the engine's, render's, the Ipopt shims), and none of them includes anything
+# but the standard library and each other.
+for f in include/bristle/engine include/bristle/render include/bristle/haptics \
+         include/bristle/bristle include/bristle/api; do
   [[ ! -e prefix/$f ]] || fail "prefix/$f was installed"
 done
+internal=$(find prefix/include -name dense_kkt.h -o -name gl_program.h -o -name temp_files.h \
+           -o -name ipopt_timers.h -o -name brush_library.h -o -name stroke_setup.h)
+[[ -z "$internal" ]] || fail "internal headers were installed: $internal"
+[[ "$(find prefix/include -type f | wc -l)" -ge 7 ]] || fail "the public headers are missing"
+while IFS= read -r h; do
+  bad=$(grep -E '^[[:space:]]*#[[:space:]]*include' "$h" |
+        grep -vE '#[[:space:]]*include[[:space:]]*(<[a-z_]+>|"bristle/[a-z_]+\.h")' || true)
+  [[ -z "$bad" ]] || fail "$h includes more than the standard library and bristle/: $bad"
+done < <(find prefix/include -type f)
 
 # A name is the install's brush: the installed copy does not look in the source tree.
 out=$("$bin" validate round)
@@ -75,7 +87,12 @@ grep -q "^ENVIRONMENT" man.txt && grep -q "BRISTLE_BRUSH_PATH" man.txt ||
 cmake -S "$src/tests/install/consumer" -B consumer -DCMAKE_PREFIX_PATH="$tmp/prefix" \
   -DCMAKE_BUILD_TYPE=Release >consumer.log 2>&1 || fail "configuring the consumer: $(tail -5 consumer.log)"
 cmake --build consumer >>consumer.log 2>&1 || fail "building the consumer: $(tail -5 consumer.log)"
-out=$(consumer/consumer prefix/share/bristle/brushes/round.json two.png)
-[[ "$out" == "bristle 0."*": brush 'round', 7 spines, reach "*" mm" ]] || fail "consumer said: $out"
-"$bin" compare two.png two.png >/dev/null || fail "the consumer's PNG does not read back"
+out=$(env -u GALLIUM_DRIVER consumer/consumer stroke.png 2>&1) || fail "the consumer failed: $out"
+[[ "$(head -1 <<<"$out")" == "bristle 0."*": brush 'round', 7 spines, hair "*" mm" ]] ||
+  fail "consumer said: $(head -1 <<<"$out")"
+grep -qE "^stroke: [0-9]+ x [0-9]+ px, [1-9][0-9]* px darker than the paper$" <<<"$out" ||
+  fail "the consumer's stroke: $out"
+grep -qE "^simulation: contact from step [0-9]+$" <<<"$out" ||
+  fail "the consumer's simulation never touched the paper: $out"
+"$bin" compare stroke.png stroke.png >/dev/null || fail "the consumer's PNG does not read back"
 echo "check-install: ok ($tmp/prefix)"

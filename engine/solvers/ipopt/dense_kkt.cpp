@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <list>
@@ -702,8 +703,15 @@ extern "C" void bristleDenseMa27c(int*, double* a, int*, int* iw, int*, double* 
 long long sparseKktAnalyses() { return analyses; }
 long long lastSparseKktFill() { return last_fill; }
 
+namespace {
+std::atomic<bool> g_dense_kkt_installed{false};
+}  // namespace
+
 void installDenseKktSolver() {
   LSL_setMA27(&bristleDenseMa27a, &bristleDenseMa27b, &bristleDenseMa27c, &bristleDenseMa27i);
+  g_dense_kkt_installed.store(true, std::memory_order_release);
 }
+
+bool denseKktSolverInstalled() { return g_dense_kkt_installed.load(std::memory_order_acquire); }
 
 }  // namespace bristle

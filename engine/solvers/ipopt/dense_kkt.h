@@ -39,7 +39,14 @@ void bristleDenseMa27c(int* n, double* a, int* la, int* iw, int* liw, double* w,
 
 // Hands the functions above to Ipopt's HSL loader as its MA27. After this, an
 // Ipopt whose option linear_solver is "ma27" uses them. Idempotent.
+// Process-wide (every Ipopt in the process asking for MA27 gets these), so
+// the library never calls it: a program does at start (process/process_hooks.h).
 void installDenseKktSolver();
+
+// Whether installDenseKktSolver was called. Until it is, the Ipopt solver
+// leaves linear_solver at Ipopt's default (MUMPS): the same optima, reached
+// more slowly, and not bit for bit the dense solver's.
+bool denseKktSolverInstalled();
 
 // How many symbolic analyses of sparse blocks this thread has made (each
 // factorisation of a block whose structure, row order or zero entries

@@ -553,8 +553,9 @@ class IpoptSolver : public SpineSolver {
       applyOption(o, name, value, &timers_needed);
     }
     timers_off_ = timers_off_ && !timers_needed;
+    // Only if the program installed it (process/process_hooks.h); MUMPS otherwise.
+    dense_kkt_ = dense_kkt_ && denseKktSolverInstalled();
     if (dense_kkt_) {
-      installDenseKktSolver();
       // MA27's default scaling is HSL's MC19, which Debian does not have; the
       // MUMPS solves took none either (Ipopt's default for it).
       if (!o.SetStringValue("linear_system_scaling", "none")) bad_option_ = "linear_system_scaling";

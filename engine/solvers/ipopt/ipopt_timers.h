@@ -10,6 +10,12 @@
 // IpoptTimersOff scope it returns zero usage without a system call, and everywhere else it makes the
 // real system call. Nothing of Ipopt's algorithm reads the timers except the
 // max_cpu_time limit, so the solver keeps them on when that limit is set.
+//
+// That getrusage replaces the C library's for the whole process, so it is no
+// part of the engine library: a program opts in by linking the object
+// process/getrusage_override.cpp (bristle::process; docs/api.md, "Process-wide
+// set-up"). Without it IpoptTimersOff changes nothing: Ipopt's timers run, the
+// solves are the same, only slower.
 
 #include <cstdint>
 
@@ -30,5 +36,9 @@ class IpoptTimersOff {
 
 // getrusage calls this thread answered with zeros since it started (tests).
 std::uint64_t ipoptTimerReadsSkipped();
+
+// For the getrusage override: true (and counted) when this thread is inside an
+// engaged IpoptTimersOff scope, so the call is answered with zeros.
+bool skipIpoptTimerRead();
 
 }  // namespace bristle
