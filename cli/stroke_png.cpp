@@ -101,7 +101,7 @@ render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
 
 StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
                                 const StrokePngOptions& o, const std::string& output,
-                                const render::StepCallback& on_step,
+                                const StepCallback& on_step,
                                 const MorePngText& more_text) {
   render::StrokeSetup setup;
   setup.load = paintLoadArgs(o);
