@@ -27,9 +27,12 @@ double rootMotionBoundMm(const Brush& brush, const Pose& a, const Pose& b) {
          rotationAngleRad(a.rotation, b.rotation) * root_radius;
 }
 
+double rootStepsFor(double moved_mm, const SimOptions& options) {
+  return std::max(1.0, std::ceil(moved_mm / options.max_step_mm));
+}
+
 double stepsForMotion(double moved_mm, double dt_s, const SimOptions& options) {
-  return std::max({1.0, std::ceil(moved_mm / options.max_step_mm),
-                   std::ceil(dt_s * options.min_rate_hz - 1e-9)});
+  return std::max(rootStepsFor(moved_mm, options), std::ceil(dt_s * options.min_rate_hz - 1e-9));
 }
 
 namespace {
@@ -296,8 +299,7 @@ void Stepper::stepTo(const Pose& handle, double t_s) {
   const double t0 = sim_.state().t_s;
   if (t_s <= t0) return;
   const double dt = t_s - t0;
-  const double planned = stepsForMotion(rootMotionBoundMm(sim_.brush(), from, handle), dt,
-                                        options_.sim);
+  const double planned = rootStepsFor(rootMotionBoundMm(sim_.brush(), from, handle), options_.sim);
   const int n = static_cast<int>(std::min(planned, std::max(1.0, kMaxStepsPerSecond * dt)));
   for (int i = 1; i <= n; ++i)
     sim_.step(interpolatePose(from, handle, double(i) / n), t0 + dt * i / n);

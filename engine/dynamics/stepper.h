@@ -29,11 +29,12 @@ inline constexpr double kMaxStepsPerSecond = 1e6;
 // max_step_mm.
 double rootMotionBoundMm(const Brush& brush, const Pose& a, const Pose& b);
 
-// The steps a handle motion of `moved_mm` (rootMotionBoundMm) over `dt_s` is
-// cut into: enough that no spine root moves more than max_step_mm in one and
-// that they come at least min_rate_hz often; at least 1. Counted as a double,
-// for the callers' limits (kMaxStepsPerSecond) to be checked before it
-// becomes an integer.
+// The steps a handle motion of `moved_mm` (rootMotionBoundMm) is cut into so
+// that no spine root moves more than max_step_mm in one; at least 1.
+double rootStepsFor(double moved_mm, const SimOptions& options);
+// The steps a planned segment is cut into: rootStepsFor, and at least
+// min_rate_hz a second over its `dt_s`. Counted as doubles, for the callers'
+// limits (kMaxStepsPerSecond) to be checked before either becomes an integer.
 double stepsForMotion(double moved_mm, double dt_s, const SimOptions& options);
 
 // Times of the simulation steps for a trajectory: every sample time, subdivided
@@ -97,8 +98,12 @@ class Stepper {
             double stop_t_s = std::numeric_limits<double>::infinity());
 
   // A live session's step to the newest stylus pose: from the simulation's
-  // state to `handle` at t_s in the pieces stepsForMotion plans, the handle
-  // interpolated. Nothing when t_s is not after the state's time. The pieces
+  // state to `handle` at t_s in the pieces rootStepsFor gives its motion, the
+  // handle interpolated. Nothing when t_s is not after the state's time. The
+  // session's frame rate (paper §5: 30-60 Hz) stands in for min_rate_hz:
+  // pieces the motion does not need make a frame late, and a late frame lets
+  // the servo loop's force model go stale (docs/haptics.md, "The servo loop
+  // and its safety"). The pieces
   // are capped at kMaxStepsPerSecond over the interval: a pose read live is
   // no input file to refuse.
   void stepTo(const Pose& handle, double t_s);
