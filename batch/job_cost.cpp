@@ -7,6 +7,7 @@
 #include "engine/geometry/first_contact.h"
 #include "engine/formats/scene.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/model/trajectory.h"
 
 namespace bristle {

@@ -21,6 +21,7 @@
 #include "bench/bench_main.h"
 #include "engine/model/brush.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/mechanics/spine_kinematics.h"
 #include "engine/model/trajectory.h"
 

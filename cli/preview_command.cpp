@@ -21,6 +21,7 @@
 #include "engine/geometry/first_contact.h"
 #include "engine/formats/input_warnings.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/model/trajectory.h"
 #include "render/png_io.h"
 #include "render/preview_renderer.h"

@@ -21,6 +21,7 @@
 #include "engine/geometry/first_contact.h"
 #include "engine/formats/input_warnings.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/base/temp_files.h"
 #include "engine/model/trajectory.h"
 #include "haptics/hdapi.h"

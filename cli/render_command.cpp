@@ -21,6 +21,7 @@
 #include "engine/geometry/first_contact.h"
 #include "engine/formats/trace.h"
 #include "engine/model/trajectory.h"
+#include "engine/dynamics/stepper.h"
 #include "render/compose.h"
 #include "render/png_io.h"
 #include "render/stroke_renderer.h"

@@ -5,6 +5,7 @@
 #include "cli/commands.h"
 #include "engine/base/atomic_output.h"
 #include "engine/formats/input_warnings.h"
+#include "engine/dynamics/stepper.h"
 
 namespace bristle::cli {
 

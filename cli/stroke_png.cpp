@@ -65,7 +65,7 @@ render::StrokeOptions strokeOptions(const StrokePngOptions& o) {
 
 StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
                                 const StrokePngOptions& o, const std::string& output,
-                                const render::StepCallback& on_step,
+                                const StepCallback& on_step,
                                 const MorePngText& more_text) {
   const render::StrokeSetup setup = strokeSetup(o);
   const api::StrokePixels pixels =

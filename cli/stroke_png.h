@@ -50,7 +50,7 @@ using MorePngText = std::function<render::PngText(const StrokePngResult&)>;
 // output (atomically). on_step sees every simulation step.
 StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory,
                                 const StrokePngOptions& options, const std::string& output,
-                                const render::StepCallback& on_step = {},
+                                const StepCallback& on_step = {},
                                 const MorePngText& more_text = {});
 
 }  // namespace bristle::cli

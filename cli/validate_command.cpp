@@ -29,6 +29,7 @@
 #include "engine/formats/scene.h"
 #include "engine/formats/sheet.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/base/text_file.h"
 #include "engine/model/trajectory.h"
 #include "render/png_io.h"

@@ -12,6 +12,7 @@
 #include "engine/model/brush.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/model/trajectory.h"
 #include "fuzz/fuzz_input.h"
 #include "input/import.h"

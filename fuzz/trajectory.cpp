@@ -7,6 +7,7 @@
 #include "engine/model/brush.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/model/trajectory.h"
 #include "engine/base/text_file.h"
 #include "fuzz/fuzz_input.h"

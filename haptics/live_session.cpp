@@ -32,7 +32,9 @@ class SimThread {
         makeSolverPair({options.solver, kDefaultSolverMaxIterations, {}}, brush);
     sim_ = std::make_unique<Simulation>(brush, options.sim, std::move(solvers.primary),
                                         std::move(solvers.fallback));
-    for (const SpineSpec& s : brush.spines) root_radius_ = std::max(root_radius_, s.root_mm.norm());
+    WalkOptions walk;
+    walk.sim = options.sim;
+    stepper_ = std::make_unique<Stepper>(*sim_, walk);
   }
   void start() { thread_ = std::thread([this] { run(); }); }
   void stop() {
@@ -62,7 +64,7 @@ class SimThread {
             waited_ = true;
           }
         } else {
-          stepTo(pose, st.t_s);
+          stepper_->stepTo(pose, st.t_s);
         }
         if (started) {
           const std::uint64_t f = frame_.load() + 1;
@@ -83,25 +85,12 @@ class SimThread {
     stats_ = sim_->stats();
   }
 
-  // Steps in pieces so that no spine root moves more than max_step_mm
-  // (as planStepTimes does for recorded trajectories).
-  void stepTo(const Pose& pose, double t_s) {
-    const BrushState& cur = sim_->state();
-    const Pose from = cur.handle;
-    const double t0 = cur.t_s;
-    if (t_s <= t0) return;
-    const double moved = (pose.position_mm - from.position_mm).norm() +
-                         rotationAngleRad(from.rotation, pose.rotation) * root_radius_;
-    const int n = std::max(1, static_cast<int>(std::ceil(moved / options_.sim.max_step_mm)));
-    for (int i = 1; i <= n; ++i)
-      sim_->step(interpolatePose(from, pose, double(i) / n), t0 + (t_s - t0) * i / n);
-  }
-
   const Brush& brush_;
   const LiveOptions& options_;
   ServoLoop* servo_;
   std::unique_ptr<Simulation> sim_;
-  double root_radius_ = 0;
+  // Steps towards each stylus pose as a trajectory's plan steps a segment.
+  std::unique_ptr<Stepper> stepper_;
   std::thread thread_;
   std::atomic<bool> stop_{false}, waited_{false};
   std::atomic<std::uint64_t> frame_{0};

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "engine/model/brush.h"
-#include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/solvers/solver_pair.h"
 #include "haptics/device.h"
 #include "haptics/force_model.h"

@@ -104,11 +104,11 @@ DepthMeasure measureDepth(const Brush& brush, const MeasureProtocol& p,
   Simulation sim(brush, options.sim, std::move(solvers.primary), std::move(solvers.fallback));
   const double from_s = pull.endTime() - 0.25 * p.pull_mm / p.speed_mm_s;
   std::vector<BrushState> settled;
-  stepAlongTrajectory(sim, pull, options, p.px_per_mm,
-                      [&](const BrushState& s, int step, int steps) {
-                        if (s.t_s >= from_s) settled.push_back(s);
-                        if (on_step) on_step(step, steps);
-                      });
+  Stepper(sim, walkOptions(options, p.px_per_mm))
+      .walk(pull, [&](const BrushState& s, int step, int steps) {
+        if (s.t_s >= from_s) settled.push_back(s);
+        if (on_step) on_step(step, steps);
+      });
 
   DepthMeasure m;
   m.depth_mm = depth_mm;

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "engine/solvers/solver_pair.h"
+#include "engine/dynamics/stepper.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::render {

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "engine/base/error.h"
+#include "engine/dynamics/stepper.h"
 #include "render/stroke_pipeline.h"
 #include "render/text.h"
 

@@ -89,16 +89,13 @@ class StateRing {
 
 }  // namespace
 
-void stepAlongTrajectoryAhead(Simulation& sim, const Trajectory& trajectory,
-                              const StrokeOptions& options, double px_per_mm,
-                              const StepCallback& on_step) {
+void walkAhead(Stepper& stepper, const Trajectory& trajectory, const StepCallback& on_step) {
   StateRing ring;
   std::thread stepping([&] {
     try {
-      stepAlongTrajectory(sim, trajectory, options, px_per_mm,
-                          [&](const BrushState& state, int step, int steps) {
-                            ring.push(state, step, steps);
-                          });
+      stepper.walk(trajectory, [&](const BrushState& state, int step, int steps) {
+        ring.push(state, step, steps);
+      });
       ring.finish(nullptr);
     } catch (const StepsAbandoned&) {
       ring.finish(nullptr);

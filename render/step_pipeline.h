@@ -20,13 +20,12 @@ inline constexpr int kStepsAhead = 4;
 // cgroup cpusets and Slurm set), else 1.
 int defaultRenderThreads();
 
-// stepAlongTrajectory(sim, trajectory, options, px_per_mm, on_step) with the
-// stepping on a second thread and on_step on the calling thread, which owns the
-// GL context. on_step sees the same states, steps and order. An exception from
-// either side stops both: the stepping thread is joined before this returns or
-// rethrows, and `sim` is left at the step it had reached (its stats stand).
-void stepAlongTrajectoryAhead(Simulation& sim, const Trajectory& trajectory,
-                              const StrokeOptions& options, double px_per_mm,
-                              const StepCallback& on_step);
+// stepper.walk(trajectory, on_step) with the walk on a second thread and
+// on_step on the calling thread, which owns the GL context (the engine starts
+// no thread: docs/design.md, "Layers"). on_step sees the same states, steps
+// and order. An exception from either side stops both: the stepping thread is
+// joined before this returns or rethrows, and the stepper's simulation is left
+// at the step it had reached (its stats stand).
+void walkAhead(Stepper& stepper, const Trajectory& trajectory, const StepCallback& on_step);
 
 }  // namespace bristle::render

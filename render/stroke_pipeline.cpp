@@ -3,7 +3,7 @@
 #include <Eigen/Core>
 #include <utility>
 
-#include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 
 namespace bristle::render {
 
@@ -42,7 +42,7 @@ BrushState strokeStateAt(const Brush& brush, const Trajectory* trajectory,
     sim.reset(rest, 0);
     return sim.state();
   }
-  stepAlongTrajectory(sim, *trajectory, options, options.px_per_mm, {}, at_s);
+  Stepper(sim, walkOptions(options, options.px_per_mm)).walk(*trajectory, {}, at_s);
   return sim.state();
 }
 

@@ -50,7 +50,7 @@ void paintStrokeOnto(StrokeRenderer& renderer, const Brush& brush, const Traject
                      const StepCallback& on_step = {});
 
 // The brush as the stroke's render leaves it at time at_s: simulated with the
-// run's solvers and stepped exactly as the render steps (stepAlongTrajectory),
+// run's solvers and stepped exactly as the render steps (Stepper::walk),
 // up to its last step at or before at_s. Without a trajectory, the brush at
 // rest, held upright with its tips 2 mm above the paper. For `bristle preview`,
 // which must show a state the render reached.

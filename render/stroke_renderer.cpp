@@ -187,59 +187,8 @@ void blendStates(const BrushState& a, const BrushState& b, double t, BrushState*
   }
 }
 
-// Furthest any joint near the canvas moved over it between two states. Each step
-// paints one stamp; where the touching part of the brush jumps further than a
-// stamp covers (a pressed brush springing back at lift-off), the step is split.
-double contactJumpMm(const Brush& brush, const BrushState& a, const BrushState& b,
-                     double contact_band_mm) {
-  double jump = 0;
-  for (size_t s = 0; s < brush.spines.size(); ++s)
-    jump = std::max(jump, bristle::contactJumpMm(brush.spines[s], a.spines[s].joints_mm,
-                                                 b.spines[s].joints_mm, contact_band_mm));
-  return jump;
-}
-
-// At most this many planned steps are taken as one steady step.
-constexpr int kMaxSteadyGroup = 8;
-constexpr int kMaxSteadyBackoff = 16;
-
-// A step taken over several planned steps is kept when the brush did nothing
-// the planned steps would resolve differently: no joint touched down or lifted,
-// none switched between sticking and sliding, no solve failed, and the part on
-// the paper jumped no further than a steady step.
-bool steadyStep(const Simulation::Snapshot& before, const Simulation& sim, double max_jump_mm,
-                double contact_band_mm) {
-  const SimStats& a = before.stats;
-  const SimStats& b = sim.stats();
-  if (b.failed_spine_solves != a.failed_spine_solves || b.split_steps != a.split_steps ||
-      b.fallback_solves != a.fallback_solves)
-    return false;
-  const BrushState& s0 = before.state;
-  const BrushState& s1 = sim.state();
-  for (size_t s = 0; s < s0.spines.size(); ++s)
-    if (s0.spines[s].contact != s1.spines[s].contact || s0.spines[s].sliding != s1.spines[s].sliding)
-      return false;
-  return contactJumpMm(sim.brush(), s0, s1, contact_band_mm) <= max_jump_mm;
-}
-
-// Splitting stops after this many halvings (a step split into at most 32).
-constexpr int kMaxSplitDepth = 5;
-
-// How far the part of the brush on the paper may move in one step: twice
-// --max-step-mm (the most a spine root moves in a planned step), or 2 px of
-// the canvas if that is further. A step that moved it further is redone in
-// halves. Between two kept states the sweep stamps the hair along straight
-// lines, one stamp per pixel, so the limit is the chord over which a tip's
-// path is drawn straight: at the defaults (0.25 mm, 8 px/mm) 0.5 mm, over
-// which a tip curling on a 2 mm radius strays from its arc by
-// c^2 / 8R = 0.016 mm, a tenth of a pixel. A tighter limit redoes far more
-// steps for no visible gain (docs/PERFORMANCE.md, "How far a step may move
-// the hair"). A smaller --max-step-mm still refines the steps' contact.
-constexpr double kJumpPerRootStep = 2;
-constexpr double kJumpFloorPx = 2;
-
-// At most this many stamps sweep one step: the split above keeps a step's
-// contact jump within max(2 --max-step-mm, 2 px), 4 px at the default
+// At most this many stamps sweep one step: the walk (engine/dynamics/stepper.cpp)
+// keeps a step's contact jump within max(2 --max-step-mm, 2 px), 4 px at the default
 // 8 px/mm and 0.25 mm, so a sweep at one stamp per pixel needs 4-5; 32 covers
 // a --max-step-mm of 2 at 8 px/mm.
 constexpr int kMaxSweepStamps = 32;
@@ -348,95 +297,13 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
   result->picked_up_mm3 += st.picked_up_mm3;
 }
 
-void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
-                         const StrokeOptions& options, double px_per_mm,
-                         const StepCallback& on_step, double stop_t_s) {
-  const std::vector<double> times = planStepTimes(trajectory, sim.brush(), options.sim);
-  const int steps = static_cast<int>(times.size());
-  const double max_jump_mm =
-      std::max(kJumpPerRootStep * options.sim.max_step_mm, kJumpFloorPx / px_per_mm);
-  int planned = 0;
-  bool stopped = false;
-
-  // Steps from t0 to t1, halving the step while the touching part jumps too far.
-  auto advance = [&](auto&& self, double t0, double t1, int depth) -> void {
-    if (stopped) return;
-    const Simulation::Snapshot before = sim.snapshot();
-    // A try that is going to be redone is given up as soon as it shows it.
-    const bool may_split = depth < kMaxSplitDepth;
-    Simulation::JumpLimit watch;
-    if (may_split) watch = {options.stop_on_jump * max_jump_mm, options.contact_band_mm};
-    sim.step(trajectory.poseAt(t1), t1, watch);
-    if (may_split && (sim.stepStopped() || contactJumpMm(sim.brush(), before.state, sim.state(),
-                                                         options.contact_band_mm) > max_jump_mm)) {
-      // The first try's solves were done: their iterations stay counted.
-      const SimStats tried = sim.stats();
-      sim.restore(before);
-      sim.countJumpSplit(before.stats, tried);
-      const double tm = 0.5 * (t0 + t1);
-      self(self, t0, tm, depth + 1);
-      self(self, tm, t1, depth + 1);
-      return;
-    }
-    if (t1 > stop_t_s) {  // the render goes on; a preview stops before this step
-      sim.restore(before);
-      stopped = true;
-      return;
-    }
-    if (on_step) on_step(sim.state(), planned, steps);
-  };
-
-  // Steady steps: where the brush is steady, several planned steps are taken
-  // as one (docs/dynamics.md, "Steady steps"). Merges start at 2 planned
-  // steps and double while kept; after one is redone, the next tries wait 1,
-  // 2, 4 ... kMaxSteadyBackoff planned steps.
-  const double steady_mm = options.sim.steady_step_mm;
-  const double steady_jump_mm = std::max(steady_mm, 2.0 / px_per_mm);
-  int group = 2;
-  int backoff = 1, hold = 0;
-  auto tryMerged = [&]() -> bool {
-    // The longest run of planned steps from planned - 1 whose handle path stays
-    // within steady_mm, at most `group` of them.
-    double path = 0;
-    int k = 0;
-    while (k < group && planned + k < steps) {
-      const double m = rootMotionBoundMm(sim.brush(), trajectory.poseAt(times[planned + k - 1]),
-                                         trajectory.poseAt(times[planned + k]));
-      if (path + m > steady_mm) break;
-      path += m;
-      ++k;
-    }
-    if (k < 2 || hold > 0) {
-      hold = std::max(hold - 1, 0);
-      return false;
-    }
-    const double t1 = times[planned + k - 1];
-    if (t1 > stop_t_s) return false;
-    const Simulation::Snapshot before = sim.snapshot();
-    sim.step(trajectory.poseAt(t1), t1);
-    if (!steadyStep(before, sim, steady_jump_mm, options.contact_band_mm)) {
-      const SimStats tried = sim.stats();
-      sim.restore(before);
-      sim.countRejectedSteady(before.stats, tried);
-      group = 2;
-      hold = backoff;
-      backoff = std::min(2 * backoff, kMaxSteadyBackoff);
-      return false;
-    }
-    sim.countSteady(k);
-    planned += k - 1;
-    group = std::min(2 * group, kMaxSteadyGroup);
-    backoff = 1;
-    if (on_step) on_step(sim.state(), planned, steps);
-    return true;
-  };
-
-  sim.reset(trajectory.poseAt(times.front()), times.front());
-  if (on_step) on_step(sim.state(), 0, steps);
-  for (planned = 1; planned < steps && !stopped; ++planned) {
-    if (steady_mm > options.sim.max_step_mm && tryMerged()) continue;
-    advance(advance, times[planned - 1], times[planned], 0);
-  }
+WalkOptions walkOptions(const StrokeOptions& options, double px_per_mm) {
+  WalkOptions walk;
+  walk.sim = options.sim;
+  walk.px_per_mm = px_per_mm;
+  walk.contact_band_mm = options.contact_band_mm;
+  walk.stop_on_jump = options.stop_on_jump;
+  return walk;
 }
 
 StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajectory,
@@ -459,11 +326,12 @@ StrokeResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajec
     painted = state;
     if (on_step) on_step(state, step, steps);
   };
+  Stepper stepper(sim, walkOptions(options, canvas->grid().px_per_mm));
   const int threads = options.threads > 0 ? options.threads : defaultRenderThreads();
   if (threads >= 2)
-    stepAlongTrajectoryAhead(sim, trajectory, options, canvas->grid().px_per_mm, draw);
+    walkAhead(stepper, trajectory, draw);
   else
-    stepAlongTrajectory(sim, trajectory, options, canvas->grid().px_per_mm, draw);
+    stepper.walk(trajectory, draw);
   result.stats = sim.stats();
   return result;
 }

@@ -2,14 +2,12 @@
 // A whole stroke, end to end: trajectory -> simulation steps -> brush geometry
 // -> footprint (OSMesa) -> paint on the canvas (docs/design.md, "Where to start").
 
-#include <functional>
-#include <limits>
 #include <memory>
 
 #include "engine/geometry/brush_geometry.h"
 #include "engine/model/canvas.h"
 #include "engine/paint/paint.h"
-#include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "render/footprint_renderer.h"
 
 namespace bristle::render {
@@ -45,10 +43,6 @@ struct StrokeOptions {
   double sweep_notch_px = 0.25;
 };
 
-// Called after every simulation step with the index of the planned step it
-// belongs to and the planned step count (a split step reports its index twice).
-using StepCallback = std::function<void(const BrushState&, int step, int steps)>;
-
 struct StrokeResult {
   SimStats stats;
   bool touched = false;  // the brush reached the canvas at least once
@@ -65,22 +59,10 @@ struct StrokeResult {
 CanvasGrid canvasForStroke(const Brush& brush, const Trajectory& trajectory,
                            const StrokeOptions& options);
 
-// The stepping of a render, without the paint: resets `sim` at the first
-// planned step time (planStepTimes with options.sim, which `sim` must have been
-// made with), then steps it through the planned steps, halving a step (down to
-// 1/32) while the part of the brush within options.contact_band_mm of the
-// paper jumps further than max(2 options.sim.max_step_mm, 2 px at px_per_mm,
-// the canvas's resolution; kJumpPerRootStep in stroke_renderer.cpp). With
-// options.sim.steady_step_mm above max_step_mm, runs of planned steps are
-// solved as one where the brush is
-// steady (docs/dynamics.md, "Steady steps"); on_step's step is then the last
-// planned step the merged one covers. on_step sees the state after the reset
-// and after every step kept. Stops at the last step that ends at or before
-// stop_t_s, so that `bristle preview --at` shows a state the render shows.
-void stepAlongTrajectory(Simulation& sim, const Trajectory& trajectory,
-                         const StrokeOptions& options, double px_per_mm,
-                         const StepCallback& on_step = {},
-                         double stop_t_s = std::numeric_limits<double>::infinity());
+// How a render walks the simulation (engine/dynamics/stepper.h): the stroke's
+// simulation, contact band and early stop, with the jump limit of a canvas
+// at px_per_mm.
+WalkOptions walkOptions(const StrokeOptions& options, double px_per_mm);
 
 class StrokeRenderer {
  public:

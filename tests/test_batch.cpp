@@ -22,6 +22,7 @@
 #include "engine/base/fnv1a64.h"
 #include "engine/formats/scene.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/model/trajectory.h"
 #include "render/png_io.h"
 #include "engine/formats/sheet.h"

@@ -17,6 +17,7 @@
 #include "engine/geometry/spine_bundles.h"
 #include "engine/model/brush.h"
 #include "engine/model/trajectory.h"
+#include "engine/dynamics/stepper.h"
 #include "render/png_io.h"
 #include "render/stroke_renderer.h"
 

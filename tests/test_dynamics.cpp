@@ -9,6 +9,7 @@
 
 #include "engine/model/brush.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "test_helpers.h"
 
 using namespace bristle;

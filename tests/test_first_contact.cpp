@@ -12,6 +12,7 @@
 #include "engine/geometry/brush_geometry.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/solvers/spine_solver.h"
 #include "test_helpers.h"
 

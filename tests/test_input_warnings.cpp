@@ -11,6 +11,7 @@
 #include "engine/model/brush.h"
 #include "engine/formats/input_warnings.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/base/text_file.h"
 #include "engine/model/trajectory.h"
 

@@ -12,6 +12,7 @@
 
 #include "engine/model/brush.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/press_matrix.h"
 

@@ -19,6 +19,7 @@
 #include "engine/paint/pigments.h"
 #include "engine/solvers/solver_pair.h"
 #include "engine/solvers/spine_solver.h"
+#include "engine/dynamics/stepper.h"
 #include "render/compose.h"
 #include "render/image_compare.h"
 #include "render/step_pipeline.h"
@@ -371,7 +372,7 @@ TEST_CASE("Compose: the memoised sRGB codes are exactly the formula's, value by 
   CHECK(wrong == 0);
 }
 
-// `bristle preview --at t` steps as the render does (stepAlongTrajectory): the
+// `bristle preview --at t` steps as the render does (Stepper::walk): the
 // state it stops at is the very state the render painted at t. Before, the
 // preview stepped the planned times without the render's halving of a step
 // whose touching hairs jump too far, so where the render split a step (a
@@ -414,7 +415,7 @@ TEST_CASE("preview's stepping stops at the state the render painted at that time
   auto previewAt = [&](double t_s) {
     SolverPair solvers = makeSolverPair();
     Simulation sim(brush, options.sim, std::move(solvers.primary), std::move(solvers.fallback));
-    stepAlongTrajectory(sim, traj, options, options.px_per_mm, {}, t_s);
+    Stepper(sim, walkOptions(options, options.px_per_mm)).walk(traj, {}, t_s);
     return sim.state();
   };
   auto sameJoints = [](const BrushState& a, const BrushState& b) {

@@ -13,6 +13,7 @@
 #include "engine/geometry/spine_bundles.h"
 #include "engine/solvers/spine_solver.h"
 #include "engine/model/trajectory.h"
+#include "engine/dynamics/stepper.h"
 #include "test_helpers.h"
 
 using namespace bristle;

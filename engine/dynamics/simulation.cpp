@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include "engine/base/error.h"
@@ -859,129 +858,6 @@ std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
     out[k] = minimalRotation(a_rest, a_new) * rest[k];
   }
   return out;
-}
-
-namespace {
-// A trajectory in press depths has no ferrule heights until a brush gives them
-// (resolveDepths, engine/geometry/first_contact.h): a caller that forgot is a bug.
-void requireHeights(const Trajectory& traj) {
-  if (traj.needsBrush())
-    throw std::logic_error(traj.path + ": depth_mm not resolved for the brush (resolveDepths)");
-}
-}  // namespace
-
-double rootMotionBoundMm(const Brush& brush, const Pose& a, const Pose& b) {
-  double root_radius = 0;
-  for (const SpineSpec& s : brush.spines) root_radius = std::max(root_radius, s.root_mm.norm());
-  return (b.position_mm - a.position_mm).norm() +
-         rotationAngleRad(a.rotation, b.rotation) * root_radius;
-}
-
-namespace {
-
-std::string stepCountText(double v) {
-  std::ostringstream ss;
-  ss.precision(v < 1e15 ? 15 : 3);
-  ss << v;
-  return ss.str();
-}
-
-// The steps planned between samples k and k + 1, added to *planned (the
-// steps up to sample k); throws when they pass a limit. Counted as doubles,
-// before any becomes an integer or a step time.
-double segmentSteps(const Trajectory& traj, const Brush& brush, const SimOptions& options,
-                    size_t k, double* planned) {
-  const TrajectorySample& a = traj.samples[k];
-  const TrajectorySample& b = traj.samples[k + 1];
-  const double dt = b.t_s - a.t_s;
-  const double moved = rootMotionBoundMm(brush, a.pose, b.pose);
-  const double n = std::max({1.0, std::ceil(moved / options.max_step_mm),
-                             std::ceil(dt * options.min_rate_hz - 1e-9)});
-  auto where = [&] {
-    return "line " + std::to_string(b.line) + ", column " + std::to_string(traj.t_column) +
-           " (t_s)";
-  };
-  if (!std::isfinite(n) || (n > 1 && n > kMaxStepsPerSecond * dt))
-    throw dataError(traj.path, where(),
-                    "the " + stepCountText(dt) + " s since the previous sample plan " +
-                        stepCountText(n) +
-                        " simulation steps, over the limit of 1000000 steps per second of "
-                        "gesture (the handle moves " + stepCountText(moved) + " mm)");
-  *planned += n;
-  if (*planned > kMaxPlannedSteps)
-    throw dataError(traj.path, where(),
-                    "the trajectory plans " + stepCountText(*planned) +
-                        " simulation steps up to here, over the limit of 10000000 per "
-                        "trajectory");
-  return n;
-}
-
-}  // namespace
-
-std::vector<double> planStepTimes(const Trajectory& traj, const Brush& brush,
-                                  const SimOptions& options) {
-  requireHeights(traj);
-  std::vector<double> times{traj.samples.front().t_s};
-  double planned = 1;
-  for (size_t k = 0; k + 1 < traj.samples.size(); ++k) {
-    const int steps = static_cast<int>(segmentSteps(traj, brush, options, k, &planned));
-    const double t0 = traj.samples[k].t_s, dt = traj.samples[k + 1].t_s - t0;
-    for (int i = 1; i < steps; ++i) times.push_back(t0 + dt * i / steps);
-    times.push_back(traj.samples[k + 1].t_s);
-  }
-  return times;
-}
-
-double plannedStepCount(const Trajectory& traj, const Brush& brush, const SimOptions& options) {
-  requireHeights(traj);
-  double planned = 1;
-  for (size_t k = 0; k + 1 < traj.samples.size(); ++k)
-    segmentSteps(traj, brush, options, k, &planned);
-  return planned;
-}
-
-void validateTrajectoryForBrush(const Trajectory& traj, const Brush& brush) {
-  requireHeights(traj);
-  auto fmt = [](double v) {
-    std::ostringstream ss;
-    ss.precision(4);
-    ss << v;
-    return ss.str();
-  };
-  for (const TrajectorySample& smp : traj.samples) {
-    for (size_t s = 0; s < brush.spines.size(); ++s) {
-      const double z = smp.pose.apply(brush.spines[s].root_mm).z();
-      if (z < 0)
-        throw dataError(traj.path, "line " + std::to_string(smp.line),
-                        "the ferrule goes below the canvas (spine " + std::to_string(s) +
-                            " root at z = " + fmt(z) + " mm); z must stay >= 0" +
-                            (traj.depth_column != 0
-                                 ? " (depth_mm = " + fmt(smp.depth_mm) + " presses '" +
-                                       brush.name + "' too deep)"
-                                 : std::string()));
-    }
-  }
-  // The simulation starts from the rest shape: it must not start pressed in.
-  const TrajectorySample& first = traj.samples.front();
-  SpineFk fk;
-  for (size_t s = 0; s < brush.spines.size(); ++s) {
-    const SpineSpec& spec = brush.spines[s];
-    std::vector<double> q(2 * spec.jointCount());
-    for (int k = 0; k < spec.jointCount(); ++k) {
-      q[2 * k] = spec.rest_angles_rad[k][0];
-      q[2 * k + 1] = spec.rest_angles_rad[k][1];
-    }
-    spineForwardKinematics(spec, first.pose, q.data(), 0, &fk);
-    for (int j = 1; j <= spec.jointCount(); ++j)
-      if (fk.x[j].z() < 0)
-        throw dataError(traj.path, "line " + std::to_string(first.line),
-                        "the brush starts below the canvas (spine " + std::to_string(s) +
-                            " joint " + std::to_string(j) + " at z = " + fmt(fk.x[j].z()) +
-                            " mm at rest); start the trajectory with the hairs above z = 0" +
-                            (traj.depth_column != 0
-                                 ? " (a negative depth_mm, here " + fmt(first.depth_mm) + ")"
-                                 : std::string()));
-  }
 }
 
 }  // namespace bristle

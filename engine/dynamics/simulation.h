@@ -30,7 +30,7 @@ inline constexpr double kSettledMm = 1e-6;
 struct SimOptions {
   double max_step_mm = 0.25;  // no spine root moves further than this per step
   double min_rate_hz = 120;   // and steps come at least this often
-  // Where the brush is steady (render/stroke_renderer.h), planned steps are
+  // Where the brush is steady (engine/dynamics/stepper.h), planned steps are
   // merged into one while the handle moves at most this far.
   double steady_step_mm = 0;
   // Each solve starts from the previous shape carried with the handle, with the
@@ -123,7 +123,7 @@ struct SimStats {
   int steady_merged = 0;      // planned steps those covered
   int steady_rejected = 0;    // merged steps redone as planned (the brush was not steady)
   // Steps redone in halves because the touching part jumped further than a
-  // step may move it (render/stroke_renderer.cpp); their first try's
+  // step may move it (engine/dynamics/stepper.h); their first try's
   // iterations stay in `iterations`.
   int jump_split_steps = 0;
   // Of those, the ones whose first try was stopped mid-solve, as soon as an
@@ -176,7 +176,7 @@ std::vector<VolumePair> volumePairs(const Brush& brush);
 // its joint positions (n + 1 each, root first): the largest x-y move of a
 // joint j >= 1 that is, in either set, within the contact band plus its
 // bundle's reach (SpineSpec::bundleReachMm) of the paper. Where it is larger
-// than a stamp covers, a step is redone in halves (render/stroke_renderer.cpp).
+// than a stamp covers, a step is redone in halves (engine/dynamics/stepper.h).
 double contactJumpMm(const SpineSpec& spine, const std::vector<Eigen::Vector3d>& a,
                      const std::vector<Eigen::Vector3d>& b, double contact_band_mm);
 
@@ -223,6 +223,11 @@ class Simulation : private SolveWatch {
     stats_ = s.stats;
     failed_run_ = s.failed_run;
   }
+
+ private:
+  // The walk (engine/dynamics/stepper.h) counts its merged, rejected and
+  // split steps here, where a snapshot's stats are restored with the state.
+  friend class Stepper;
   void countSteady(int merged) {
     ++stats_.steady_steps;
     stats_.steady_merged += merged;
@@ -238,8 +243,6 @@ class Simulation : private SolveWatch {
     ++stats_.jump_split_steps;
     keepWork(before, tried);
   }
-
- private:
   // The solver work done between `before` and `tried`, added to stats_: a try
   // that was undone still cost its iterations.
   void keepWork(const SimStats& before, const SimStats& tried) {
@@ -329,35 +332,5 @@ std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
 std::vector<Eigen::Matrix3d> relaxedRotations(const SpineSpec& spine,
                                               const std::vector<Eigen::Matrix3d>& rest,
                                               const std::vector<Eigen::Matrix3d>& rot);
-
-// The most simulation steps one trajectory may plan: about 3 hours of solving
-// at 1 ms a step, 80 MB of step times.
-inline constexpr double kMaxPlannedSteps = 1e7;
-// The most steps a segment may plan per second of gesture: a handle moving
-// 250 m/s at the default 0.25 mm per step, 10 m/s at the finest 0.01 mm.
-inline constexpr double kMaxStepsPerSecond = 1e6;
-
-// The furthest any spine root of `brush` can move between two handle poses:
-// |dp| + angle * (largest |root|), the bound step planning keeps under
-// max_step_mm.
-double rootMotionBoundMm(const Brush& brush, const Pose& a, const Pose& b);
-
-// Times of the simulation steps for a trajectory: every sample time, subdivided
-// so that no spine root moves more than max_step_mm per step
-// (rootMotionBoundMm) and steps are at most 1 / min_rate_hz apart. Throws
-// kDataError naming the sample's line when the plan passes kMaxPlannedSteps or
-// kMaxStepsPerSecond, before the steps are allocated.
-std::vector<double> planStepTimes(const Trajectory& trajectory, const Brush& brush,
-                                  const SimOptions& options);
-// How many step times planStepTimes returns, with its checks and messages,
-// without storing them.
-double plannedStepCount(const Trajectory& trajectory, const Brush& brush,
-                        const SimOptions& options);
-
-// Throws kDataError naming the trajectory line when the brush would start inside
-// the canvas or its ferrule would pass below it. A trajectory in press depths
-// must have been resolved for the brush first (resolveDepths,
-// engine/geometry/first_contact.h); planStepTimes requires that too (std::logic_error).
-void validateTrajectoryForBrush(const Trajectory& trajectory, const Brush& brush);
 
 }  // namespace bristle

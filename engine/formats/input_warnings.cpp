@@ -1,4 +1,5 @@
 #include "engine/formats/input_warnings.h"
+#include "engine/dynamics/stepper.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -20,6 +20,7 @@
 #include "engine/base/json_reader.h"
 #include "engine/paint/pigments.h"
 #include "engine/base/text_file.h"
+#include "engine/dynamics/stepper.h"
 
 namespace bristle {
 namespace {

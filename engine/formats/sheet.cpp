@@ -14,6 +14,7 @@
 #include "engine/base/json_reader.h"
 #include "engine/formats/scene.h"
 #include "engine/base/text_file.h"
+#include "engine/dynamics/stepper.h"
 
 namespace bristle {
 namespace {

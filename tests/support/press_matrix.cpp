@@ -9,6 +9,7 @@
 
 #include "engine/base/error.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/dynamics/stepper.h"
 #include "engine/solvers/spine_solver.h"
 
 namespace bristle::testsupport {
