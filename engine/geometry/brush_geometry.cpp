@@ -2,6 +2,7 @@
 
 #include "engine/geometry/bristle_strips.h"
 #include "engine/geometry/brush_surface.h"
+#include "engine/geometry/spine_bundles.h"
 
 namespace bristle {
 
@@ -15,7 +16,7 @@ BrushGeometry& BrushGeometry::operator=(BrushGeometry&&) noexcept = default;
 
 void BrushGeometry::buildSurface(const BrushState& state, std::vector<BrushVertex>* triangles,
                                  double below_mm) {
-  if (surface_) surface_->update(state, triangles);
+  if (surface_) surface_->update(state, triangles, clearanceMm(below_mm));
   buildSpineTubes(state, triangles, below_mm);
 }
 
