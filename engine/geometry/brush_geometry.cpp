@@ -2,7 +2,6 @@
 
 #include "engine/geometry/bristle_strips.h"
 #include "engine/geometry/brush_surface.h"
-#include "engine/geometry/spine_bundles.h"
 
 namespace bristle {
 
@@ -16,7 +15,7 @@ BrushGeometry& BrushGeometry::operator=(BrushGeometry&&) noexcept = default;
 
 void BrushGeometry::buildSurface(const BrushState& state, std::vector<BrushVertex>* triangles,
                                  double below_mm) {
-  if (surface_) surface_->update(state, triangles, clearanceMm(below_mm));
+  if (surface_) surface_->update(state, triangles);
   buildSpineTubes(state, triangles, below_mm);
 }
 

@@ -320,8 +320,7 @@ void BrushSurface::setupUv(const Brush& brush) {
   }
 }
 
-void BrushSurface::update(const BrushState& state, std::vector<BrushVertex>* triangles,
-                          double clear_mm) {
+void BrushSurface::update(const BrushState& state, std::vector<BrushVertex>* triangles) {
   if (state.spines.size() != joint_count_.size())
     throw Error(ExitCode::kSoftware, "BrushSurface::update: state of another brush");
   // Skinning (§4.1): each cage vertex is a weighted sum of its rest position
@@ -339,11 +338,9 @@ void BrushSurface::update(const BrushState& state, std::vector<BrushVertex>* tri
   // and spines alike; and a flat lifting off leaves a square end: its
   // surface's belly neither drags ahead of its hair (before the depth limit)
   // nor slides ahead of it as the hair rises (before the raise: 0.25 mm).
-  // Over a spine that presses nothing the surface stays clear_mm above the
-  // canvas, as its bundles do (bundlePlacement).
   bundles_.resize(joint_count_.size());
   for (size_t s = 0; s < joint_count_.size(); ++s)
-    bundles_[s] = bundlePlacement(spines_[s], state.spines[s], state.handle, clear_mm);
+    bundles_[s] = bundlePlacement(spines_[s], state.spines[s], state.handle);
   for (size_t i = 0; i < cage_.size(); ++i) {
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
     double depth = 0;

@@ -60,10 +60,7 @@ class BrushSurface {
 
   // Skins the cage to `state` and refines it, then appends the refined surface
   // as a triangle list (3 vertices per triangle, world mm, u v as above).
-  // Where it wraps a spine that presses nothing it stays clear_mm above the
-  // canvas (bundlePlacement, engine/geometry/spine_bundles.h).
-  void update(const BrushState& state, std::vector<BrushVertex>* triangles,
-              double clear_mm = 0);
+  void update(const BrushState& state, std::vector<BrushVertex>* triangles);
 
   int level() const { return level_; }
   int cageVertexCount() const { return static_cast<int>(cage_.size()); }

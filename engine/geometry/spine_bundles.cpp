@@ -20,16 +20,9 @@ double bundleSpread(double radius_mm, double reach_mm) {
   return area / (area - segment);
 }
 
-double clearanceMm(double band_mm) { return std::isfinite(band_mm) ? band_mm : 0.0; }
-
-double bundlePress(double load_n) {
-  if (!(load_n > 0)) return 0;
-  return std::min(1.0, load_n / kBundleFlatLoadN);
-}
-
 double bundlePressDepth(double radius_mm, double load_n) {
-  if (!(radius_mm > 0)) return 0;
-  return radius_mm * bundlePress(load_n);
+  if (!(radius_mm > 0) || !(load_n > 0)) return 0;
+  return radius_mm * std::min(1.0, load_n / kBundleFlatLoadN);
 }
 
 namespace {
@@ -134,24 +127,11 @@ void bundleSections(const SpineSpec& spec, const std::vector<Eigen::Vector3d>& x
   }
 }
 
-double spineLoadN(const SpineState& spine) {
-  double load_n = 0;
-  for (double f : spine.solution.normal_force_n) load_n += f;
-  return load_n;
-}
-
-// How far the load presses the bundle at a point whose hair runs along t:
-// bundlePress of the load's share across the hair.
-double pressAt(double load_n, const Eigen::Vector3d& t) {
-  return bundlePress(load_n * std::hypot(t.x(), t.y()));
-}
-
 // Each point's bundle section, and the centre it is drawn around: the joint,
-// raised until the bundle's lowest point is where its press puts it
-// (bundlePress): clear_mm above the canvas unpressed, r below it (the axis
-// on the canvas) pressed flat, linearly between.
+// raised until the bundle reaches only as deep below the canvas as the
+// spine's load presses it (bundlePressDepth).
 void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
-                  double clear_mm, std::vector<BundleSection>* section_out,
+                  std::vector<BundleSection>* section_out,
                   std::vector<Eigen::Vector3d>* centre_out) {
   const std::vector<Eigen::Vector3d>& x = spine.joints_mm;
   const int n = spec.jointCount();
@@ -163,14 +143,16 @@ void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& ha
   // whichever joints are held on the canvas, while the hair between them
   // lies along the paper and shares it, so the load is the spine's, not
   // the joint's.
-  const double load_n = spineLoadN(spine);
-  const double clear = std::max(clear_mm, 0.0);
+  double load_n = 0;
+  for (double f : spine.solution.normal_force_n) load_n += f;
+  // Each joint's bundle: its centre raised until the half solid around it
+  // (the part that reaches lowest) is only as deep below the canvas as
+  // the load presses it, see kBundleFlatLoadN.
   centre.assign(n + 1, Eigen::Vector3d::Zero());
   for (int j = 0; j <= n; ++j) {
     const double r = section[j].depth();
-    const double f = pressAt(load_n, section[j].t);
     const double sunk = r - std::max(x[j].z(), 0.0);  // below the canvas, as placed
-    const double raise = std::max(0.0, sunk - r * f + clear * (1 - f));
+    const double raise = std::max(0.0, sunk - bundlePressDepth(r, load_n));
     centre[j] = x[j] + raise * Eigen::Vector3d::UnitZ();
   }
 }
@@ -178,16 +160,14 @@ void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& ha
 }  // namespace
 
 BundlePlacement bundlePlacement(const SpineSpec& spec, const SpineState& spine,
-                                const Pose& handle, double clear_mm) {
+                                const Pose& handle) {
   std::vector<BundleSection> section;
   std::vector<Eigen::Vector3d> centre;
-  spineBundles(spec, spine, handle, clear_mm, &section, &centre);
-  const double load_n = spineLoadN(spine);
+  spineBundles(spec, spine, handle, &section, &centre);
   std::vector<double> raise(section.size()), depth(section.size());
   for (size_t j = 0; j < section.size(); ++j) {
     raise[j] = centre[j].z() - spine.joints_mm[j].z();
-    const double floor = -std::max(clear_mm, 0.0) * (1 - pressAt(load_n, section[j].t));
-    depth[j] = std::max(floor, section[j].depth() - centre[j].z());
+    depth[j] = std::max(0.0, section[j].depth() - centre[j].z());
   }
   return BundlePlacement{std::move(raise), std::move(depth)};
 }
@@ -271,12 +251,12 @@ const DressingDirections& dressingDirections() {
 
 // Places the half-tube rings of one spine.
 void placeTubeRings(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
-                    double clear_mm, SpineTube* tube) {
+                    SpineTube* tube) {
   const Eigen::Vector3d brush_x = handle.rotation * Eigen::Vector3d::UnitX();
   const int n = spec.jointCount();
   tube->ring.assign((n + 1) * (F + 1), Eigen::Vector3d::Zero());
   tube->sides.assign(n + 1, Eigen::Vector3d::Zero());
-  spineBundles(spec, spine, handle, clear_mm, &tube->section, &tube->centre);
+  spineBundles(spec, spine, handle, &tube->section, &tube->centre);
   const DressingDirections& dirs = dressingDirections();
   for (int j = 0; j <= n; ++j) {
     const BundleSection& q = tube->section[j];
@@ -416,7 +396,7 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
   for (size_t s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush.spines[s];
     const std::vector<char>* due = caps ? &(*caps)[s] : nullptr;
-    placeTubeRings(spec, state.spines[s], state.handle, clearanceMm(below_mm), &tube);
+    placeTubeRings(spec, state.spines[s], state.handle, &tube);
     appendJointCaps(spec, tube, s, ns, due, triangles, below_mm);
     appendTube(spec, tube, s, ns, triangles, below_mm);
   }
@@ -430,7 +410,7 @@ void capPatchRoundness(const SpineSpec& spec, const SpineState& spine, const Pos
   if (!spec.thickness_mm.empty()) return;
   std::vector<BundleSection> section;
   std::vector<Eigen::Vector3d> centre;
-  spineBundles(spec, spine, handle, clearanceMm(band_mm), &section, &centre);
+  spineBundles(spec, spine, handle, &section, &centre);
   // The half solid at point j, a half ball of radius r around its centre,
   // reaches `dip` into the contact band. There it is cut in a disc, as drawn:
   // its rings of latitude (appendJointCaps) lie at heights r (1 - cos a)

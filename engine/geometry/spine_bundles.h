@@ -71,51 +71,27 @@ double bundleSpread(double radius_mm, double reach_mm);
 // is pressed into the paper only as far as its load can press it: depth
 // r * load / kBundleFlatLoadN, at most r (the axis on the canvas, flat, spread
 // twice as wide). A tip that just touches -- the load fading as a moving brush
-// lifts off -- is pressed in by little: it reaches only into the contact band
-// and leaves a thin, light line, and the stroke tapers to a point. 0.05 N is below what every
+// lifts off -- is pressed in by nothing: it rests on the paper and leaves a
+// thin line, and the stroke tapers to a point. 0.05 N is below what every
 // spine of the round presses with through a steady stroke's body (the tenth
 // percentile of its per-spine load along straight-pull.csv is 0.07 N, the
 // flat's 0.17 N, the bright's 0.24 N), so those bodies keep their width.
 inline constexpr double kBundleFlatLoadN = 0.05;
 
-// How far a load (N) across the hair presses a bundle, in [0, 1]:
-// load / kBundleFlatLoadN, at most 1 (flat).
-double bundlePress(double load_n);
-
 // How deep (mm) a bundle of radius r may reach below the canvas under a load
-// (N): r * bundlePress(load), within [0, r].
+// (N): r * load / kBundleFlatLoadN, within [0, r].
 double bundlePressDepth(double radius_mm, double load_n);
 
-// Paint moves only where the brush presses on the paper (docs/paint.md, "No
-// paint without a press"). The footprint takes brush geometry within the
-// contact band above the canvas as touching, fully where it reaches the
-// canvas; so a bundle laid on the canvas with no load, or pushed on end,
-// would mark as if pressed. A bundle's lowest point is therefore put where
-// its press f = bundlePress(load across the hair) puts it: clear_mm (the
-// band) above the canvas at f = 0, the top of the band, where contact is
-// nil; r below it at f = 1, the axis on the canvas, as before; linearly
-// between. The load across the hair is the spine's load (the canvas forces,
-// eq. 5) times the sine of the hair's angle from the vertical at that point:
-// a bundle pushed on end (a straight hair standing on its tip) is not
-// flattened by it, and a real round's tip meets the paper in a point, not in
-// the 0.8 mm blunt end its tip's half solid has. Without this a round lifted
-// straight up left its tip's cut through the band, a pale disc 1.3-1.6 mm
-// across, where the straightened centre spine stood on the paper for the
-// last millisecond of the lift.
-
-// The height (mm) an unpressed bundle is kept above the canvas for geometry
-// cut at band_mm (the contact band): band_mm, or 0 for kAllHeights.
-double clearanceMm(double band_mm);
 
 // Where buildSpineGeometry draws the bundle around each point 0..n of a
-// spine: its centre raised above the joint (raise_mm, >= 0) until its lowest
-// point is where its press puts it (above), and how far below the canvas it
-// then reaches (depth_mm; negative: how far above it the press keeps it).
+// spine: its centre raised above the joint (raise_mm, >= 0) until it reaches
+// only bundlePressDepth of the spine's load below the canvas, and how far
+// below the canvas it then reaches (depth_mm, >= 0).
 struct BundlePlacement {
   std::vector<double> raise_mm, depth_mm;
 };
 BundlePlacement bundlePlacement(const SpineSpec& spec, const SpineState& spine,
-                                const Pose& handle, double clear_mm = 0);
+                                const Pose& handle);
 
 // How far (mm) below each point 0..n of a spine (joints_mm, root first, in the
 // world) its hair bundle reaches, unpressed, as buildSpineGeometry draws it for a
