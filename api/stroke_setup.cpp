@@ -128,7 +128,7 @@ render::StrokeSetup strokeSetupOf(const RenderOptions& o,
 
 StrokePixels paintStrokePixels(const bristle::Brush& brush, const bristle::Trajectory& trajectory,
                                const render::StrokeSetup& setup, bool impasto,
-                               const render::StepCallback& on_step) {
+                               const StepCallback& on_step) {
   render::StrokeRenderer renderer;
   render::PaintedStroke painted = render::paintStroke(renderer, brush, trajectory, setup, on_step);
   render::ComposeOptions compose;

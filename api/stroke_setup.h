@@ -49,6 +49,6 @@ struct StrokePixels {
 // `trajectory` has its depths resolved and was validated for the brush.
 StrokePixels paintStrokePixels(const bristle::Brush& brush, const bristle::Trajectory& trajectory,
                                const render::StrokeSetup& setup, bool impasto,
-                               const render::StepCallback& on_step = {});
+                               const StepCallback& on_step = {});
 
 }  // namespace bristle::api

@@ -576,10 +576,12 @@ StandinForces readStandinForces(const std::string& path) {
   return r;
 }
 
-// The device felt a force in the 100 ticks before `tick` (mid-drag). Not
-// one given tick: on a busy machine a late sim frame may fade a few ticks.
+// The device felt a force in the 400 ticks before `tick` (the brush touches
+// from about 0.25 s of shortStroke). Not one given tick, nor only the last
+// hundred: on a loaded machine the sim thread's frames come late, the servo
+// loop fades a stale force to zero, and a run of ticks may feel nothing.
 bool pushedBefore(const StandinForces& sf, size_t tick) {
-  for (size_t i = tick - 100; i < tick; ++i)
+  for (size_t i = tick - 400; i < tick; ++i)
     if (sf.f[i].norm() > 0) return true;
   return false;
 }
