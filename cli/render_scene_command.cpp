@@ -124,10 +124,7 @@ int runRenderScene(const RenderArgs& args) {
   text.push_back({"bristle:scene", scene.name});
   text.push_back({"bristle:canvas", canvasText(canvas.grid())});
   for (auto& entry : batchPngText(args.batch_key, stats.warnings)) text.push_back(std::move(entry));
-  if (args.bits == 16)
-    render::writePng(args.output, render::composeRgb16(canvas, compose), text);
-  else
-    render::writePng(args.output, image8, text);
+  render::writeCanvasPng(args.output, canvas, image8, compose, args.bits, text);
   if (trace) trace->commit();
   writeRunStats(args.stats, stats);
   outputs.commit();

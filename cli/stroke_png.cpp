@@ -88,10 +88,7 @@ StrokePngResult renderStrokePng(const Brush& brush, const Trajectory& trajectory
   r.pixels = long(image8.width) * image8.height;
   if (more_text)
     for (auto& entry : more_text(r)) text.push_back(std::move(entry));
-  if (o.bits == 16)
-    render::writePng(output, render::composeRgb16(canvas, compose), text);
-  else
-    render::writePng(output, image8, text);
+  render::writeCanvasPng(output, canvas, image8, compose, o.bits, text);
   return r;
 }
 

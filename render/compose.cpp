@@ -118,6 +118,14 @@ Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options) {
   return img;
 }
 
+void writeCanvasPng(const std::string& path, const PaintCanvas& canvas, const Image8& image8,
+                    const ComposeOptions& options, int bits, const PngText& text) {
+  if (bits == 16)
+    writePng(path, composeRgb16(canvas, options), text);
+  else
+    writePng(path, image8, text);
+}
+
 PngText provenanceText(const std::vector<std::string>& inputs) {
   return provenanceText(fnv1a64Files(inputs));
 }

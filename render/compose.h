@@ -41,6 +41,11 @@ std::vector<std::uint16_t> encodeSrgb16(std::span<const float> linear);
 // 8-bit / 16-bit sRGB-encoded RGB images of the canvas.
 Image8 composeRgb8(const PaintCanvas& canvas, const ComposeOptions& options);
 Image16 composeRgb16(const PaintCanvas& canvas, const ComposeOptions& options);
+// Writes a canvas as a PNG (atomically, writePng): with bits 8 the 8-bit
+// composition the caller already made of it (image8, composeRgb8 of the same
+// canvas and options), with bits 16 the 16-bit one.
+void writeCanvasPng(const std::string& path, const PaintCanvas& canvas, const Image8& image8,
+                    const ComposeOptions& options, int bits, const PngText& text);
 
 // A pixel is ink when its colour differs from the bare paper's by more than
 // this (sum of |difference| over R, G, B, 8-bit levels): a visible mark, not a
