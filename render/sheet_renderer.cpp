@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <utility>
 
 #include "engine/base/error.h"
 #include "engine/dynamics/stepper.h"
@@ -178,12 +179,12 @@ struct Labels {
   int margin = 0, header_y = 0, pitch_x = 0, pitch_y = 0;
 };
 
-// Places the title, labels and grid in L and sizes the picture.
-Labels layOutLabels(const Sheet& sheet, SheetLayout* L) {
+// Places the title (`title`, rasterised at titlePx), labels and grid in L and
+// sizes the picture.
+Labels layOutLabels(const Sheet& sheet, Image8 title, SheetLayout* L) {
   Font font;
   Labels labels;
   const int label_px = sheet.label_px;
-  const int title_px = titlePx(sheet);
   labels.margin = labelMarginPx(sheet);
   const int margin = labels.margin;
   const int gap = std::max(4, label_px / 2);
@@ -203,7 +204,7 @@ Labels layOutLabels(const Sheet& sheet, SheetLayout* L) {
   }
   int y = margin;
   if (!sheet.title.empty()) {
-    labels.title = font.rasterize(sheet.title, title_px);
+    labels.title = std::move(title);
     L->title = {margin, y, labels.title.width, labels.title.height};
     y += labels.title.height + gap;
   }
@@ -298,15 +299,16 @@ SheetImage renderSheet(const Sheet& sheet, const SheetRenderOptions& options,
     checkSheetSize(sheet, grid_w, grid_h, 0);
   }
   // So does the title's width.
+  Image8 title;
   if (!sheet.title.empty()) {
     Font font;
-    checkSheetSize(sheet, 0, 0,
-                   2.0 * labelMarginPx(sheet) + font.rasterize(sheet.title, titlePx(sheet)).width);
+    title = font.rasterize(sheet.title, titlePx(sheet));
+    checkSheetSize(sheet, 0, 0, 2.0 * labelMarginPx(sheet) + title.width);
   }
 
   const std::vector<Image8> strokes = paintCells(sheet, options, plan, on_step, &out);
   sizeCells(sheet, &out);
-  const Labels labels = layOutLabels(sheet, &L);
+  const Labels labels = layOutLabels(sheet, std::move(title), &L);
 
   const Rgb8 paper = sheetPaperColour(sheet, options.compose);
   Image8& img = out.image;
