@@ -27,8 +27,8 @@ using namespace bristle::testsupport;
 namespace {
 
 // One pixel at the 8 px/mm rendered here: the resolution of every width.
-constexpr double kPxPerMm = 8;
-constexpr double kPixelMm = 1.0 / kPxPerMm;
+constexpr double kTaperPxPerMm = 8;
+constexpr double kPixelMm = 1.0 / kTaperPxPerMm;
 
 // The pull that lifts off while moving (tilted 20 degrees so the hairs trail,
 // as the marks tests pull): hover, press straight down in 0.4 s, pull 40 mm
@@ -88,11 +88,11 @@ TEST_CASE("taper: a round lifted while moving narrows to a point", "[marks][tape
   CHECK(r.err.find("failed solve") == std::string::npos);
 
   // Width across the stroke per column along it (the pull runs along +x).
-  const WidthProfile p = widthProfile(loadCoveragePng(png, kPxPerMm));
+  const WidthProfile p = widthProfile(loadCoveragePng(png, kTaperPxPerMm));
   REQUIRE_FALSE(p.empty());
   std::vector<double> span(p.width_mm.begin() + p.first, p.width_mm.begin() + p.last + 1);
   const int n = static_cast<int>(span.size());
-  const int two_mm = static_cast<int>(std::lround(2 * kPxPerMm));
+  const int two_mm = static_cast<int>(std::lround(2 * kTaperPxPerMm));
   REQUIRE(n > 10 * two_mm);  // a stroke, not a dab
   std::vector<double> sorted = span;
   std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
