@@ -2,7 +2,7 @@
 // A linear solver for Ipopt's KKT systems that factors each independent block
 // of the matrix: a small one densely with LAPACK's Bunch-Kaufman LDL^T
 // (dsytrf), a large one (the spines hair volume couples) as a sparse LDL^T
-// in a fixed quasi-definite order (dense_kkt.cpp). It sits behind the calling
+// in a fixed quasi-definite order (sparse_ldl.h). It sits behind the calling
 // convention of HSL's MA27, which Debian's Ipopt 3.11 accepts through its HSL
 // loader (LSL_setMA27; docs/dynamics.md, "Ipopt's linear solver").
 //
