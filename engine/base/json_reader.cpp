@@ -24,12 +24,12 @@ std::string escapePointerToken(const std::string& key) {
   return out;
 }
 
-// Offset of the first number literal spelled exactly `token` outside JSON
-// strings, or npos.
-size_t findNumberLiteral(const std::string& text, const std::string& token) {
-  auto numberChar = [](char c) {
-    return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' || c == 'e' || c == 'E';
-  };
+// Walks `text` outside JSON strings, skipping a string's quotes and escapes
+// as a JSON parser does, and calls visit(i) at each offset i there. visit
+// returns the offset to go on from (i itself for the next character), or
+// npos to stop: the scan then returns i. npos when it never stops.
+template <typename Visit>
+size_t scanOutsideStrings(const std::string& text, Visit visit) {
   bool in_string = false;
   for (size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
@@ -38,14 +38,27 @@ size_t findNumberLiteral(const std::string& text, const std::string& token) {
       else if (c == '"') in_string = false;
     } else if (c == '"') {
       in_string = true;
-    } else if (numberChar(c)) {
-      size_t j = i;
-      while (j < text.size() && numberChar(text[j])) ++j;
-      if (text.compare(i, j - i, token) == 0) return i;
-      i = j - 1;
+    } else {
+      const size_t next = visit(i);
+      if (next == std::string::npos) return i;
+      i = next;
     }
   }
   return std::string::npos;
+}
+
+// Offset of the first number literal spelled exactly `token` outside JSON
+// strings, or npos.
+size_t findNumberLiteral(const std::string& text, const std::string& token) {
+  auto numberChar = [](char c) {
+    return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' || c == 'e' || c == 'E';
+  };
+  return scanOutsideStrings(text, [&](size_t i) {
+    if (!numberChar(text[i])) return i;
+    size_t j = i;
+    while (j < text.size() && numberChar(text[j])) ++j;
+    return text.compare(i, j - i, token) == 0 ? std::string::npos : j - 1;
+  });
 }
 
 // Thrown by the parser callback when arrays and objects nest too deep.
@@ -56,21 +69,12 @@ struct TooDeep {};
 // and brackets inside strings are skipped as the parser skipped them.
 size_t offsetBeyondDepth(const std::string& text, int limit) {
   int depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
+  return scanOutsideStrings(text, [&](size_t i) {
     const char c = text[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > limit) return i;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return std::string::npos;
+    if ((c == '[' || c == '{') && ++depth > limit) return std::string::npos;
+    if (c == ']' || c == '}') --depth;
+    return i;
+  });
 }
 
 // Thrown by the parser callback when a document holds too many values.
