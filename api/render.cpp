@@ -40,6 +40,7 @@ void checkRenderRanges(const RenderOptions& o) {
   checkRange("steady_step_mm", o.steady_step_mm, 0, 5);
   checkRange("min_rate_hz", o.min_rate_hz, 1, 10000);
   checkRange("contact_band_mm", o.contact_band_mm, 0.001, 2);
+  checkRange("threads", o.threads, 0, 2);
 }
 
 // An 8-bit composition of a canvas as the public Image, placed on the canvas.

@@ -110,6 +110,7 @@ render::StrokeOptions strokeOptionsOf(const RenderOptions& o) {
   stroke.sim.max_step_mm = o.max_step_mm;
   stroke.sim.steady_step_mm = o.steady_step_mm;
   stroke.sim.min_rate_hz = o.min_rate_hz;
+  stroke.threads = o.threads;
   return stroke;
 }
 

@@ -43,6 +43,10 @@ struct RenderOptions {
   double steady_step_mm = 0;         // [0, 5]; 0 solves every planned step
   double min_rate_hz = 120;          // [1, 10000]
   double contact_band_mm = 0.1;      // [0.001, 2]
+  // `bristle render --threads`: 1 simulates and draws in turns, 2 simulates
+  // the next steps on a second thread; 0 is 2 where the process may use 2+
+  // CPUs. The same pixels on any count. [0, 2]
+  int threads = 0;
 };
 
 // 8-bit sRGB, RGB (3 channels), row 0 at the top, rows packed.
