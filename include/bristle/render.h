@@ -70,6 +70,29 @@ struct RenderResult {
 RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
                           const RenderOptions& options = {});
 
+// Strokes rendered one after another on one OSMesa context, made at the first
+// stroke: renderStroke makes a context for each call, and llvmpipe compiles
+// its shaders anew for each (about a sixth of a small stroke's CPU time). The
+// same pixels as renderStroke. Used from one thread at a time; a program that
+// renders on several threads keeps one per thread.
+class StrokeRenderer {
+ public:
+  StrokeRenderer();
+  ~StrokeRenderer();
+  StrokeRenderer(StrokeRenderer&&) noexcept;
+  StrokeRenderer& operator=(StrokeRenderer&&) noexcept;
+  StrokeRenderer(const StrokeRenderer&) = delete;
+  StrokeRenderer& operator=(const StrokeRenderer&) = delete;
+
+  // As renderStroke (the same checks and errors).
+  RenderResult render(const Brush& brush, const Trajectory& trajectory,
+                      const RenderOptions& options = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 struct StrokeFacts {
   bool touched = false;
   double paint_laid_mm3 = 0;

@@ -78,7 +78,8 @@ py::tuple renderOne(const api::Brush& brush, const api::Trajectory& trajectory,
 }
 
 // Strokes taken in turn by `threads` threads, each stroke on the thread that
-// took it with its own OSMesa context (renderStroke makes one per stroke).
+// took it, on that thread's OSMesa context (one StrokeRenderer a thread:
+// llvmpipe compiles its shaders once per context, not once per stroke).
 // The first failure (by stroke index) is rethrown, prefixed with its index,
 // once every thread has stopped.
 std::vector<api::RenderResult> renderAll(const std::vector<api::Brush>& brushes,
@@ -90,10 +91,11 @@ std::vector<api::RenderResult> renderAll(const std::vector<api::Brush>& brushes,
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
   auto work = [&] {
+    api::StrokeRenderer renderer;
     for (size_t i; !failed.load() && (i = next.fetch_add(1)) < n;) {
       try {
-        results[i] = api::renderStroke(brushes[brushes.size() == 1 ? 0 : i], trajectories[i],
-                                       options);
+        results[i] = renderer.render(brushes[brushes.size() == 1 ? 0 : i], trajectories[i],
+                                     options);
       } catch (...) {
         errors[i] = std::current_exception();
         failed.store(true);
