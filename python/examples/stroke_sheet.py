@@ -51,8 +51,8 @@ def main():
     trajs = [pull(d) for _ in names for d in depths]
     strokes = bristle.render_many([b for b in brushes for _ in depths], trajs, threads=2,
                                   details=True, px_per_mm=px_per_mm, paint="burnt-umber")
-    fig, axes = plt.subplots(len(names), len(depths), figsize=(3 * len(depths), 2.2 * len(names)),
-                             squeeze=False)
+    fig, axes = plt.subplots(len(names), len(depths), squeeze=False,
+                             figsize=(3 * len(depths), 1.1 * len(names) + 0.6))
     for k, s in enumerate(strokes):
         ax = axes[k // len(depths)][k % len(depths)]
         h, w, _ = s.image.shape
