@@ -67,19 +67,27 @@ py::tuple strokeTuple(api::RenderResult&& r) {
   return py::make_tuple(imageArray(std::move(r.image)), facts);
 }
 
+// The OSMesa context of the calling thread, made at its first stroke and
+// kept until the thread ends: llvmpipe compiles a context's shaders once,
+// a fifth of a small stroke's CPU time when made per stroke (docs/python.md,
+// "Speed"). The same pixels as a fresh context (python/tests/test_cli_pixels.py).
+api::StrokeRenderer& threadRenderer() {
+  thread_local api::StrokeRenderer renderer;
+  return renderer;
+}
+
 py::tuple renderOne(const api::Brush& brush, const api::Trajectory& trajectory,
                     const api::RenderOptions& options) {
   api::RenderResult r;
   {
     py::gil_scoped_release unlocked;
-    r = api::renderStroke(brush, trajectory, options);
+    r = threadRenderer().render(brush, trajectory, options);
   }
   return strokeTuple(std::move(r));
 }
 
 // Strokes taken in turn by `threads` threads, each stroke on the thread that
-// took it, on that thread's OSMesa context (one StrokeRenderer a thread:
-// llvmpipe compiles its shaders once per context, not once per stroke).
+// took it, on that thread's OSMesa context (threadRenderer).
 // The first failure (by stroke index) is rethrown, prefixed with its index,
 // once every thread has stopped.
 std::vector<api::RenderResult> renderAll(const std::vector<api::Brush>& brushes,
@@ -91,7 +99,7 @@ std::vector<api::RenderResult> renderAll(const std::vector<api::Brush>& brushes,
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
   auto work = [&] {
-    api::StrokeRenderer renderer;
+    api::StrokeRenderer& renderer = threadRenderer();
     for (size_t i; !failed.load() && (i = next.fetch_add(1)) < n;) {
       try {
         results[i] = renderer.render(brushes[brushes.size() == 1 ? 0 : i], trajectories[i],
