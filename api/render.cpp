@@ -40,6 +40,7 @@ void checkRenderRanges(const RenderOptions& o) {
   checkRange("steady_step_mm", o.steady_step_mm, 0, 5);
   checkRange("min_rate_hz", o.min_rate_hz, 1, 10000);
   checkRange("contact_band_mm", o.contact_band_mm, 0.001, 2);
+  checkRange("threads", o.threads, 0, 2);
 }
 
 // An 8-bit composition of a canvas as the public Image, placed on the canvas.
@@ -65,15 +66,19 @@ bristle::Trajectory placedFor(const Trajectory& trajectory, const bristle::Brush
 
 }  // namespace
 
-RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
-                          const RenderOptions& options) {
+namespace {
+
+// renderStroke on a given GL context (render::StrokeRenderer).
+RenderResult renderOn(render::StrokeRenderer* renderer, const Brush& brush,
+                      const Trajectory& trajectory, const RenderOptions& options) {
   return translateErrors([&] {
     checkRenderRanges(options);
     const render::StrokeSetup setup = strokeSetupOf(options, {}, apiOptionNames());
     const bristle::Brush& b = brush.model().brush;
     const bristle::Trajectory t = placedFor(trajectory, b);
     render::canvasForStroke(b, t, setup.stroke);  // fails early if too large
-    const StrokePixels pixels = paintStrokePixels(b, t, setup, options.impasto);
+    const StrokePixels pixels = renderer ? paintStrokePixels(*renderer, b, t, setup, options.impasto)
+                                         : paintStrokePixels(b, t, setup, options.impasto);
     RenderResult r;
     r.image = imageOf(pixels.image, pixels.painted.canvas.grid());
     r.touched = pixels.painted.stroke.touched;
@@ -82,6 +87,30 @@ RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
     r.failed_spine_solves = pixels.painted.stroke.stats.failed_spine_solves;
     return r;
   });
+}
+
+}  // namespace
+
+RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
+                          const RenderOptions& options) {
+  return renderOn(nullptr, brush, trajectory, options);
+}
+
+struct StrokeRenderer::Impl {
+  std::unique_ptr<render::StrokeRenderer> renderer;  // made at the first stroke
+};
+
+StrokeRenderer::StrokeRenderer() : impl_(new Impl) {}
+StrokeRenderer::~StrokeRenderer() = default;
+StrokeRenderer::StrokeRenderer(StrokeRenderer&&) noexcept = default;
+StrokeRenderer& StrokeRenderer::operator=(StrokeRenderer&&) noexcept = default;
+
+RenderResult StrokeRenderer::render(const Brush& brush, const Trajectory& trajectory,
+                                    const RenderOptions& options) {
+  translateErrors([&] {
+    if (!impl_->renderer) impl_->renderer = std::make_unique<render::StrokeRenderer>();
+  });
+  return renderOn(impl_->renderer.get(), brush, trajectory, options);
 }
 
 struct Canvas::Impl {

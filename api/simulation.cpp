@@ -38,6 +38,10 @@ std::array<double, 3> array3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v
 }  // namespace
 
 struct Simulation::Impl {
+  // The engine's simulation and solvers refer to the brush's model: this copy
+  // keeps it alive however long the caller keeps its Brush (a temporary, as
+  // in `Simulation sim(Brush::load("round"))`).
+  Brush brush;
   std::unique_ptr<bristle::Simulation> sim;
   bool started = false;
   StepResult result;
@@ -81,7 +85,9 @@ std::unique_ptr<bristle::Simulation> makeSimulation(const Brush& brush, Solver s
 
 Simulation::Simulation(const Brush& brush, Solver solver, int solver_max_iterations) {
   translateErrors([&] {
-    impl_.reset(new Impl{makeSimulation(brush, solver, solver_max_iterations), false, {}});
+    auto impl = std::unique_ptr<Impl>(new Impl{brush, nullptr, false, {}});
+    impl->sim = makeSimulation(impl->brush, solver, solver_max_iterations);
+    impl_ = std::move(impl);
   });
 }
 

@@ -110,6 +110,7 @@ render::StrokeOptions strokeOptionsOf(const RenderOptions& o) {
   stroke.sim.max_step_mm = o.max_step_mm;
   stroke.sim.steady_step_mm = o.steady_step_mm;
   stroke.sim.min_rate_hz = o.min_rate_hz;
+  stroke.threads = o.threads;
   return stroke;
 }
 
@@ -130,6 +131,13 @@ StrokePixels paintStrokePixels(const bristle::Brush& brush, const bristle::Traje
                                const render::StrokeSetup& setup, bool impasto,
                                const StepCallback& on_step) {
   render::StrokeRenderer renderer;
+  return paintStrokePixels(renderer, brush, trajectory, setup, impasto, on_step);
+}
+
+StrokePixels paintStrokePixels(render::StrokeRenderer& renderer, const bristle::Brush& brush,
+                               const bristle::Trajectory& trajectory,
+                               const render::StrokeSetup& setup, bool impasto,
+                               const StepCallback& on_step) {
   render::PaintedStroke painted = render::paintStroke(renderer, brush, trajectory, setup, on_step);
   render::ComposeOptions compose;
   compose.impasto = impasto;

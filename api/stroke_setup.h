@@ -50,5 +50,11 @@ struct StrokePixels {
 StrokePixels paintStrokePixels(const bristle::Brush& brush, const bristle::Trajectory& trajectory,
                                const render::StrokeSetup& setup, bool impasto,
                                const StepCallback& on_step = {});
+// The same on a renderer (a GL context) that has painted other strokes before:
+// the same pixels (one StrokeRenderer serves any number of strokes).
+StrokePixels paintStrokePixels(render::StrokeRenderer& renderer, const bristle::Brush& brush,
+                               const bristle::Trajectory& trajectory,
+                               const render::StrokeSetup& setup, bool impasto,
+                               const StepCallback& on_step = {});
 
 }  // namespace bristle::api

@@ -43,6 +43,10 @@ struct RenderOptions {
   double steady_step_mm = 0;         // [0, 5]; 0 solves every planned step
   double min_rate_hz = 120;          // [1, 10000]
   double contact_band_mm = 0.1;      // [0.001, 2]
+  // `bristle render --threads`: 1 simulates and draws in turns, 2 simulates
+  // the next steps on a second thread; 0 is 2 where the process may use 2+
+  // CPUs. The same pixels on any count. [0, 2]
+  int threads = 0;
 };
 
 // 8-bit sRGB, RGB (3 channels), row 0 at the top, rows packed.
@@ -65,6 +69,29 @@ struct RenderResult {
 // sample, kDataError for a canvas too large (16384 px a side).
 RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
                           const RenderOptions& options = {});
+
+// Strokes rendered one after another on one OSMesa context, made at the first
+// stroke: renderStroke makes a context for each call, and llvmpipe compiles
+// its shaders anew for each (about a sixth of a small stroke's CPU time). The
+// same pixels as renderStroke. Used from one thread at a time; a program that
+// renders on several threads keeps one per thread.
+class StrokeRenderer {
+ public:
+  StrokeRenderer();
+  ~StrokeRenderer();
+  StrokeRenderer(StrokeRenderer&&) noexcept;
+  StrokeRenderer& operator=(StrokeRenderer&&) noexcept;
+  StrokeRenderer(const StrokeRenderer&) = delete;
+  StrokeRenderer& operator=(const StrokeRenderer&) = delete;
+
+  // As renderStroke (the same checks and errors).
+  RenderResult render(const Brush& brush, const Trajectory& trajectory,
+                      const RenderOptions& options = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 struct StrokeFacts {
   bool touched = false;

@@ -45,11 +45,18 @@ env -u GALLIUM_DRIVER "$build/cli/bristle" render -q --brush "$src/scenes/brushe
   --trajectory short.csv -o ordinary.png
 env -u GALLIUM_DRIVER /usr/bin/bristle render -q --brush round --trajectory - -o - < short.csv |
   /usr/bin/bristle compare ordinary.png - >/dev/null || fail "the packaged render differs"
+# Debian's python3 finds the packaged module (/usr/lib/python3/dist-packages)
+# and its brushes in /usr/share/bristle.
+out=$(env -u GALLIUM_DRIVER -u BRISTLE_BRUSH_PATH /usr/bin/python3 -c \
+      'import bristle; print(bristle.Brush("round").path)' 2>&1) ||
+  fail "import bristle after dpkg -i: $out"
+[[ "$out" == "/usr/share/bristle/brushes/round.json" ]] || fail "the packaged module's round: $out"
 MANWIDTH=100 man -P cat bristle 2>/dev/null | col -b > man.txt
 grep -q "^ *bristle render\$" man.txt || fail "man bristle: no page, or no section 'bristle render'"
 
 dpkg -r bristle >/dev/null 2>&1 || fail "dpkg -r bristle failed"
 installed=0
-[[ ! -e /usr/bin/bristle && ! -e /usr/share/bristle/brushes/round.json ]] ||
+[[ ! -e /usr/bin/bristle && ! -e /usr/share/bristle/brushes/round.json &&
+   ! -e /usr/lib/python3/dist-packages/bristle ]] ||
   fail "dpkg -r left files behind"
 echo "check-deb: ok ($(basename "$deb"); Depends: $depends)"

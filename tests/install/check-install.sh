@@ -95,4 +95,26 @@ grep -qE "^stroke: [0-9]+ x [0-9]+ px, [1-9][0-9]* px darker than the paper$" <<
 grep -qE "^simulation: contact from step [0-9]+$" <<<"$out" ||
   fail "the consumer's simulation never touched the paper: $out"
 "$bin" compare stroke.png stroke.png >/dev/null || fail "the consumer's PNG does not read back"
+
+# The Python module (docs/python.md): the install's package imports with
+# Debian's python3 from lib/python3/dist-packages, finds the install's brush
+# library without BRISTLE_BRUSH_PATH, and paints the installed bristle's pixels.
+python=${BRISTLE_PYTHON:-/usr/bin/python3}
+[[ -x $python ]] || python=python3
+[[ -f prefix/lib/python3/dist-packages/bristle/__init__.py ]] ||
+  fail "the Python package was not installed in lib/python3/dist-packages"
+out=$(env -u GALLIUM_DRIVER -u BRISTLE_BRUSH_PATH \
+      PYTHONPATH="$tmp/prefix/lib/python3/dist-packages" "$python" -c '
+import bristle
+brush = bristle.Brush("round")
+print(brush.path)
+image = bristle.render(brush, bristle.Trajectory.load("short.csv"), px_per_mm=2)
+bristle.save_png("python.png", image)
+' 2>&1) || fail "the installed Python module: $out"
+[[ "$out" == "$tmp/prefix/share/bristle/brushes/round.json" ]] ||
+  fail "the installed Python module's round is not the install's: $out"
+env -u GALLIUM_DRIVER "$bin" render -q --brush round --trajectory short.csv --px-per-mm 2 \
+  -o cli2.png
+"$bin" compare cli2.png python.png > compare.txt || fail "Python vs CLI: $(cat compare.txt)"
+grep -q "identical pixels" compare.txt || fail "the installed module's pixels: $(cat compare.txt)"
 echo "check-install: ok ($tmp/prefix)"

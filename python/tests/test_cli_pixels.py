@@ -1,0 +1,65 @@
+"""The same inputs and options give `bristle render`'s pixels byte for byte
+(docs/python.md, "The same pixels as the command line"): the module installs
+the command line's KKT solver at import (docs/api.md, "Process-wide set-up")."""
+import os
+import subprocess
+
+import numpy as np
+
+import bristle
+from conftest import BRISTLE_BIN, SOURCE_DIR
+
+
+def cli_render(tmp_path, args):
+    out = tmp_path / "cli.png"
+    env = {k: v for k, v in os.environ.items() if k != "GALLIUM_DRIVER"}
+    run = subprocess.run([BRISTLE_BIN, "render", "-q", *args, "-o", str(out)],
+                         capture_output=True, text=True, env=env)
+    assert run.returncode == 0, run.stderr
+    return out
+
+
+def same_pixels(tmp_path, cli_png, image):
+    ours = tmp_path / "python.png"
+    bristle.save_png(ours, image)
+    cmp = subprocess.run([BRISTLE_BIN, "compare", str(cli_png), str(ours)],
+                         capture_output=True, text=True)
+    return cmp.returncode == 0 and "identical pixels" in cmp.stdout, cmp.stdout + cmp.stderr
+
+
+def short_csv(tmp_path, rows=50):
+    """The first rows of the round's straight pull: pressed and pulling."""
+    src = os.path.join(SOURCE_DIR, "scenes", "trajectories", "straight-pull.csv")
+    with open(src) as f:
+        lines = f.readlines()
+    header = [i for i, l in enumerate(lines) if l.startswith("t_s")][0]
+    path = tmp_path / "short.csv"
+    path.write_text("".join(lines[: header + 1 + rows]))
+    return path
+
+
+def test_a_csv_trajectory_renders_the_clis_pixels(tmp_path):
+    csv = short_csv(tmp_path)
+    cli = cli_render(tmp_path, ["--brush", "round", "--trajectory", str(csv),
+                                "--px-per-mm", "3", "--paint", "ultramarine"])
+    img = bristle.render(bristle.Brush("round"), bristle.Trajectory.load(csv), px_per_mm=3,
+                         paint="ultramarine")
+    ok, said = same_pixels(tmp_path, cli, img)
+    assert ok, said
+
+
+def test_arrays_equal_to_the_csv_render_the_clis_pixels(tmp_path):
+    csv = short_csv(tmp_path, rows=40)
+    rows = [l for l in csv.read_text().splitlines() if l and not l.startswith("#")]
+    header = rows[0].split(",")
+    data = np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
+    col = {name: data[:, i] for i, name in enumerate(header)}
+    t = bristle.Trajectory(col["t_s"], np.stack([col["x_mm"], col["y_mm"], col["z_mm"]], 1),
+                           np.stack([col["qw"], col["qx"], col["qy"], col["qz"]], 1))
+    cli = cli_render(tmp_path, ["--brush", "round", "--trajectory", str(csv),
+                                "--px-per-mm", "2", "--solver", "slsqp", "--load", "tip",
+                                "--paint", "burnt-umber,cadmium-red"])
+    img = bristle.render(bristle.Brush("round"), t, px_per_mm=2, solver="slsqp", load="tip",
+                         paint="burnt-umber,cadmium-red")
+    ok, said = same_pixels(tmp_path, cli, img)
+    assert ok, said
