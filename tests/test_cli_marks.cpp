@@ -287,7 +287,7 @@ TEST_CASE("marks: a calligraphy stroke enters with one full rounded head", "[mar
   // hand-tuned brush's measures 0.93), and within kSatelliteMm not one other
   // speck of ink, however small, may lie apart from it.
   constexpr double kHeadMm = 4, kMinHeadFill = 0.88, kSatelliteMm = 8;
-  const char* name = GENERATE("calligraphy");
+  const char* name = GENERATE("calligraphy", "calligraphy-wang2020");
   INFO(name);
   TempDir dir;
   const Coverage img = renderCalligraphyEntry(name, dir);
@@ -311,7 +311,7 @@ TEST_CASE("marks: the calligraphy brushes pressed straight down leave one smooth
   // brush's 0.92 before its hair held together, the fitted one's 0.91) falls
   // short; the hand-tuned brush's rounded blot measures 0.97.
   constexpr double kMinFill = 0.95;
-  const char* name = GENERATE("calligraphy");
+  const char* name = GENERATE("calligraphy", "calligraphy-wang2020");
   INFO(name);
   TempDir dir;
   Case c;
