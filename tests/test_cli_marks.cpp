@@ -88,6 +88,16 @@ Coverage renderCase(const std::string& name, Case c, const TempDir& dir, const s
   return loadCoveragePng(png);
 }
 
+// The handle upright, pressed straight down to `fraction` of the hair, held
+// and lifted.
+Case pressLiftCase(double fraction) {
+  Case c;
+  c.kind = CaseKind::kPressLift;
+  c.press_fraction = fraction;
+  c.tilt_deg = 0;
+  return c;
+}
+
 Case pullCase(double fraction) {
   Case c;
   c.kind = CaseKind::kPull;
@@ -204,10 +214,7 @@ TEST_CASE("marks: a straight press-and-lift leaves one filled blot", "[marks]") 
   const char* name = GENERATE("round", "flat", "bright", "filbert", "badger", "calligraphy");
   INFO(name);
   TempDir dir;
-  Case c;
-  c.kind = CaseKind::kPressLift;
-  c.press_fraction = 0.3;
-  c.tilt_deg = 0;
+  const Case c = pressLiftCase(0.3);
   // Ipopt, the reference: SLSQP can stall on the straight centre spine of a
   // round pressed straight down, a buckling point (docs/dynamics.md).
   // A speck under 20 px (0.3 mm^2 at 8 px/mm: one hair tip's dot beside a
@@ -314,11 +321,8 @@ TEST_CASE("marks: the calligraphy brushes pressed straight down leave one smooth
   const char* name = GENERATE("calligraphy", "calligraphy-wang2020");
   INFO(name);
   TempDir dir;
-  Case c;
-  c.kind = CaseKind::kPressLift;
-  c.press_fraction = 0.4;
-  c.tilt_deg = 0;
-  const BlotStats b = blotStats(renderCase(name, c, dir, "smooth-blot", "ipopt"), 0.1, 1);
+  const BlotStats b =
+      blotStats(renderCase(name, pressLiftCase(0.4), dir, "smooth-blot", "ipopt"), 0.1, 1);
   INFO("components " << b.components << ", fill " << b.fill);
   CHECK(b.components == 1);
   CHECK(b.fill >= kMinFill);
