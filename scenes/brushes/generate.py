@@ -244,22 +244,35 @@ def calligraphy():
     # Graded stiffness (docs/dynamics.md, "Graded stiffness"): a stiff root
     # and a soft belly and tip, so that a press lays the belly down.
     K, D = [60.0, 15.0, 4.0, 1.2, 0.5], [0.01, 0.008, 0.006, 0.005, 0.004]
-    # The belly's bundles, widened 1.15-1.4x from the root so that the laid
-    # belly covers the paper between spines as a real brush's hair does.
+    # The belly's bundles, widened 1.15-1.5x from the root so that the laid
+    # belly covers the paper between spines as a real brush's hair does. The
+    # lower belly and the tip are as full as the real 30 mm brush of
+    # data/real-brushes/wang2020-calligraphy.csv: its stroke is 1.8 mm wide at
+    # 1 mm of press, 3 mm at 3 mm and 5-5.5 mm at 5 mm (docs/fidelity.md,
+    # "Real brushes"), so its hair 4 mm from the tip is ~3 mm across, not a
+    # needle's point.
     sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0], [0, 0]],
-                [4.5, 6.32, 6.5, 4.9, 2.52, 0.4])]
+                [4.5, 6.32, 6.5, 7.35, 4.41, 1.2])]
     for k in range(6):
         a = math.pi / 6 + k * math.pi / 3
         sp.append(spine([2.6 * math.cos(a), 2.6 * math.sin(a), 0], lengths, K, D,
                         bend_towards(a, [0.05, 0.02, -0.15, -0.12, -0.08]),
-                        [3.2, 4.37, 4.42, 3.64, 1.68, 0.3]))
+                        [3.2, 4.37, 4.42, 5.46, 2.94, 0.9]))
     b = base("calligraphy", "Oriental calligraphy brush: 30 mm long, 8 mm at the ferrule, "
              "fine tip, soft", sp, 0.4, 0.3, 0.4)
     belly = [1.2, 1.8, 1.6, 1.0, 0.4, 0.2]
     b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
     b["strips"] = {"count": 150, "root_width_mm": 0.12, "tip_width_mm": 0.04, "seed": 9,
                    "placement": "area", "length_jitter": 0.1}
-    b["volume"] = dict(volume(0.45), stiffness_n_per_mm=2, cohesion_n_per_mm=0.5)
+    # A wet calligraphy brush is one body of hair: ink binds its tips into the
+    # point and holds them there when the brush is pressed straight down, so
+    # that the press lays the bundle over as one and its entry is one rounded
+    # head (docs/dynamics.md, "Hair volume"). Cohesion (1.1 times the spacing
+    # at rest, 20 N/mm, no tip spread) keeps the pressed tips from fanning out
+    # into fingers; neighbours may squeeze to 0.3 of their spacing, as wet
+    # hair packs, so that a dwell's press does not push them apart either.
+    b["volume"] = dict(volume(0.0), min_separation=0.3, stiffness_n_per_mm=2,
+                       max_separation=1.1, cohesion_n_per_mm=20)
     b["paint"] = {"capacity": 1.3}
     return b
 

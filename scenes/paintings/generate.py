@@ -317,7 +317,10 @@ def calligraphy():
                    "paper": {"tooth_depth_mm": 0.03, "tooth_scale_mm": 0.3, "seed": 3}},
         "sim": {"rate_hz": 100, "max_step_mm": 0.3},
         "mix": "km",
-        "solver": "slsqp",
+        # Ipopt, the reference: the calligraphy brush's spines push on each
+        # other through hair volume, which Ipopt solves as one problem
+        # (docs/dynamics.md, "Hair volume"), as its goldens and tests do.
+        "solver": "ipopt",
         "strokes": strokes,
     })
 
