@@ -17,6 +17,8 @@
 
 #include "bench/bench_stats.h"
 #include "bench/bench_main.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/dynamics/simulation.h"

@@ -15,6 +15,7 @@
 #include "cli/inputs.h"
 #include "cli/run_stats.h"
 #include "engine/base/atomic_output.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/base/error.h"

@@ -13,6 +13,7 @@
 #include "cli/run_stats.h"
 #include "cli/stroke_png.h"
 #include "engine/base/atomic_output.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/model/canvas.h"
 #include "engine/paint/paint.h"

@@ -20,6 +20,8 @@
 #include "cli/inputs.h"
 #include "cli/options.h"
 #include "cli/run_stats.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/base/error.h"

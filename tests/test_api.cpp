@@ -19,6 +19,7 @@
 #include "bristle/version.h"
 #include "cli_runner.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/trajectory.h"
 #include "engine/paint/paint_spec.h"
 #include "engine/solvers/solver_pair.h"

@@ -16,6 +16,8 @@
 #include "batch/manifest.h"
 #include "batch/shard.h"
 #include "engine/base/atomic_output.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/base/error.h"
 #include "engine/geometry/first_contact.h"

@@ -14,6 +14,8 @@
 #include "bristle/version.h"
 #include "cli_runner.h"
 #include "engine/base/fnv1a64.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/geometry/spine_bundles.h"
 #include "engine/model/brush.h"
 #include "engine/model/trajectory.h"

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/paint/pigments.h"

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <thread>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/dynamics/simulation.h"
 #include "engine/solvers/spine_solver.h"

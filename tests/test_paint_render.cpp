@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "engine/base/fnv1a64.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/paint/paint.h"
 #include "engine/paint/pigments.h"
 #include "engine/solvers/solver_pair.h"

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/base/error.h"
 #include "engine/base/json_reader.h"
