@@ -202,7 +202,7 @@ TEST_CASE("'-': a trajectory from stdin, the PNG to stdout", "[cli][stdio]") {
                                       "0,nan,0,20,1,0,0,0\n1,0,0,20,1,0,0,0\n";
   const RunResult bad = runShell(d, b + " render --brush round --trajectory - -o - < bad.csv > out.png");
   CHECK(bad.code == 65);
-  CHECK(bad.err == "bristle: stdin: line 3, column 2 (x_mm): must be finite\n");
+  CHECK(bad.err == "bristle: stdin: line 3, column 2 (x_mm): 'nan': must be finite\n");
   CHECK(bytesOf(d.file("out.png")).empty());
 
   // preview and sheet write to stdout too.

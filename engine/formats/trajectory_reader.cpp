@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <sstream>
 
+#include "engine/base/csv.h"
 #include "engine/base/error.h"
 #include "engine/base/text_file.h"
 
@@ -24,26 +24,7 @@ const std::array<const char*, 5> kOptional = {"buttons", "fx_n", "fy_n", "fz_n",
 constexpr int kT = 0, kZ = 3, kQw = 4, kQz = 7, kButtons = 8, kFx = 9, kFz = 11, kDepth = 12;
 constexpr int kFields = 13;
 
-std::string trim(std::string_view s) {
-  size_t b = 0, e = s.size();
-  while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '\r')) ++b;
-  while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t' || s[e - 1] == '\r')) --e;
-  return std::string(s.substr(b, e - b));
-}
-
 std::string columnName(int id) { return id < 8 ? kRequired[id] : kOptional[id - 8]; }
-
-std::vector<std::string> splitCsv(std::string_view line) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  for (size_t i = 0; i <= line.size(); ++i) {
-    if (i == line.size() || line[i] == ',') {
-      out.push_back(trim(line.substr(start, i - start)));
-      start = i + 1;
-    }
-  }
-  return out;
-}
 
 // The separator other than ',' that a line seems to use, named for a message
 // ("';'", "tabs"), or "" for none. Spreadsheets set to a European locale
@@ -57,16 +38,16 @@ std::string otherSeparator(std::string_view line, size_t fields) {
       {';', "';'"}, {'\t', "tabs"}, {'|', "'|'"}, {' ', "spaces"}};
   for (const auto& [sep, name] : kSeparators) {
     if (line.find(sep) == std::string_view::npos) continue;
-    std::vector<std::string> pieces;
+    std::vector<std::string_view> pieces;
     size_t start = 0;
     for (size_t i = 0; i <= line.size(); ++i)
       if (i == line.size() || line[i] == sep) {
-        if (std::string piece = trim(line.substr(start, i - start)); !piece.empty())
-          pieces.push_back(std::move(piece));
+        if (const std::string_view piece = csv::trim(line.substr(start, i - start)); !piece.empty())
+          pieces.push_back(piece);
         start = i + 1;
       }
     if (fields > 0 && pieces.size() == fields) return name;
-    for (const std::string& piece : pieces)
+    for (const std::string_view piece : pieces)
       if (fields == 0 && (std::find(kRequired.begin(), kRequired.end(), piece) != kRequired.end() ||
                           std::find(kOptional.begin(), kOptional.end(), piece) != kOptional.end()))
         return name;
@@ -83,34 +64,28 @@ void rejectOtherSeparator(std::string_view line, size_t fields, const std::strin
                     "columns are separated by " + sep + "; bristle trajectories use ','");
 }
 
-// "line 7" or "line 7, column 3 (z_mm)": where a message points.
-std::string place(int line_no, int column = 0, const std::string& name = "") {
-  std::string w = "line " + std::to_string(line_no);
-  if (column > 0) w += ", column " + std::to_string(column) + " (" + name + ")";
-  return w;
-}
-
 // The first non-blank line must be the format line, of this version.
 void checkFormatLine(const std::string& line, const std::string& path, int line_no) {
   if (line.rfind("# bristle-trajectory/", 0) == 0 && line != kFormatLine)
-    throw dataError(path, place(line_no), "unknown format version '" + line.substr(2) +
+    throw dataError(path, csv::place(line_no), "unknown format version '" + line.substr(2) +
                                               "' (expected bristle-trajectory/1)");
   if (line != kFormatLine)
-    throw dataError(path, place(line_no), "the first line must be '# bristle-trajectory/1'");
+    throw dataError(path, csv::place(line_no), "the first line must be '# bristle-trajectory/1'");
 }
 
 // The header: each cell's field id, every required column present once, the
 // height as z_mm or depth_mm (not both), the forces all three or none.
-std::vector<int> parseHeader(const std::vector<std::string>& cells, const std::string& path,
+std::vector<int> parseHeader(const std::vector<std::string_view>& cells, const std::string& path,
                              int line_no) {
   std::vector<int> column_of;
   std::array<int, kFields> count{};
   for (size_t c = 0; c < cells.size(); ++c) {
+    const std::string_view name = csv::unquote(cells[c]);
     int id = -1;
     for (int f = 0; f < kFields; ++f)
-      if (cells[c] == columnName(f)) id = f;
-    const std::string here = place(line_no, static_cast<int>(c) + 1, cells[c]);
-    if (id < 0) throw dataError(path, here, "unknown column '" + cells[c] + "'");
+      if (name == columnName(f)) id = f;
+    const std::string here = csv::place(line_no, static_cast<int>(c) + 1, name);
+    if (id < 0) throw dataError(path, here, "unknown column " + csv::quoted(name));
     if (++count[id] > 1) throw dataError(path, here, "duplicate column");
     if ((id == kZ && count[kDepth] > 0) || (id == kDepth && count[kZ] > 0))
       throw dataError(path, here,
@@ -119,36 +94,32 @@ std::vector<int> parseHeader(const std::vector<std::string>& cells, const std::s
   }
   for (int r = 0; r < static_cast<int>(kRequired.size()); ++r)
     if (count[r] == 0 && !(r == kZ && count[kDepth] > 0))
-      throw dataError(path, place(line_no),
+      throw dataError(path, csv::place(line_no),
                       std::string("header lacks the required column '") + kRequired[r] + "'" +
                           (r == kZ ? " (or depth_mm in its place)" : ""));
   const int nforce = count[kFx] + count[kFx + 1] + count[kFz];
   if (nforce != 0 && nforce != 3)
-    throw dataError(path, place(line_no), "force columns fx_n,fy_n,fz_n come all three or none");
+    throw dataError(path, csv::place(line_no), "force columns fx_n,fy_n,fz_n come all three or none");
   return column_of;
 }
 
 // One cell (1-based `column` of line `line_no`) as the number of field `id`,
 // within that field's limits. The place is spelt out only for an error: a
 // trajectory may hold millions of cells.
-double parseCell(const std::string& s, int id, const std::string& path, int line_no, int column) {
+double parseCell(std::string_view cell, int id, const std::string& path, int line_no, int column) {
   const std::string name = columnName(id);
+  const std::string_view s = csv::unquote(cell);
+  const double value = csv::parseNumber(s, path, line_no, column, name);
   auto fail = [&](const std::string& what) {
-    return dataError(path, place(line_no, column, name), what);
+    return dataError(path, csv::place(line_no, column, name), what);
   };
-  double value = 0;
-  auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-  if (ec == std::errc::result_out_of_range && ptr == s.data() + s.size())
-    throw fail("'" + s + "' is outside the range of a double");
-  if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
-    throw fail("'" + s + "' is not a number");
-  if (!std::isfinite(value)) throw fail("must be finite");
+  auto text = [&] { return std::string(s); };
   if (id == kT && std::fabs(value) > kMaxTimeS)
-    throw fail("t_s = " + s + " is outside the limit of +-1e9 s");
+    throw fail("t_s = " + text() + " is outside the limit of +-1e9 s");
   if (((id >= 1 && id <= kZ) || id == kDepth) && std::fabs(value) > kMaxPositionMm)
-    throw fail(name + " = " + s + " is outside the limit of +-100000 mm");
+    throw fail(name + " = " + text() + " is outside the limit of +-100000 mm");
   if (id >= kQw && id <= kQz && std::fabs(value) > kMaxQuaternionComponent)
-    throw fail(name + " = " + s +
+    throw fail(name + " = " + text() +
                " is outside the limit of +-1e6 (quaternions are normalised on read)");
   if (id == kButtons && (value < 0 || value != std::floor(value) || value > 65535))
     throw fail("must be a non-negative integer bitmask");
@@ -157,7 +128,7 @@ double parseCell(const std::string& s, int id, const std::string& path, int line
 
 // One data line as a sample; `previous` is the sample before it, if any (time
 // must increase strictly).
-TrajectorySample parseRow(const std::vector<std::string>& cells, const std::vector<int>& column_of,
+TrajectorySample parseRow(const std::vector<std::string_view>& cells, const std::vector<int>& column_of,
                           const std::string& path, int line_no,
                           const TrajectorySample* previous) {
   if (cells.size() != column_of.size()) {
@@ -165,7 +136,7 @@ TrajectorySample parseRow(const std::vector<std::string>& cells, const std::vect
     const size_t c = std::min(cells.size(), column_of.size());
     const std::string name =
         c < column_of.size() ? columnName(column_of[c]) : std::string("not in the header");
-    throw dataError(path, place(line_no, static_cast<int>(c) + 1, name),
+    throw dataError(path, csv::place(line_no, static_cast<int>(c) + 1, name),
                     "has " + std::to_string(cells.size()) + " fields, the header has " +
                         std::to_string(column_of.size()));
   }
@@ -182,13 +153,13 @@ TrajectorySample parseRow(const std::vector<std::string>& cells, const std::vect
   s.line = line_no;
   s.t_s = v[kT];
   if (previous && !(s.t_s > previous->t_s))
-    throw dataError(path, place(line_no, static_cast<int>(t_column) + 1, "t_s"),
-                    "t_s = " + cells[t_column] +
+    throw dataError(path, csv::place(line_no, static_cast<int>(t_column) + 1, "t_s"),
+                    "t_s = " + std::string(csv::unquote(cells[t_column])) +
                         " is not after the previous sample's time (time must increase strictly)");
   s.pose.position_mm = Eigen::Vector3d(v[1], v[2], v[kZ]);
   Eigen::Quaterniond q(v[kQw], v[kQw + 1], v[kQw + 2], v[kQz]);
   if (q.norm() < kMinQuaternionNorm)
-    throw dataError(path, place(line_no), "quaternion (qw,qx,qy,qz) has near-zero norm");
+    throw dataError(path, csv::place(line_no), "quaternion (qw,qx,qy,qz) has near-zero norm");
   s.pose.rotation = q.normalized();
   s.buttons = static_cast<int>(v[kButtons]);
   if (present[kFx]) s.force_n = Eigen::Vector3d(v[kFx], v[kFx + 1], v[kFz]);
@@ -208,7 +179,7 @@ Trajectory parseTrajectory(const std::string& text, const std::string& path) {
   std::vector<int> column_of;  // column index -> field id
   while (std::getline(in, raw)) {
     ++line_no;
-    const std::string line = trim(raw);
+    const std::string line(csv::trim(raw));
     if (line.empty()) continue;
     if (!seen_format) {
       checkFormatLine(line, path, line_no);
@@ -216,7 +187,7 @@ Trajectory parseTrajectory(const std::string& text, const std::string& path) {
       continue;
     }
     if (line[0] == '#') continue;
-    const std::vector<std::string> cells = splitCsv(line);
+    const std::vector<std::string_view> cells = csv::splitLine(line);
     if (column_of.empty()) {
       rejectOtherSeparator(line, 0, path, line_no);
       column_of = parseHeader(cells, path, line_no);
