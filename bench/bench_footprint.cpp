@@ -23,7 +23,7 @@
 #include "engine/geometry/brush_geometry.h"
 #include "engine/dynamics/simulation.h"
 #include "engine/model/trajectory.h"
-#include "render/footprint_renderer.h"
+#include "render/gl/footprint_renderer.h"
 #include "render/stroke_renderer.h"
 
 namespace {

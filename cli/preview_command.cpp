@@ -24,8 +24,8 @@
 #include "engine/dynamics/simulation.h"
 #include "engine/dynamics/stepper.h"
 #include "engine/model/trajectory.h"
-#include "render/png_io.h"
-#include "render/preview_renderer.h"
+#include "render/image/png_io.h"
+#include "render/preview/preview_renderer.h"
 #include "render/stroke_pipeline.h"
 #include "render/stroke_renderer.h"
 

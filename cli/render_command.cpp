@@ -23,8 +23,8 @@
 #include "engine/formats/trace.h"
 #include "engine/model/trajectory.h"
 #include "engine/dynamics/stepper.h"
-#include "render/compose.h"
-#include "render/png_io.h"
+#include "render/image/compose.h"
+#include "render/image/png_io.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::cli {

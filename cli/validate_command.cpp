@@ -34,7 +34,7 @@
 #include "engine/dynamics/stepper.h"
 #include "engine/base/text_file.h"
 #include "engine/model/trajectory.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 namespace bristle::cli {
 namespace {

@@ -26,7 +26,7 @@
 #include "engine/dynamics/simulation.h"
 #include "engine/dynamics/stepper.h"
 #include "engine/model/trajectory.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "engine/formats/sheet.h"
 #include "test_helpers.h"
 #include "temp_dir.h"

@@ -17,7 +17,7 @@
 #include "engine/model/brush.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/paint/pigments.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 using namespace bristle;
 using namespace bristle::testing;
@@ -612,7 +612,7 @@ TEST_CASE("validate warns of a pair planning over a million steps, and of a scen
 
 TEST_CASE("a render writes nothing outside its outputs: no Mesa shader cache", "[cli][outputs]") {
   // Mesa caches compiled shaders under XDG_CACHE_HOME, or the home of the
-  // password file; bristle turns the cache off (render/gl_context.cpp), so
+  // password file; bristle turns the cache off (render/gl/gl_context.cpp), so
   // with both pointing at empty folders they stay empty, and the working
   // folder holds the PNG alone (docs/errors.md, "Outputs").
   TempDir dir;

@@ -25,7 +25,7 @@
 #include "haptics/servo_loop.h"
 #include "haptics/session_file.h"
 #include "haptics/spsc_ring.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "test_helpers.h"
 
 using namespace bristle;
