@@ -5,6 +5,7 @@
 
 #include "api/model.h"
 #include "engine/formats/brush_library.h"
+#include "engine/formats/brush_reader.h"
 
 namespace bristle::api {
 

@@ -3,8 +3,8 @@
 #include <string>
 
 #include "api/model.h"
-#include "render/compose.h"
-#include "render/png_io.h"
+#include "render/image/compose.h"
+#include "render/image/png_io.h"
 
 namespace bristle::api {
 
@@ -21,7 +21,7 @@ void writePng(const std::string& path, const Image& image) {
                          " channels (1 to 4): the size must match the pixels");
   translateErrors([&] {
     render::Image8 out{image.width_px, image.height_px, image.channels, image.pixels};
-    // The provenance every bristle PNG carries (render/compose.h); no inputs hashed.
+    // The provenance every bristle PNG carries (render/image/compose.h); no inputs hashed.
     render::writePng(path, out, render::provenanceText(std::vector<std::string>{}));
   });
 }

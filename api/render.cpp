@@ -9,7 +9,7 @@
 #include "engine/dynamics/simulation.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/model/canvas.h"
-#include "render/compose.h"
+#include "render/image/compose.h"
 #include "render/stroke_pipeline.h"
 
 namespace bristle::api {

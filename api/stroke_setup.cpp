@@ -7,7 +7,7 @@
 #include "engine/paint/paint.h"
 #include "engine/paint/paint_spec.h"
 #include "engine/solvers/ipopt/ipopt_options.h"
-#include "render/compose.h"
+#include "render/image/compose.h"
 
 namespace bristle::api {
 

@@ -12,7 +12,7 @@
 #include "bristle/render.h"
 #include "engine/model/brush.h"
 #include "engine/model/trajectory.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "render/stroke_pipeline.h"
 
 namespace bristle::api {
@@ -41,7 +41,7 @@ render::StrokeSetup strokeSetupOf(const RenderOptions& options,
 struct StrokePixels {
   render::PaintedStroke painted;
   render::Image8 image;  // composeRgb8 of the canvas
-  std::array<std::uint8_t, 3> paper{};  // bare paper's colour (render/compose.h)
+  std::array<std::uint8_t, 3> paper{};  // bare paper's colour (render/image/compose.h)
   long ink_pixels = 0;
 };
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "api/model.h"
+#include "engine/formats/trajectory_reader.h"
 
 namespace bristle::api {
 

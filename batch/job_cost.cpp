@@ -3,6 +3,8 @@
 #include <exception>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/formats/scene.h"

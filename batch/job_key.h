@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "batch/manifest.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 namespace bristle {
 

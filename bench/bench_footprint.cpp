@@ -17,11 +17,13 @@
 
 #include "bench/bench_stats.h"
 #include "bench/bench_main.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/dynamics/simulation.h"
 #include "engine/model/trajectory.h"
-#include "render/footprint_renderer.h"
+#include "render/gl/footprint_renderer.h"
 #include "render/stroke_renderer.h"
 
 namespace {

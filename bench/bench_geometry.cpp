@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/dynamics/simulation.h"

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bench/bench_stats.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/base/error.h"
 #include "process/process_hooks.h"

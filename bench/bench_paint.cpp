@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/paint/paint.h"

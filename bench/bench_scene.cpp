@@ -12,7 +12,7 @@
 #include "bench_stats.h"
 #include "bench/bench_main.h"
 #include "engine/formats/scene.h"
-#include "render/compose.h"
+#include "render/image/compose.h"
 #include "render/scene_renderer.h"
 
 namespace {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "bench/bench_stats.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "haptics/live_session.h"
 #include "haptics/none_device.h"

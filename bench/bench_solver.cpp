@@ -19,6 +19,8 @@
 
 #include "bench/bench_stats.h"
 #include "bench/bench_main.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/dynamics/simulation.h"
 #include "engine/dynamics/stepper.h"

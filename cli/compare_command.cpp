@@ -1,5 +1,5 @@
 // `bristle compare A B`: are two PNGs the same picture, and if not, by how much
-// do they differ against a tolerance (render/image_compare.h). Exit 0 within
+// do they differ against a tolerance (render/image/image_compare.h). Exit 0 within
 // tolerance, 1 not (also for images of different sizes); --json prints one
 // object with every metric, the tolerance and the verdict. --align canvas
 // compares two renders where their canvases overlap, by the placement the
@@ -21,8 +21,8 @@
 #include "engine/base/error.h"
 #include "engine/base/fnv1a64.h"
 #include "engine/base/text_file.h"
-#include "render/image_compare.h"
-#include "render/png_io.h"
+#include "render/image/image_compare.h"
+#include "render/image/png_io.h"
 
 namespace bristle::cli {
 namespace {

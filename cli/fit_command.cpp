@@ -22,6 +22,7 @@
 #include "engine/base/error.h"
 #include "engine/base/spelling.h"
 #include "engine/base/text_file.h"
+#include "engine/formats/brush_reader.h"
 #include "render/brush_fit.h"
 
 namespace bristle::cli {

@@ -12,6 +12,8 @@
 #include "cli/inputs.h"
 #include "cli/options.h"
 #include "engine/base/atomic_output.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/base/error.h"
 #include "engine/formats/scene.h"

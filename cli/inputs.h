@@ -42,7 +42,7 @@ const std::string& stdinText();
 Trajectory loadTrajectoryArg(const std::string& path, const Brush& brush);
 
 // The bytes of every input in order (a file, or standard input for "-"),
-// hashed as the PNG's "bristle:inputs-fnv1a64" (render/compose.h).
+// hashed as the PNG's "bristle:inputs-fnv1a64" (render/image/compose.h).
 std::uint64_t inputsHash(const std::vector<std::string>& inputs);
 
 // A command's outputs and inputs checked as checkOutputs (engine/base/atomic_output.h)

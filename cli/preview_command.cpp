@@ -15,6 +15,7 @@
 #include "cli/inputs.h"
 #include "cli/run_stats.h"
 #include "engine/base/atomic_output.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/base/error.h"
@@ -23,8 +24,8 @@
 #include "engine/dynamics/simulation.h"
 #include "engine/dynamics/stepper.h"
 #include "engine/model/trajectory.h"
-#include "render/png_io.h"
-#include "render/preview_renderer.h"
+#include "render/image/png_io.h"
+#include "render/preview/preview_renderer.h"
 #include "render/stroke_pipeline.h"
 #include "render/stroke_renderer.h"
 

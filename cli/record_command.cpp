@@ -16,6 +16,7 @@
 #include "cli/session_render.h"
 #include "cli/stroke_png.h"
 #include "engine/base/atomic_output.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/base/error.h"
 #include "engine/geometry/first_contact.h"

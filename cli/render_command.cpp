@@ -13,6 +13,7 @@
 #include "cli/run_stats.h"
 #include "cli/stroke_png.h"
 #include "engine/base/atomic_output.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/model/canvas.h"
 #include "engine/paint/paint.h"
@@ -22,8 +23,8 @@
 #include "engine/formats/trace.h"
 #include "engine/model/trajectory.h"
 #include "engine/dynamics/stepper.h"
-#include "render/compose.h"
-#include "render/png_io.h"
+#include "render/image/compose.h"
+#include "render/image/png_io.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::cli {

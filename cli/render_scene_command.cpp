@@ -18,8 +18,8 @@
 #include "engine/base/error.h"
 #include "engine/formats/scene.h"
 #include "engine/formats/trace.h"
-#include "render/compose.h"
-#include "render/png_io.h"
+#include "render/image/compose.h"
+#include "render/image/png_io.h"
 #include "render/scene_renderer.h"
 
 namespace bristle::cli {

@@ -12,7 +12,7 @@
 namespace bristle::cli {
 
 struct RunStats {
-  long painted_pixels = 0;       // visible paint (render/compose.h, kInkLevels)
+  long painted_pixels = 0;       // visible paint (render/image/compose.h, kInkLevels)
   long pixels = 0;               // of the image
   long planned_steps = 0;        // the plan's steps, as progress counts them
   SimStats sim;                  // steps taken (split halves too), failed steps, ...

@@ -19,8 +19,8 @@
 #include "engine/base/error.h"
 #include "engine/base/fnv1a64.h"
 #include "engine/formats/sheet.h"
-#include "render/compose.h"
-#include "render/png_io.h"
+#include "render/image/compose.h"
+#include "render/image/png_io.h"
 #include "render/sheet_renderer.h"
 
 namespace bristle::cli {

@@ -11,8 +11,8 @@
 #include "engine/model/canvas.h"
 #include "engine/base/error.h"
 #include "engine/paint/paint.h"
-#include "render/compose.h"
-#include "render/png_io.h"
+#include "render/image/compose.h"
+#include "render/image/png_io.h"
 #include "render/stroke_pipeline.h"
 
 namespace bristle::cli {

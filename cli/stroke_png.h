@@ -13,7 +13,7 @@
 #include "engine/model/brush.h"
 #include "engine/solvers/solver_pair.h"
 #include "engine/model/trajectory.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "render/stroke_renderer.h"
 
 namespace bristle::cli {
@@ -34,7 +34,7 @@ struct StrokePngOptions : PaintOptions {  // paint and paper, as `bristle render
 struct StrokePngResult {
   render::StrokeResult stroke;
   double left_on_brush_mm3 = 0, loaded_mm3 = 0;
-  long ink_pixels = 0, pixels = 0;  // visible paint, of the image (render/compose.h)
+  long ink_pixels = 0, pixels = 0;  // visible paint, of the image (render/image/compose.h)
 };
 
 // Checks the options (kUsage / kDataError naming the option) before anything long runs.

@@ -20,6 +20,8 @@
 #include "cli/inputs.h"
 #include "cli/options.h"
 #include "cli/run_stats.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/base/error.h"
@@ -32,7 +34,7 @@
 #include "engine/dynamics/stepper.h"
 #include "engine/base/text_file.h"
 #include "engine/model/trajectory.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 namespace bristle::cli {
 namespace {

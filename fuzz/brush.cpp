@@ -1,6 +1,7 @@
 // Fuzz target: the brush reader (bristle-brush/1 JSON), both as render reads a
 // brush (the first problem throws) and as validate does (every problem listed).
 
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "fuzz/fuzz_input.h"
 

@@ -3,7 +3,7 @@
 // input is a memory file: the PNG reader takes a path.
 
 #include "fuzz/fuzz_input.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const bristle::fuzz::MemoryFile file(data, size);

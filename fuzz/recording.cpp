@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/dynamics/simulation.h"

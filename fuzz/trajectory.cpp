@@ -4,6 +4,8 @@
 // the brush and the plan of its steps (limited per trajectory and per second
 // of gesture).
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/dynamics/simulation.h"

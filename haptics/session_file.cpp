@@ -12,6 +12,7 @@
 #include "engine/base/error.h"
 #include "engine/base/fnv1a64.h"
 #include "engine/base/text_file.h"
+#include "engine/formats/trajectory_reader.h"
 #include "haptics/monotonic_clock.h"
 
 namespace bristle::haptics {

@@ -1,6 +1,7 @@
 #include "input/import.h"
 
 #include "engine/base/error.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/geometry/first_contact.h"
 #include "input/svg_geometry.h"
 

@@ -50,11 +50,6 @@ std::string knownList() {
   return s;
 }
 
-std::string_view unquote(std::string_view s) {
-  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') return s.substr(1, s.size() - 2);
-  return s;
-}
-
 struct Header {
   std::vector<int> field_of;  // per column
   std::array<int, kFields> column{};  // 1-based column of each field, 0 when absent
@@ -161,7 +156,7 @@ Recording readPointerCsv(const std::string& text, const std::string& path,
   std::string pointer_id_written;  // as the first row wrote it, for messages
   int pointer_id_line = 0;
   while (nextDataLine(lines, &t, &no)) {
-    const std::vector<std::string_view> cells = splitCommas(t);
+    const std::vector<std::string_view> cells = csv::splitLine(t);
     if (!have_header) {
       h = parseHeader(cells, path, no);
       have_header = true;

@@ -50,7 +50,7 @@ Format sniff(const std::string& text, bool* known, int* line_no) {
     if (t[0] == '<' || t.rfind("\xEF\xBB\xBF<", 0) == 0) return Format::kSvg;
     if (t[0] == '#') continue;
     if (t.find(',') != std::string_view::npos) {
-      for (std::string_view cell : splitCommas(t))
+      for (std::string_view cell : csv::splitLine(t))
         if (cell == "timeStamp" || cell == "\"timeStamp\"") return Format::kPointerCsv;
     } else {
       const std::vector<std::string_view> f = splitBlanks(t);

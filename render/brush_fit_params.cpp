@@ -10,6 +10,7 @@
 #include "engine/base/error.h"
 #include "engine/base/json_reader.h"
 #include "engine/base/text_file.h"
+#include "engine/formats/brush_reader.h"
 #include "render/brush_fit.h"
 
 namespace bristle::render {

@@ -18,6 +18,7 @@
 #include "engine/base/error.h"
 #include "engine/base/fnv1a64.h"
 #include "engine/base/text_file.h"
+#include "engine/formats/brush_reader.h"
 #include "render/brush_fit.h"
 
 namespace bristle::render {

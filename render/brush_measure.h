@@ -20,7 +20,7 @@
 #include "engine/model/brush.h"
 #include "engine/solvers/solver_pair.h"
 #include "engine/model/trajectory.h"
-#include "render/footprint_renderer.h"
+#include "render/gl/footprint_renderer.h"
 
 namespace bristle::render {
 

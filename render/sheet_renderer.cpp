@@ -8,7 +8,7 @@
 #include "engine/base/error.h"
 #include "engine/dynamics/stepper.h"
 #include "render/stroke_pipeline.h"
-#include "render/text.h"
+#include "render/image/text.h"
 
 namespace bristle::render {
 namespace {

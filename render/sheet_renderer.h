@@ -5,17 +5,17 @@
 // --trajectory` (render/stroke_renderer.h), shown at one scale for every cell
 // (mm -> px as the sheet says) and centred on its inked area, so the strokes
 // compare honestly. Rows and columns are labelled with FreeType text
-// (render/text.h): brush names and trajectory file stems; a title on top.
+// (render/image/text.h): brush names and trajectory file stems; a title on top.
 
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "engine/formats/sheet.h"
-#include "render/compose.h"
-#include "render/png_io.h"
+#include "render/image/compose.h"
+#include "render/image/png_io.h"
 #include "render/stroke_renderer.h"
-#include "render/text.h"
+#include "render/image/text.h"
 
 namespace bristle::render {
 
@@ -69,7 +69,7 @@ struct SheetRenderOptions {
 // whole sheet done so far and planned in all.
 using SheetStepCallback = std::function<void(int cell, int cells, long step, long steps)>;
 
-// A pixel of a cell is ink by the rule of render/compose.h (kInkLevels).
+// A pixel of a cell is ink by the rule of render/image/compose.h (kInkLevels).
 inline constexpr int kSheetInkLevels = kInkLevels;
 
 // Auto cells: the largest inked area plus this much paper on every side (mm).

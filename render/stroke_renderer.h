@@ -8,7 +8,7 @@
 #include "engine/model/canvas.h"
 #include "engine/paint/paint.h"
 #include "engine/dynamics/stepper.h"
-#include "render/footprint_renderer.h"
+#include "render/gl/footprint_renderer.h"
 
 namespace bristle::render {
 

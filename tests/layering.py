@@ -1,14 +1,22 @@
 #!/usr/bin/env python3
-"""The engine's layering (docs/design.md, "Layers"): each sub-folder of engine/
-includes only itself and the sub-folders below it in LAYERS, and no engine file
-includes a folder built on the engine (render/, input/, batch/, haptics/, cli/).
-Each sub-folder's CMake target links only the parts below it, too.
+"""The layering of the engine and of render/ (docs/design.md, "Layers").
+
+Each sub-folder of engine/ includes only itself and the sub-folders below it in
+LAYERS, and no engine file includes a folder built on the engine (render/,
+input/, batch/, haptics/, cli/). Each sub-folder's CMake target links only the
+parts below it, too. Each folder of render/ includes only the render folders
+RENDER_INCLUDES allows it; render/image, which `bristle batch` links to read
+PNG text, includes no GL header and its CMake target links no OSMesa and no
+GL part.
 
   layering.py SOURCE_DIR    exit 0 when the tree keeps the order, 1 naming each
                             include (or link) that breaks it
   layering.py --self-test   runs the check on a made-up tree with one upward
-                            include and one include of render/, and fails unless
-                            both are caught and a clean tree passes
+                            include in the engine, one include of render/ from
+                            it, one upward link, and in render/ one upward
+                            include, one GL header and one OSMesa link in
+                            render/image, and fails unless each is caught and
+                            a clean tree passes
 """
 import os
 import re
@@ -19,6 +27,14 @@ import tempfile
 LAYERS = ["base", "model", "mechanics", "solvers", "solvers/ipopt", "dynamics", "geometry",
           "paint", "formats"]
 ABOVE_ENGINE = ("render/", "input/", "batch/", "haptics/", "cli/", "process/", "api/")
+# render/'s folders ("" is render/ itself) and the render folders each may
+# include: images need no GL, GL no images; previews draw with both; the stroke,
+# scene and sheet renderers sit on image and gl but not on the previews.
+RENDER_INCLUDES = {"image": {"image"}, "gl": {"gl"}, "preview": {"image", "gl", "preview"},
+                   "": {"image", "gl", ""}}
+GL_HEADER = re.compile(r"^(GL|EGL|GLES\w*)/|osmesa", re.IGNORECASE)
+# What render/image's CMake target must not link: OSMesa, or a render part with GL.
+GL_LINK = re.compile(r"OSMESA|OpenGL|bristle(_|::)render_(gl|preview)\b|bristle(_|::)render\b(?!_)")
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^">]+)[">]', re.MULTILINE)
 LINK = re.compile(r"target_link_libraries\(bristle_engine_(\w+)([^)]*)\)")
 
@@ -78,8 +94,48 @@ def check_links(root):
     return problems
 
 
+def render_folder(inc):
+    """The render folder of an include ("image", "" for render/ itself), or None."""
+    if not inc.startswith("render/"):
+        return None
+    return os.path.dirname(inc[len("render/"):])
+
+
+def check_render(root):
+    """Each render folder includes only the render folders RENDER_INCLUDES allows;
+    render/image includes no GL header and links nothing with GL."""
+    problems = []
+    render = os.path.join(root, "render")
+    for dirpath, _, names in sorted(os.walk(render)):
+        own = os.path.relpath(dirpath, render).replace(os.sep, "/")
+        own = "" if own == "." else own
+        for name in sorted(names):
+            rel = os.path.relpath(os.path.join(dirpath, name), root)
+            if name == "CMakeLists.txt" and own == "image":
+                with open(os.path.join(dirpath, name), encoding="utf-8") as f:
+                    for link in GL_LINK.finditer(f.read()):
+                        problems.append(f"{rel}: links {link.group(0)}, and render/image "
+                                        "has no GL")
+            if not name.endswith((".h", ".cpp")):
+                continue
+            if own not in RENDER_INCLUDES:
+                problems.append(f"{rel}: render/{own}/ is not a declared render folder")
+                continue
+            with open(os.path.join(dirpath, name), encoding="utf-8") as f:
+                text = f.read()
+            for inc in INCLUDE.findall(text):
+                folder = render_folder(inc)
+                if folder is not None and folder not in RENDER_INCLUDES[own]:
+                    problems.append(f"{rel}: includes {inc}, render/{own or '.'} may include "
+                                    "only render/" +
+                                    ", render/".join(sorted(f or "." for f in RENDER_INCLUDES[own])))
+                if own == "image" and GL_HEADER.search(inc):
+                    problems.append(f"{rel}: includes {inc}, a GL header in render/image")
+    return problems
+
+
 def check(root):
-    return check_includes(root) + check_links(root)
+    return check_includes(root) + check_links(root) + check_render(root)
 
 
 def write(root, rel, text):
@@ -97,6 +153,14 @@ def self_test():
               '#include "engine/model/brush.h"\n#include "engine/solvers/ipopt/x.h"\n')
         write(root, "engine/model/CMakeLists.txt",
               "target_link_libraries(bristle_engine_model PUBLIC bristle_engine_base)\n")
+        write(root, "render/image/png_io.cpp", '#include "render/image/png_io.h"\n')
+        write(root, "render/image/CMakeLists.txt",
+              "target_link_libraries(bristle_render_image PRIVATE PNG::PNG)\n")
+        write(root, "render/gl/gl_context.cpp", "#include <GL/osmesa.h>\n")
+        write(root, "render/preview/preview.cpp",
+              '#include "render/gl/gl_context.h"\n#include "render/image/text.h"\n')
+        write(root, "render/stroke.cpp",
+              '#include "render/gl/footprint.h"\n#include "render/image/compose.h"\n')
         clean = check(root)
         if clean:
             print("self-test: a clean tree failed:\n  " + "\n  ".join(clean), file=sys.stderr)
@@ -104,20 +168,32 @@ def self_test():
         # One upward include (base reaching the model), one include of render/,
         # one upward link.
         write(root, "engine/base/text_file.cpp", '#include "engine/model/brush.h"\n')
-        write(root, "engine/geometry/strips.cpp", '  #  include "render/png_io.h"\n')
+        write(root, "engine/geometry/strips.cpp", '  #  include "render/image/png_io.h"\n')
         write(root, "engine/mechanics/CMakeLists.txt",
               "target_link_libraries(bristle_engine_mechanics PUBLIC\n"
               "  bristle_engine_model bristle_engine_dynamics)\n")
+        # In render/: image reaching up to gl, a GL header and OSMesa in image, and
+        # the stroke renderers reaching a preview.
+        write(root, "render/image/compose.cpp", '#include "render/gl/gl_context.h"\n')
+        write(root, "render/image/text.cpp", "#include <GL/gl.h>\n")
+        write(root, "render/image/CMakeLists.txt",
+              "target_link_libraries(bristle_render_image PRIVATE PNG::PNG PkgConfig::OSMESA)\n")
+        write(root, "render/sheet.cpp", '#include "render/preview/preview.h"\n')
         found = check(root)
         wanted = ["engine/base/text_file.cpp: includes engine/model/brush.h",
-                  "engine/geometry/strips.cpp: includes render/png_io.h",
-                  "bristle_engine_mechanics links bristle_engine_dynamics"]
+                  "engine/geometry/strips.cpp: includes render/image/png_io.h",
+                  "bristle_engine_mechanics links bristle_engine_dynamics",
+                  "render/image/compose.cpp: includes render/gl/gl_context.h",
+                  "render/image/text.cpp: includes GL/gl.h",
+                  "render/image/CMakeLists.txt: links OSMESA",
+                  "render/sheet.cpp: includes render/preview/preview.h"]
         missed = [w for w in wanted if not any(w in p for p in found)]
         if missed or len(found) != len(wanted):
             print("self-test: expected exactly\n  " + "\n  ".join(wanted) +
                   "\nfound\n  " + "\n  ".join(found), file=sys.stderr)
             return 1
-    print("self-test: the upward include, the include of render/ and the upward link caught")
+    print("self-test: the engine's upward include, include of render/ and upward link, and "
+          "render/'s upward includes, GL header and OSMesa link in render/image caught")
     return 0
 
 
@@ -129,12 +205,13 @@ def main():
         return 64
     problems = check(sys.argv[1])
     if problems:
-        print(f"{len(problems)} breaks of the engine's layering ({' < '.join(LAYERS)}):",
-              file=sys.stderr)
+        print(f"{len(problems)} breaks of the layering (engine: {' < '.join(LAYERS)}; "
+              "render: image, gl < preview; image, gl < render/):", file=sys.stderr)
         for p in problems:
             print(f"  {p}", file=sys.stderr)
         return 1
-    print(f"engine layering kept: {' < '.join(LAYERS)}")
+    print(f"engine layering kept: {' < '.join(LAYERS)}; render layering kept: image (no GL), "
+          "gl < preview; image, gl < render/")
     return 0
 
 

@@ -19,10 +19,11 @@
 #include "bristle/version.h"
 #include "cli_runner.h"
 #include "engine/dynamics/simulation.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/trajectory.h"
 #include "engine/paint/paint_spec.h"
 #include "engine/solvers/solver_pair.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "temp_dir.h"
 
 namespace {
@@ -125,7 +126,7 @@ TEST_CASE("api: renderStroke paints bristle render's pixels byte for byte", "[ap
 }
 
 // Pixels of an image unlike its corner (bare paper): kInkLevels's rule
-// (render/compose.h), more than 6 levels summed over R, G, B.
+// (render/image/compose.h), more than 6 levels summed over R, G, B.
 long inkedPixels(const api::Image& image) {
   const auto& px = image.pixels;
   long n = 0;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "engine/base/error.h"
+#include "engine/formats/brush_reader.h"
 #include "render/brush_fit.h"
 #include "temp_dir.h"
 

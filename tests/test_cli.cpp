@@ -14,11 +14,13 @@
 #include "bristle/version.h"
 #include "cli_runner.h"
 #include "engine/base/fnv1a64.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/geometry/spine_bundles.h"
 #include "engine/model/brush.h"
 #include "engine/model/trajectory.h"
 #include "engine/dynamics/stepper.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "render/stroke_renderer.h"
 
 using namespace bristle;
@@ -207,7 +209,7 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
 
 TEST_CASE("render: same inputs give the same pixels", "[cli][determinism]") {
   // The second run also rasterises on 4 llvmpipe threads where the first uses
-  // bristle's choice (none besides the caller's, render/gl_context.cpp), and
+  // bristle's choice (none besides the caller's, render/gl/gl_context.cpp), and
   // simulates and draws in turns on one thread where the first simulates
   // ahead on a second (--threads): the pixels may not depend on the machine's
   // core count either.

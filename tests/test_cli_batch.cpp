@@ -17,7 +17,7 @@
 
 #include "cli_runner.h"
 #include "engine/base/fnv1a64.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 using namespace bristle;
 using namespace bristle::testing;

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "cli_runner.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 using namespace bristle;
 using namespace bristle::testing;

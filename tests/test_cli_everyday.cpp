@@ -13,10 +13,11 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/paint/pigments.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 using namespace bristle;
 using namespace bristle::testing;
@@ -201,7 +202,7 @@ TEST_CASE("'-': a trajectory from stdin, the PNG to stdout", "[cli][stdio]") {
                                       "0,nan,0,20,1,0,0,0\n1,0,0,20,1,0,0,0\n";
   const RunResult bad = runShell(d, b + " render --brush round --trajectory - -o - < bad.csv > out.png");
   CHECK(bad.code == 65);
-  CHECK(bad.err == "bristle: stdin: line 3, column 2 (x_mm): must be finite\n");
+  CHECK(bad.err == "bristle: stdin: line 3, column 2 (x_mm): 'nan': must be finite\n");
   CHECK(bytesOf(d.file("out.png")).empty());
 
   // preview and sheet write to stdout too.
@@ -611,7 +612,7 @@ TEST_CASE("validate warns of a pair planning over a million steps, and of a scen
 
 TEST_CASE("a render writes nothing outside its outputs: no Mesa shader cache", "[cli][outputs]") {
   // Mesa caches compiled shaders under XDG_CACHE_HOME, or the home of the
-  // password file; bristle turns the cache off (render/gl_context.cpp), so
+  // password file; bristle turns the cache off (render/gl/gl_context.cpp), so
   // with both pointing at empty folders they stay empty, and the working
   // folder holds the PNG alone (docs/errors.md, "Outputs").
   TempDir dir;

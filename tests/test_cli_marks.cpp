@@ -15,8 +15,9 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/mark_png.h"
 #include "tests/support/press_matrix.h"

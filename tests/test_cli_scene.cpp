@@ -14,8 +14,8 @@
 
 #include "cli_runner.h"
 #include "engine/base/fnv1a64.h"
-#include "render/image_compare.h"
-#include "render/png_io.h"
+#include "render/image/image_compare.h"
+#include "render/image/png_io.h"
 #include "tests/support/mark_png.h"
 
 using namespace bristle;

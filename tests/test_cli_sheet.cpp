@@ -14,7 +14,7 @@
 #include "cli_runner.h"
 #include "engine/base/fnv1a64.h"
 #include "engine/formats/sheet.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "tests/support/mark_png.h"
 #include "render/sheet_renderer.h"
 

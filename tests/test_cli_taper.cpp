@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/mark_png.h"

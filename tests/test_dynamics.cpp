@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/dynamics/simulation.h"
 #include "engine/dynamics/stepper.h"

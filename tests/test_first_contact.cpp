@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/dynamics/simulation.h"

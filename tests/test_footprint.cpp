@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "llvmpipe.h"
-#include "render/footprint_renderer.h"
+#include "render/gl/footprint_renderer.h"
 
 using bristle::render::FootprintImage;
 using bristle::render::FootprintRenderer;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <thread>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/dynamics/simulation.h"
 #include "engine/solvers/spine_solver.h"
@@ -23,7 +25,7 @@
 #include "haptics/servo_loop.h"
 #include "haptics/session_file.h"
 #include "haptics/spsc_ring.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "test_helpers.h"
 
 using namespace bristle;

@@ -1,4 +1,4 @@
-// The metrics of `bristle compare` (render/image_compare.h) on hand-made images
+// The metrics of `bristle compare` (render/image/image_compare.h) on hand-made images
 // whose differences are known: hash, channel differences, RMSE/PSNR by hand,
 // SSIM in closed form (Wang et al. 2004, eq. 13), bit-depth normalisation.
 
@@ -15,8 +15,8 @@
 #include <string>
 #include <utility>
 
-#include "render/image_compare.h"
-#include "render/png_io.h"
+#include "render/image/image_compare.h"
+#include "render/image/png_io.h"
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <string>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/base/error.h"
 #include "engine/geometry/first_contact.h"

@@ -21,6 +21,8 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/base/text_file.h"
 #include "engine/model/trajectory.h"

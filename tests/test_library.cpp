@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <functional>
 
+#include "engine/formats/brush_reader.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/dynamics/simulation.h"
 #include "render/stroke_renderer.h"

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/dynamics/simulation.h"
 #include "engine/dynamics/stepper.h"

@@ -1,5 +1,5 @@
 // The paint model driven by real strokes: brush simulation -> footprint (OSMesa)
-// -> transfer -> compose (render/stroke_renderer.h, render/compose.h).
+// -> transfer -> compose (render/stroke_renderer.h, render/image/compose.h).
 
 #include <catch2/catch.hpp>
 
@@ -15,13 +15,15 @@
 #include <vector>
 
 #include "engine/base/fnv1a64.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/paint/paint.h"
 #include "engine/paint/pigments.h"
 #include "engine/solvers/solver_pair.h"
 #include "engine/solvers/spine_solver.h"
 #include "engine/dynamics/stepper.h"
-#include "render/compose.h"
-#include "render/image_compare.h"
+#include "render/image/compose.h"
+#include "render/image/image_compare.h"
 #include "render/step_pipeline.h"
 #include "render/stroke_renderer.h"
 

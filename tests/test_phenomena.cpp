@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "engine/dynamics/simulation.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/mechanics/spine_kinematics.h"
 #include "test_helpers.h"
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "engine/base/error.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 #include <string>
 
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "tests/support/press_matrix.h"
 

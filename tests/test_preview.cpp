@@ -1,6 +1,6 @@
-// Brush preview (render/preview_renderer.h): framing, what shows where, the
+// Brush preview (render/preview/preview_renderer.h): framing, what shows where, the
 // footprint inset, determinism, the empty scene, coexistence with the footprint
-// renderer's context; and the FreeType label helper (render/text.h).
+// renderer's context; and the FreeType label helper (render/image/text.h).
 
 #include <catch2/catch.hpp>
 #include <cstdint>
@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "llvmpipe.h"
-#include "render/footprint_renderer.h"
-#include "render/png_io.h"
-#include "render/preview_renderer.h"
-#include "render/text.h"
+#include "render/gl/footprint_renderer.h"
+#include "render/image/png_io.h"
+#include "render/preview/preview_renderer.h"
+#include "render/image/text.h"
 
 using bristle::BrushVertex;
 using bristle::render::FootprintImage;

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/base/error.h"
 #include "engine/base/json_reader.h"
@@ -844,7 +846,31 @@ TEST_CASE("malformed CSV cells are 65 naming line and column", "[readers]") {
   CHECK_TRAJ_ERROR(bad("0.5,10,0,1 0,1,0,0,0"), "line 4, column 4 (z_mm)", "'1 0'");
   CHECK_TRAJ_ERROR(bad("0.5,10,0,10,1,0,0,0x1"), "line 4, column 8 (qz)", "is not a number");
   CHECK_TRAJ_ERROR(bad("0.5s,10,0,10,1,0,0,0"), "line 4, column 1 (t_s)", "'0.5s'");
-  CHECK_TRAJ_ERROR(bad("\"0.5\",10,0,10,1,0,0,0"), "line 4, column 1 (t_s)");
+  // A ',' inside quotes is the cell's (engine/base/csv.h): one cell, not a number.
+  CHECK_TRAJ_ERROR(bad("\"0,5\",10,0,10,1,0,0,0"), "t.csv: line 4, column 1 (t_s)",
+                   "'0,5' is not a number");
+  CHECK_TRAJ_ERROR(bad("0.5,+-10,0,10,1,0,0,0"), "line 4, column 2 (x_mm)",
+                   "'+-10' is not a number");
+}
+
+TEST_CASE("trajectory cells are read as every bristle CSV reads them", "[readers]") {
+  // The trajectory goes through the one CSV reading of engine/base/csv.h, as
+  // the pen recordings do: quoted cells and header names (as a spreadsheet
+  // quotes them), a leading '+', and a value below the smallest double (0).
+  const Trajectory t = parseTrajectory(
+      traj("\"t_s\",x_mm,\"y_mm\",z_mm,qw,qx,qy,qz",
+           {"0,0,0,10,1,0,0,0", "\"0.5\",+10,1e-400,\"10\",1,0,0,0", "1,20,0,10,1,0,0,0"}),
+      "t.csv");
+  REQUIRE(t.samples.size() == 3);
+  CHECK(t.samples[1].t_s == 0.5);
+  CHECK(t.samples[1].pose.position_mm.x() == 10);
+  CHECK(t.samples[1].pose.position_mm.y() == 0);
+  CHECK(t.samples[1].pose.position_mm.z() == 10);
+  // Messages name the cell without its quotes, as the header names it.
+  CHECK_TRAJ_ERROR(traj(kHeader, {"0,0,0,10,1,0,0,0", "\"later\",0,0,10,1,0,0,0"}),
+                   "t.csv: line 4, column 1 (t_s)", "'later' is not a number");
+  CHECK_TRAJ_ERROR(traj(kHeader + ",\"speed\"", {"0,0,0,10,1,0,0,0,1", "1,0,0,10,1,0,0,0,1"}),
+                   "t.csv: line 2, column 9 (speed)", "unknown column 'speed'");
 }
 
 TEST_CASE("nan, inf and out-of-range CSV cells are 65 naming line and column", "[readers]") {
@@ -854,7 +880,7 @@ TEST_CASE("nan, inf and out-of-range CSV cells are 65 naming line and column", "
   for (const char* cell : {"nan", "NaN", "-nan", "inf", "-inf", "Infinity", "nan(0x1)"}) {
     INFO(cell);
     CHECK_TRAJ_ERROR(bad(std::string("0.5,10,0,10,1,") + cell + ",0,0"),
-                     "line 4, column 6 (qx)", "must be finite");
+                     "line 4, column 6 (qx)", "'" + std::string(cell) + "': must be finite");
   }
   CHECK_TRAJ_ERROR(bad("0.5,1e999,0,10,1,0,0,0"), "line 4, column 2 (x_mm)", "'1e999'");
   CHECK_TRAJ_ERROR(bad("0.5,10,-1e999,10,1,0,0,0"), "line 4, column 3 (y_mm)", "'-1e999'");

@@ -11,8 +11,9 @@
 
 #include "engine/base/fnv1a64.h"
 #include "engine/formats/sheet.h"
+#include "engine/formats/trajectory_reader.h"
 #include "render/sheet_renderer.h"
-#include "render/text.h"
+#include "render/image/text.h"
 #include "temp_dir.h"
 
 using namespace bristle;

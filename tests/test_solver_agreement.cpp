@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/dynamics/simulation.h"
+#include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "engine/solvers/solver_pair.h"
 #include "test_helpers.h"

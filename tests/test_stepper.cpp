@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "engine/dynamics/stepper.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/model/brush.h"
 #include "engine/solvers/solver_pair.h"
 #include "test_helpers.h"

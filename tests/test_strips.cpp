@@ -9,6 +9,8 @@
 #include <numbers>
 #include <random>
 
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/geometry/bristle_strips.h"
 #include "engine/geometry/spine_bundles.h"
 #include "engine/solvers/spine_solver.h"

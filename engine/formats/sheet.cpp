@@ -8,6 +8,8 @@
 
 #include "engine/formats/brush_library.h"
 #include "engine/base/error.h"
+#include "engine/formats/brush_reader.h"
+#include "engine/formats/trajectory_reader.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/base/fnv1a64.h"
 #include "engine/formats/input_warnings.h"

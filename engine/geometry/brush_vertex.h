@@ -2,7 +2,7 @@
 // The vertex every part of the brush head is drawn with, and how its texture
 // coordinate says which part it belongs to.
 //
-// The footprint renderer (render/footprint_renderer.h) writes one texture
+// The footprint renderer (render/gl/footprint_renderer.h) writes one texture
 // coordinate (u, v) per covered pixel, and the paint model (engine/paint/paint.h)
 // needs to know from it whether the pixel shows the subdivision surface (paper
 // §4.1), a bristle strip (§4.2) or one of the simulated spines' own half tubes

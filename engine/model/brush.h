@@ -1,6 +1,6 @@
 #pragma once
-// Brush description, JSON format `bristle-brush/1` (docs/design.md, "Formats";
-// docs/brush-format.md). A brush is a few simulated spines (paper §3) in the
+// Brush description, the model of the JSON format `bristle-brush/1`
+// (docs/brush-format.md; its reader is engine/formats/brush_reader.h). A brush is a few simulated spines (paper §3) in the
 // brush frame: origin at the ferrule mouth, hairs hanging along -z at rest.
 
 #include <Eigen/Core>
@@ -148,16 +148,5 @@ struct Brush {
   // Largest distance from the ferrule centre any hair can reach (mm).
   double reachMm() const;
 };
-
-// Parses and validates; throws bristle::Error (66 missing, 65 bad data naming the
-// JSON pointer and the rule).
-Brush loadBrush(const std::string& path);
-// Reads a brush and lists every problem found (empty: the brush is sound);
-// throws only for a missing file (66) or malformed JSON (65).
-std::vector<std::string> checkBrush(const std::string& path);
-// With `problems`, every problem is collected (the first of each spine and of
-// each section) instead of thrown; the returned brush is then only partly read.
-Brush parseBrush(const std::string& text, const std::string& path_for_messages,
-                 std::vector<std::string>* problems = nullptr);
 
 }  // namespace bristle

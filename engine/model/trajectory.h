@@ -1,6 +1,7 @@
 #pragma once
-// Recorded 6-DOF stylus trajectory, CSV format `bristle-trajectory/1`
-// (docs/formats.md, "Trajectory"), and pose interpolation at any time.
+// Recorded 6-DOF stylus trajectory, the model of the CSV format
+// `bristle-trajectory/1` (docs/formats.md, "Trajectory"; its reader is
+// engine/formats/trajectory_reader.h), and pose interpolation at any time.
 
 #include <optional>
 #include <limits>
@@ -63,10 +64,5 @@ struct Trajectory {
                         double width_mm = std::numeric_limits<double>::infinity(),
                         double height_mm = std::numeric_limits<double>::infinity()) const;
 };
-
-// Parses and validates a trajectory; throws bristle::Error (66 missing, 65 bad
-// data naming the line and column).
-Trajectory loadTrajectory(const std::string& path);
-Trajectory parseTrajectory(const std::string& text, const std::string& path_for_messages);
 
 }  // namespace bristle

@@ -257,7 +257,7 @@ double paperTooth(const PaperSpec& paper, double x_mm, double y_mm);
 
 // The footprint of one step as the paint model sees it: a window of the
 // canvas's pixels (col0, row0 = its top-left pixel in the canvas) with 4 floats
-// per pixel, u, v, depth_mm, coverage (render/footprint_renderer.h).
+// per pixel, u, v, depth_mm, coverage (render/gl/footprint_renderer.h).
 struct FootprintView {
   int col0 = 0, row0 = 0;
   int width = 0, height = 0;

@@ -544,7 +544,7 @@ case("traj-z-and-depth", "a trajectory giving both z_mm and depth_mm", ["validat
      trajectory(text="# bristle-trajectory/1\n" + HEADER + ",depth_mm\n"
                 "0,15,40,25,1,0,0,0,-2\n1,15,40,25,1,0,0,0,3\n"))
 case("traj-depth-nan", "a press depth of nan", ["validate", "t.csv"], 65,
-     "t.csv: line 4, column 4 (depth_mm): must be finite",
+     "t.csv: line 4, column 4 (depth_mm): 'nan': must be finite",
      trajectory(text="# bristle-trajectory/1\n" + DEPTH_HEADER + "\n"
                 "0,15,40,-2,1,0,0,0\n1,15,40,nan,1,0,0,0\n"))
 case("traj-depth-through-ferrule", "a press depth that puts the ferrule into the paper",
@@ -779,7 +779,7 @@ case("huge-scene-stroke-brush", "a scene stroke whose brush is a sparse 512 MiB 
 case("huge-manifest", "a sparse batch manifest of 2 GiB", ["batch", "m.json", "--out", "out"],
      65, "m.json: size: 2147483648 " + SIZE, all_of(folder("out"), sparse("m.json", 2 << 30)))
 case("traj-x-nan", "a trajectory with x = nan", ["validate", "t.csv"], 65,
-     "t.csv: line 3, column 2 (x_mm): must be finite",
+     "t.csv: line 3, column 2 (x_mm): 'nan': must be finite",
      trajectory(rows=[[0, "nan", 40, 25, *REST], [1, *HIGH, *REST]]))
 case("traj-t-1e999", "a time of 1e999 (beyond a double)", ["validate", "t.csv"], 65,
      "t.csv: line 3, column 1 (t_s): '1e999' is outside the range of a double",
@@ -1555,6 +1555,9 @@ case("measure-compare-bad-table", "`measure --compare` a table with a non-numeri
      ["measure", "b.json", "--plot", "p.png", "--compare", "m.csv"], 65,
      "m.csv: line 2, column 1 (depth_mm): 'one' is not a number",
      all_of(brush(), table("depth_mm,width_mm\none,2\n")))
+case("traj-quoted-comma", "a trajectory cell in quotes holding a ',' (a decimal comma)",
+     ["validate", "t.csv"], 65, "t.csv: line 3, column 2 (x_mm): '1,5' is not a number",
+     trajectory(text="# bristle-trajectory/1\n" + HEADER + "\n0,\"1,5\",40,25,1,0,0,0\n"))
 
 CASES_END = None  # the cases are appended above this line
 

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 namespace bristle::testsupport {
 

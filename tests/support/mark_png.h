@@ -1,6 +1,6 @@
 #pragma once
 // Coverage of a PNG written by bristle (target bristle_testsupport_render, which
-// links bristle::render for render/png_io.h).
+// links bristle::render for render/image/png_io.h).
 
 #include <string>
 

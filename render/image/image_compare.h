@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 namespace bristle::render {
 
@@ -133,7 +133,7 @@ std::array<std::uint8_t, 3> borderPaperColour(const Image16& image);
 // Compares a and b where their canvases overlap. Within the overlap, every
 // metric is compareImages' on the two crops. A pixel outside the overlap is
 // ink when its R, G, B differ from its own image's paper colour by more than
-// kInkLevels (6) 8-bit levels summed (render/compose.h, the rule of the batch's
+// kInkLevels (6) 8-bit levels summed (render/image/compose.h, the rule of the batch's
 // painted_pixels and of the sheets): the other image has no such mark, so each
 // such pixel counts as one differing pixel and one pixel over the threshold;
 // percent_over is then over the overlap's pixels plus these; the images are

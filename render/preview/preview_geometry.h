@@ -1,5 +1,5 @@
 #pragma once
-// CPU side of the brush preview (render/preview_renderer.h): where the overlays
+// CPU side of the brush preview (render/preview/preview_renderer.h): where the overlays
 // go, how the camera frames the brush, and the triangle meshes the GL passes
 // draw (ferrule stub, spine tubes and joint spheres, the hair with normals, the
 // shadow). Internal to render/; no GL here, so all of it is plain arithmetic.
@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "render/preview_renderer.h"
+#include "render/preview/preview_renderer.h"
 
 namespace bristle::render::preview {
 

@@ -5,7 +5,7 @@
 // would silently do nothing; GL_GLEXT_PROTOTYPES makes OSMesa export the core
 // 3.x/4.x entry points directly, so no loader is needed.
 
-#include "render/gl_context.h"
+#include "render/gl/gl_context.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

@@ -4,7 +4,7 @@
 // canvas. Core-profile GL into a float FBO; no blending, no multisampling, one
 // readback path, so the same input gives the same bytes every time.
 
-#include "render/footprint_renderer.h"
+#include "render/gl/footprint_renderer.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -20,8 +20,8 @@
 #include <string>
 #include <type_traits>
 
-#include "render/gl_context.h"
-#include "render/gl_program.h"
+#include "render/gl/gl_context.h"
+#include "render/gl/gl_program.h"
 
 namespace bristle::render {
 

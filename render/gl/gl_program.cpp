@@ -1,4 +1,4 @@
-#include "render/gl_program.h"
+#include "render/gl/gl_program.h"
 
 #include <cstdio>
 #include <stdexcept>

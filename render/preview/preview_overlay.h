@@ -3,8 +3,8 @@
 // text and hairlines stay crisp: the title, a colour key with the grid spacing,
 // and the footprint inset. Internal to render/.
 
-#include "render/preview_geometry.h"
-#include "render/text.h"
+#include "render/preview/preview_geometry.h"
+#include "render/image/text.h"
 
 namespace bristle::render::preview {
 

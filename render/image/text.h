@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 namespace bristle::render {
 

@@ -2,7 +2,7 @@
 // 16-bit normalised samples; differences are scaled to 8-bit steps (1/255 of
 // full scale) only when reported.
 
-#include "render/image_compare.h"
+#include "render/image/image_compare.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +15,7 @@
 #include "engine/model/canvas.h"
 #include "engine/base/error.h"
 #include "engine/base/fnv1a64.h"
-#include "render/compose.h"
+#include "render/image/compose.h"
 
 namespace bristle::render {
 

@@ -1,8 +1,8 @@
-// FreeType text rasterisation behind render/text.h. Glyphs are placed on whole
+// FreeType text rasterisation behind render/image/text.h. Glyphs are placed on whole
 // pixels (no sub-pixel positioning) with light hinting: labels stay crisp at
 // small sizes and the bytes do not depend on where the string starts.
 
-#include "render/text.h"
+#include "render/image/text.h"
 
 #include <ft2build.h>
 #include FT_FREETYPE_H

@@ -1,4 +1,4 @@
-#include "render/compose.h"
+#include "render/image/compose.h"
 
 #include <algorithm>
 #include <bit>

@@ -2,7 +2,7 @@
 // double-precision arithmetic on the scene, so the GL passes get the same
 // vertices (and the same pixels) every run.
 
-#include "render/preview_geometry.h"
+#include "render/preview/preview_geometry.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>

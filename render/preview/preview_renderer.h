@@ -14,8 +14,8 @@
 
 #include "engine/geometry/brush_vertex.h"
 #include "engine/model/pose.h"
-#include "render/footprint_renderer.h"
-#include "render/png_io.h"
+#include "render/gl/footprint_renderer.h"
+#include "render/image/png_io.h"
 
 namespace bristle::render {
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "engine/paint/paint.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 namespace bristle::render {
 

@@ -1,7 +1,7 @@
 // Title, colour key and footprint inset of the brush preview, drawn with plain
 // integer/double arithmetic on the final image (deterministic, no GL).
 
-#include "render/preview_overlay.h"
+#include "render/preview/preview_overlay.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 // that call it with setjmp armed hold no C++ objects with destructors, so a
 // longjmp never skips one. Allocation and throwing happen outside those frames.
 
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 #include <png.h>
 #include <sys/mman.h>

@@ -12,7 +12,7 @@
 //                              side first, then its near side
 //   spines again (LEQUAL)    — re-tints the spines seen through the hair
 
-#include "render/preview_renderer.h"
+#include "render/preview/preview_renderer.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -27,11 +27,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "render/gl_context.h"
-#include "render/gl_program.h"
-#include "render/preview_geometry.h"
-#include "render/preview_overlay.h"
-#include "render/text.h"
+#include "render/gl/gl_context.h"
+#include "render/gl/gl_program.h"
+#include "render/preview/preview_geometry.h"
+#include "render/preview/preview_overlay.h"
+#include "render/image/text.h"
 
 namespace bristle::render {
 
