@@ -1556,6 +1556,11 @@ case("measure-compare-bad-table", "`measure --compare` a table with a non-numeri
      "m.csv: line 2, column 1 (depth_mm): 'one' is not a number",
      all_of(brush(), table("depth_mm,width_mm\none,2\n")))
 
+case("brush-flag-too-long", "a brush whose flagged hair ends are 8 mm long",
+     ["validate", "b.json"], 65,
+     "b.json: /paint/flag_mm = 8: must be in [0, 5] (mm of split hair ends)",
+     brush(edit=lambda b: b.update(paint={"capacity": 1.0, "flag_mm": 8})))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":
