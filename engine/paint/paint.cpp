@@ -467,6 +467,7 @@ struct TransferScratch {
   std::vector<double> in_sum;    // per texel: paint picked up (mm^3)
   std::vector<std::array<float, 6>> in_optics;  // per texel: volume-weighted K and S picked up
   std::vector<float> flag;       // per footprint pixel: deposit factor of flagged ends (flagRim)
+  std::vector<int> flag_sums;    // per footprint pixel: flagRim's column sums of touched pixels
 
   void reset(size_t pixels) {
     touches.clear();
@@ -504,14 +505,16 @@ std::array<float, kTexels> texelDryness(const BrushPaint& brush, const TransferP
 // lowers f a little, where a distance to the nearest untouched pixel would
 // make a rim of it; a lone hair or one bundle's tip narrower than flag_mm
 // never reaches f = 1/2 and lays nothing: it is all flags. Returns false,
-// leaving *out alone, for a brush without flags.
-bool flagRim(const FootprintView& fp, double flag_mm, double px_per_mm, std::vector<float>* out) {
+// leaving *out alone, for a brush without flags. `sums` is working space.
+bool flagRim(const FootprintView& fp, double flag_mm, double px_per_mm, std::vector<float>* out,
+             std::vector<int>* sums) {
   const int w = fp.width, h = fp.height;
   if (!(flag_mm > 0) || w == 0 || h == 0) return false;
   const int half = std::max(1, static_cast<int>(std::lround(flag_mm * px_per_mm)));
   std::vector<float>& g = *out;
   g.resize(static_cast<size_t>(w) * h);
-  std::vector<int> cols(static_cast<size_t>(w) * h);  // vertical window sums of the mask
+  std::vector<int>& cols = *sums;  // per pixel: touched pixels in its column's window
+  cols.resize(static_cast<size_t>(w) * h);
   for (int c = 0; c < w; ++c) {
     auto touched = [&](int r) {
       if (r < 0 || r >= h) return 0;
@@ -565,7 +568,8 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
   const float inv_band = static_cast<float>(1.0 / fp.contact_band_mm);
   const float streaks = static_cast<float>(std::clamp(params.hair_streaks, 0.0, 2.0));
   const float dry_threshold = static_cast<float>(params.dry_threshold);
-  const bool flagged = flagRim(fp, brush.flagMm(), g.px_per_mm, &scratch.flag);
+  const bool flagged =
+      flagRim(fp, brush.flagMm(), g.px_per_mm, &scratch.flag, &scratch.flag_sums);
   int contact_px = 0;
   for (int r = 0; r < fp.height; ++r) {
     const int row = fp.row0 + r;
