@@ -125,6 +125,37 @@ TEST_CASE("mark_measure: a ring with gaps is several blots or a poorly filled on
   }
 }
 
+TEST_CASE("mark_measure: the 10-90 % edge ramp of a step and of linear ramps", "[mark]") {
+  constexpr double kPpm = 8;
+  // A band along x, rows 20..59, ink 1: a step edge, no ramp at all.
+  Coverage step = paint(100, 80, [](double, double y) { return y > 20 && y < 60; }, kPpm);
+  const EdgeRamp s = edgeRamp(crossProfile(step, Axis::kX, 10, 90), kPpm);
+  CHECK(s.plateau == Approx(1));
+  // Interpolated between the outside lane (0) and the first inked one (1):
+  // 0.1 to 0.9 of a lane, 0.8 px.
+  CHECK(s.low_side_mm == Approx(0.8 / kPpm));
+  CHECK(s.high_side_mm == Approx(0.8 / kPpm));
+  // Linear ramps of 16 px up (rows 10..26) and 8 px down (rows 90..98) around
+  // a plateau of 0.5: 10-90 % is 0.8 of each ramp, exact under interpolation.
+  Coverage ramp(100, 120, kPpm);
+  for (int r = 0; r < 120; ++r) {
+    const double y = r + 0.5;
+    const double v = y < 10 ? 0 : y < 26 ? (y - 10) / 16 : y < 90 ? 1 : y < 98 ? (98 - y) / 8 : 0;
+    for (int c = 0; c < 100; ++c) ramp.at(c, r) = static_cast<float>(0.5 * v);
+  }
+  const EdgeRamp e = edgeRamp(crossProfile(ramp, Axis::kX, 0, 100), kPpm);
+  CHECK(e.plateau == Approx(0.5));
+  CHECK(e.low_side_mm == Approx(0.8 * 16 / kPpm).margin(1e-6));
+  CHECK(e.high_side_mm == Approx(0.8 * 8 / kPpm).margin(1e-6));
+  // The same across a stroke running along y: the profile's lanes are columns.
+  Coverage turned(120, 100, kPpm);
+  for (int r = 0; r < 100; ++r)
+    for (int c = 0; c < 120; ++c) turned.at(c, r) = ramp.at(r, c);
+  CHECK(edgeRamp(crossProfile(turned, Axis::kY, 0, 100), kPpm).low_side_mm ==
+        Approx(e.low_side_mm));
+  CHECK(edgeRamp({}, kPpm).meanMm() == 0);
+}
+
 TEST_CASE("mark_measure: a rectangle's width is exact to one pixel", "[mark]") {
   // Columns 20..179, rows 10..46: 37 px = 4.625 mm tall at 8 px/mm.
   const Coverage img = paint(200, 60, [](double x, double y) {

@@ -431,6 +431,54 @@ TEST_CASE("Transfer: a single hair follows the grain that a bundle bridges",
   CHECK(strip_px > 3 * bundle_px);
 }
 
+TEST_CASE("Transfer: flagged hair lays a thinner film at the footprint's rim",
+          "[paint][transfer]") {
+  // The same brush with and without 1 mm flags (8 px at 8 px/mm) pressed in
+  // one place for 60 steps: deposit and pickup settle the wet film.
+  constexpr double kFlagMm = 1.0;
+  constexpr int kSteps = 60;
+  const Footprint fp(64, 40, 0.8f, 0.5f);
+  auto press = [&](double flag_mm, const Footprint& f) {
+    Brush brush = fivesSpineBrush();
+    brush.paint_flag_mm = flag_mm;
+    BrushPaint paint(brush);
+    paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+    PaintCanvas canvas(grid(80, 56), PaperSpec{}, MixModel::kKubelkaMunk);
+    for (int step = 0; step < kSteps; ++step) transfer(f.at(8, 8), paint, canvas, TransferParams{});
+    return canvas;
+  };
+  const PaintCanvas plain = press(0, fp), flagged = press(kFlagMm, fp);
+  auto film = [](const PaintCanvas& c, int col, int row) {
+    return c.wet(c.index(col, row)).volume_mm3 / c.pixelAreaMm2();
+  };
+  // Deep inside (more than flag_mm from every edge) the deposit factor is
+  // exactly 1; the film differs only as far as the texels' paint does (they
+  // keep what the rim did not take, which moves the per-step cap and the
+  // reservoir a little): 0.1 % of the film.
+  constexpr double kSameFilm = 1e-3;
+  for (int col : {8 + 20, 8 + 32, 8 + 44})
+    for (int row : {8 + 12, 8 + 20, 8 + 28})
+      CHECK(film(flagged, col, row) == Approx(film(plain, col, row)).epsilon(kSameFilm));
+  // On the outermost column the share of touched pixels around is 1/2 (less
+  // at a corner): the flags lay nothing there, and what the hair laid before
+  // them is picked back up. Without flags that column settles as the middle.
+  for (int row = 8 + 10; row < 8 + 30; ++row) {
+    INFO("row " << row);
+    CHECK(film(plain, 8, row) > 0.5 * film(plain, 8 + 32, row));
+    CHECK(film(flagged, 8, row) < 0.05 * film(plain, 8, row));
+  }
+  // Half-way through the rim (4 px in) the film lies between the two.
+  double rim = 0, body = 0;
+  for (int row = 8 + 10; row < 8 + 30; ++row)
+    rim += film(flagged, 8 + 4, row), body += film(plain, 8 + 4, row);
+  CHECK(rim > 0.05 * body);
+  CHECK(rim < 0.8 * body);
+  // A lone strand narrower than the flags is all flags: it lays nothing.
+  const Footprint strand(2, 40, 0.8f, 0.5f);
+  CHECK(press(kFlagMm, strand).wetVolumeMm3() == 0);
+  CHECK(press(0, strand).wetVolumeMm3() > 0);
+}
+
 TEST_CASE("Transfer: rates are per unit of contact time", "[paint][transfer]") {
   // A fraction per reference step compounds: two half steps take what one
   // whole step takes, exactly (up to rounding, 1e-15).

@@ -328,9 +328,12 @@ Brush parseBrush(const std::string& text, const std::string& path,
   });
   if (top.has("paint")) part([&] {
     const JsonObject p = top.object("paint");
-    p.declareKeys({"capacity"});
+    p.declareKeys({"capacity", "flag_mm"});
     b.paint_capacity = p.number("capacity", 1.0);
     p.require(b.paint_capacity > 0, "capacity", "must be > 0");
+    b.paint_flag_mm = p.number("flag_mm", 0.0);
+    p.require(b.paint_flag_mm >= 0 && b.paint_flag_mm <= kMaxFlagMm, "flag_mm",
+              "must be in [0, 5] (mm of split hair ends)");
     p.rejectUnknownKeys();
   });
   for (const char* key : {"surface", "strips"})  // known even when skipped above

@@ -58,6 +58,10 @@ struct FrictionSpec {
 inline constexpr int kMaxRefinementLevel = 4;
 inline constexpr int kMaxStrips = 1000;
 inline constexpr int kMaxCageVertices = 4096;
+// Longest flagged hair end a brush may declare (paint.flag_mm): a badger's or
+// hog's flags are a millimetre or two; 5 mm would be split hair for a third of
+// a short brush's length.
+inline constexpr double kMaxFlagMm = 5.0;
 // Skin weights of a cage vertex must sum to 1 within this (weights are
 // written with a few decimals in brush files).
 inline constexpr double kSkinWeightSumTol = 1e-3;
@@ -144,6 +148,10 @@ struct Brush {
   VolumeSpec volume;
   SolverHints solver;
   double paint_capacity = 1.0;  // relative amount of paint the brush holds
+  // Length (mm) of the hairs' flagged (split) ends, 0 for none: where only the
+  // flags reach the paper, within this distance of the footprint's outline,
+  // the brush lays a thinner film (docs/brush-format.md, `paint.flag_mm`).
+  double paint_flag_mm = 0.0;
 
   // Largest distance from the ferrule centre any hair can reach (mm).
   double reachMm() const;

@@ -275,7 +275,10 @@ float BrushTexelMap::lateral(double x_mm) const {
 // ---------------------------------------------------------------- BrushPaint
 
 BrushPaint::BrushPaint(const Brush& brush)
-    : map_(brush), capacity_(brush.paint_capacity), cells_(BrushTexelMap::kTexels) {}
+    : map_(brush),
+      capacity_(brush.paint_capacity),
+      flag_mm_(brush.paint_flag_mm),
+      cells_(BrushTexelMap::kTexels) {}
 
 void BrushPaint::clean() {
   for (PaintCell& c : cells_) c = PaintCell{};
@@ -463,6 +466,8 @@ struct TransferScratch {
   std::vector<double> out_sum;   // per texel: paint given to the canvas (mm^3)
   std::vector<double> in_sum;    // per texel: paint picked up (mm^3)
   std::vector<std::array<float, 6>> in_optics;  // per texel: volume-weighted K and S picked up
+  std::vector<float> flag;       // per footprint pixel: deposit factor of flagged ends (flagRim)
+  std::vector<int> flag_sums;    // per footprint pixel: flagRim's column sums of touched pixels
 
   void reset(size_t pixels) {
     touches.clear();
@@ -486,6 +491,67 @@ std::array<float, kTexels> texelDryness(const BrushPaint& brush, const TransferP
   return dryness;
 }
 
+// Flagged hair ends (Brush::paint_flag_mm, docs/brush-format.md): a soft
+// hair's split ends splay past the body of the hair and are all that reaches
+// the paper at the rim of the footprint. Each flag is a few fibres finer than
+// the hair, holding and laying a thinner film, while it wicks wet paint up as
+// well as the hair does. So near the footprint's outline the deposit falls
+// off and pickup does not: there the wet film settles thinner, and the mark's
+// edge is a ramp about flag_mm wide, not a step. How deep a pixel lies in the
+// footprint is the share f of touched pixels in the square of half-side
+// flag_mm around it (outside the window counts as untouched): 1/2 on a
+// straight outline, rising linearly to 1 at flag_mm inside it, and
+// g = smoothstep((f - 1/2) / (1/2)). A gap between bundles a few pixels wide
+// lowers f a little, where a distance to the nearest untouched pixel would
+// make a rim of it; a lone hair or one bundle's tip narrower than flag_mm
+// never reaches f = 1/2 and lays nothing: it is all flags. Returns false,
+// leaving *out alone, for a brush without flags. `sums` is working space.
+bool flagRim(const FootprintView& fp, double flag_mm, double px_per_mm, std::vector<float>* out,
+             std::vector<int>* sums) {
+  const int w = fp.width, h = fp.height;
+  if (!(flag_mm > 0) || w == 0 || h == 0) return false;
+  const int half = std::max(1, static_cast<int>(std::lround(flag_mm * px_per_mm)));
+  std::vector<float>& g = *out;
+  g.resize(static_cast<size_t>(w) * h);
+  std::vector<int>& cols = *sums;  // per pixel: touched pixels in its column's window
+  cols.resize(static_cast<size_t>(w) * h);
+  for (int c = 0; c < w; ++c) {
+    auto touched = [&](int r) {
+      if (r < 0 || r >= h) return 0;
+      const float* px = fp.texels + (static_cast<size_t>(r) * w + c) * 4;
+      return px[3] > 0 && px[2] > 0 ? 1 : 0;
+    };
+    int sum = 0;
+    for (int r = -half; r <= half; ++r) sum += touched(r);
+    for (int r = 0; r < h; ++r) {
+      cols[static_cast<size_t>(r) * w + c] = sum;
+      sum += touched(r + half + 1) - touched(r - half);
+    }
+  }
+  const float inv_area = 1.0f / static_cast<float>((2 * half + 1) * (2 * half + 1));
+  for (int r = 0; r < h; ++r) {
+    const int* row = cols.data() + static_cast<size_t>(r) * w;
+    auto at = [&](int c) { return c < 0 || c >= w ? 0 : row[c]; };
+    int sum = 0;
+    for (int c = -half; c <= half; ++c) sum += at(c);
+    for (int c = 0; c < w; ++c) {
+      const float x = std::clamp((sum * inv_area - 0.5f) * 2.0f, 0.0f, 1.0f);
+      g[static_cast<size_t>(r) * w + c] = x * x * (3 - 2 * x);
+      sum += at(c + half + 1) - at(c - half);
+    }
+  }
+  return true;
+}
+
+// Deposit factor of the flagged rim (flagRim's g in [0, 1]): thinner, and
+// broken. The flags are few and splay unevenly, so the further out, the fewer
+// of them reach a pixel: a pixel takes paint only where the paper stands high
+// (tooth) or the hair there is well loaded (hairNoise), their mean above 1 - g,
+// over the dry brush's soft edge (kInvDryEdge). At g = 1 every pixel passes.
+float flagDeposit(float g, float tooth, float hair) {
+  return g * std::clamp((0.5f * (tooth + hair) - (1 - g)) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
+}
+
 // Stage 1 of transfer: who touches what, and how hard. Fills scratch.touches
 // and scratch.demand; returns the number of touching pixels.
 int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintCanvas& canvas,
@@ -502,6 +568,8 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
   const float inv_band = static_cast<float>(1.0 / fp.contact_band_mm);
   const float streaks = static_cast<float>(std::clamp(params.hair_streaks, 0.0, 2.0));
   const float dry_threshold = static_cast<float>(params.dry_threshold);
+  const bool flagged =
+      flagRim(fp, brush.flagMm(), g.px_per_mm, &scratch.flag, &scratch.flag_sums);
   int contact_px = 0;
   for (int r = 0; r < fp.height; ++r) {
     const int row = fp.row0 + r;
@@ -541,7 +609,10 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
       const float need = d * (dry_threshold - d * kHairVariation * (hair - 0.5f));
       const float gate =
           std::clamp((canvas.tooth(i) - need) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
-      const float dep = contact * gate * (1 + streaks * (hair - 0.5f));
+      float dep = contact * gate * (1 + streaks * (hair - 0.5f));
+      if (flagged)
+        dep *= flagDeposit(scratch.flag[static_cast<size_t>(r) * fp.width + c], canvas.tooth(i),
+                           hair);
       touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), contact,
                          dep});
       demand[t] += dep;

@@ -185,6 +185,9 @@ class BrushPaint {
   double fullFilmMm() const { return full_film_mm_; }
   // Flow multiplier from the loaded paint's dilution (thinner paint flows more).
   double flow() const { return flow_; }
+  // The brush's flagged hair ends (mm, Brush::paint_flag_mm; 0: none): the
+  // rim of the footprint this deep lays a thinner film (transfer()).
+  double flagMm() const { return flag_mm_; }
 
  private:
   BrushTexelMap map_;
@@ -192,6 +195,7 @@ class BrushPaint {
   double capacity_mm3_ = 0;
   double full_film_mm_ = kFullLoadFilmMm;
   double flow_ = 1;
+  double flag_mm_ = 0;
   MixModel model_ = MixModel::kKubelkaMunk;
   std::vector<PaintCell> cells_;
 };

@@ -178,23 +178,40 @@ def flat_row(name, desc, width, thick, lengths, K, n_spines, strips, tip_curve=0
     return b
 
 
+# Badger: spine stiffness (N mm/rad, root to tip), bundle widths (mm) of the
+# centre and the outer spines, paint capacity and flag length (mm).
+K_BADGER = [3.0, 2.5, 2.0, 2.0]
+BADGER_WIDTHS = ([5.0, 6.0, 6.0, 5.5, 4.5], [3.5, 4.5, 4.5, 4.0, 3.5])
+BADGER_CAPACITY = 0.6
+BADGER_FLAG_MM = 1.5
+
+
 def badger():
-    lengths, K, D = [8.0, 7.0, 6.0, 4.0], [6.0, 5.5, 5.0, 5.0], [0.01] * 4
+    """A badger softener: a dense dome of fine flagged hair. Its hair is as
+    full at the end as at the belly (the dome is cut, not pointed), so each
+    spine's bundle stays wide to its tip and neighbouring bundles overlap: the
+    hair meets the paper as one mass, not as fingers. It is soft and bends
+    under a light touch (K about half the round's belly), and its flagged
+    ends (paint.flag_mm) lay a thin, broken film at the rim of what touches
+    (docs/brush-format.md, "Flagged hair")."""
+    lengths, K, D = [8.0, 7.0, 6.0, 4.0], K_BADGER, [0.01] * 4
     sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0]],
-                [5.0, 6.0, 5.0, 3.5, 1.2])]
+                BADGER_WIDTHS[0])]
     for ring, (r, count) in enumerate([(3.2, 6), (6.0, 8)]):
         for k in range(count):
             a = 2 * math.pi * k / count + ring * 0.3
             sp.append(spine([r * math.cos(a), r * math.sin(a), 0], lengths, K, D,
                             bend_towards(a, [0.06 + 0.04 * ring, 0.0, -0.1, -0.05]),
-                            [3.5, 4.0, 3.5, 2.5, 1.0]))
-    b = base("badger", "Badger blender: dense and soft, 14 mm across, 25 mm of hair, domed",
+                            BADGER_WIDTHS[1]))
+    b = base("badger", "Badger softener: a soft dome of flagged hair, 14 mm across, 25 mm long",
              sp, 0.4, 0.3, 0.2)
     b["surface"] = tube_cage(sp, 12, lambda k: 1.2, lambda k: 1.2)
     b["strips"] = {"count": 300, "root_width_mm": 0.12, "tip_width_mm": 0.05, "seed": 5,
                    "placement": "area", "length_jitter": 0.15}
     b["volume"] = volume(0.3)
-    b["paint"] = {"capacity": 1.5}
+    # A softener holds a thin film (capacity) and lays it thinner still where
+    # only its flags touch; it is worked nearly clean to blend paint already down.
+    b["paint"] = {"capacity": BADGER_CAPACITY, "flag_mm": BADGER_FLAG_MM}
     return b
 
 

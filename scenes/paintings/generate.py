@@ -353,7 +353,7 @@ def landscape():
         "A cloud puff about (0, 0): a filbert scumbled in loops."],
         stroke(puff_keys(5.0, 1.5), 30, "filbert", tilt_deg=10, lean_deg=0))
     t_cloud_base = write_trajectory(d + "cloud-base.csv", [
-        "The soft underside of a cloud: a badger swept 34 mm along +x."],
+        "A cloud's underside softened: a badger swept 34 mm along +x."],
         stroke([(0, 0, 1.5, 0), (10, -0.8, 3.0, 0), (22, -0.5, 3.0, 0), (34, 0.5, 1.0, 0)], 45,
                "badger", tilt_deg=15, lean_deg=0))
     hills = [(2, 46), (20, 50), (38, 47), (58, 52), (78, 48), (98, 45), (120, 49), (140, 47),
@@ -382,9 +382,12 @@ def landscape():
             strokes.append(placed("filbert", t_puff, cloud,
                                   (cx + 7 * k - 3.5 * puffs, cy + 3 * math.sin(2.1 * k)),
                                   rotate=8 * math.sin(k)))
+        # The badger, nearly clean, swept through the puffs' wet undersides:
+        # it lifts the paint where it lies thick and lays it down thin beyond,
+        # softening the cloud into the sky (docs/fidelity.md, "The badger softener").
         strokes.append(placed("badger", t_cloud_base,
-                              {"paints": [sky_grey], "amount": 0.4, "dilution": 0.4},
-                              (cx - 3.5 * puffs - 2, cy - 6)))
+                              {"paints": ["titanium-white"], "amount": 0.25},
+                              (cx - 3.5 * puffs + 2, cy - 4)))
     strokes.append(placed("flat", t_hills,
                           {"mode": "across", "paints": ["ultramarine", "#a6a8c4"], "amount": 0.8},
                           dry_before=True))

@@ -1559,6 +1559,11 @@ case("traj-quoted-comma", "a trajectory cell in quotes holding a ',' (a decimal 
      ["validate", "t.csv"], 65, "t.csv: line 3, column 2 (x_mm): '1,5' is not a number",
      trajectory(text="# bristle-trajectory/1\n" + HEADER + "\n0,\"1,5\",40,25,1,0,0,0\n"))
 
+case("brush-flag-too-long", "a brush whose flagged hair ends are 8 mm long",
+     ["validate", "b.json"], 65,
+     "b.json: /paint/flag_mm = 8: must be in [0, 5] (mm of split hair ends)",
+     brush(edit=lambda b: b.update(paint={"capacity": 1.0, "flag_mm": 8})))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":

@@ -292,4 +292,57 @@ double inkBeyondMm(const Coverage& img, double x_mm, int side, double threshold)
   return side < 0 ? std::max(0.0, x_mm - lo) : std::max(0.0, hi - x_mm);
 }
 
+std::vector<double> crossProfile(const Coverage& img, Axis travel, int from, int to) {
+  const bool along_x = travel == Axis::kX;
+  const int lanes = along_x ? img.h : img.w, length = along_x ? img.w : img.h;
+  from = std::clamp(from, 0, length);
+  to = std::clamp(to, from, length);
+  std::vector<double> p(static_cast<size_t>(lanes), 0.0);
+  if (to == from) return p;
+  for (int lane = 0; lane < lanes; ++lane) {
+    double sum = 0;
+    for (int k = from; k < to; ++k) sum += along_x ? img.at(k, lane) : img.at(lane, k);
+    p[static_cast<size_t>(lane)] = sum / (to - from);
+  }
+  return p;
+}
+
+namespace {
+
+// Where, walking from lane `start` by `step` (+1 or -1), the profile first
+// reaches `level`: a fractional lane, interpolated between the lanes it falls between.
+double rampCrossing(const std::vector<double>& p, int start, int step, double level) {
+  for (int i = start; i >= 0 && i < static_cast<int>(p.size()); i += step) {
+    if (p[static_cast<size_t>(i)] < level) continue;
+    if (i == start) return i;
+    const double a = p[static_cast<size_t>(i - step)], b = p[static_cast<size_t>(i)];
+    return (i - step) + step * (level - a) / (b - a);
+  }
+  return start;
+}
+
+}  // namespace
+
+EdgeRamp edgeRamp(const std::vector<double>& profile, double px_per_mm) {
+  EdgeRamp e;
+  if (profile.empty()) return e;
+  const double peak = *std::max_element(profile.begin(), profile.end());
+  if (!(peak > 0)) return e;
+  const int n = static_cast<int>(profile.size());
+  int first = 0, last = n - 1;
+  while (profile[static_cast<size_t>(first)] <= 0.1 * peak) ++first;
+  while (profile[static_cast<size_t>(last)] <= 0.1 * peak) --last;
+  const int span = last - first + 1, m0 = first + span / 4, m1 = last - span / 4;
+  for (int i = m0; i <= m1; ++i) e.plateau += profile[static_cast<size_t>(i)];
+  e.plateau /= m1 - m0 + 1;
+  const double lo = 0.1 * e.plateau, hi = 0.9 * e.plateau;
+  // Start one lane outside the ink so the 10 % crossing is interpolated too.
+  const int a = std::max(first - 1, 0), b = std::min(last + 1, n - 1);
+  e.low_side_mm =
+      (rampCrossing(profile, a, +1, hi) - rampCrossing(profile, a, +1, lo)) / px_per_mm;
+  e.high_side_mm =
+      (rampCrossing(profile, b, -1, lo) - rampCrossing(profile, b, -1, hi)) / px_per_mm;
+  return e;
+}
+
 }  // namespace bristle::testsupport

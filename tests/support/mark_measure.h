@@ -115,6 +115,25 @@ struct EndSpread {
 EndSpread endSpread(const Coverage& img, Axis travel, double trim = 0.0,
                     double threshold = 0.1);
 
+// The cross-profile of a stroke running along `travel`: the mean ink of each
+// lane across it (rows for Axis::kX, top row first; columns for kY), over the
+// positions [from, to) along it (columns for kX, rows for kY), clipped to the image.
+std::vector<double> crossProfile(const Coverage& img, Axis travel, int from, int to);
+
+// Edge softness of a cross-profile. The ink's span is the lanes above 10 % of
+// the profile's maximum, the plateau the mean over the middle half of that
+// span (a stroke's body, streaks and all). On each side, the 10-90 % ramp is
+// the distance (mm) from where the profile, walked inwards from outside the
+// span, first reaches 10 % of the plateau to where it first reaches 90 % of
+// it (crossings interpolated linearly between lanes). A step edge gives at
+// most a pixel; 0 for an empty profile.
+struct EdgeRamp {
+  double low_side_mm = 0, high_side_mm = 0;  // the lane-0 side and the far side
+  double plateau = 0;
+  double meanMm() const { return 0.5 * (low_side_mm + high_side_mm); }
+};
+EdgeRamp edgeRamp(const std::vector<double>& profile, double px_per_mm);
+
 // Inked pixels of the whole image.
 long inkedPixels(const Coverage& img, double threshold = 0.1);
 
