@@ -2,7 +2,7 @@
 // A single stroke's options to render::StrokeSetup, and the stroke to 8-bit
 // pixels: the one path `bristle render --brush --trajectory`
 // (cli/stroke_png.cpp) and the public bristle::api::renderStroke both take, so
-// that they paint the same pixels (tests/test_api.cpp). Never installed.
+// that they paint the same pixels (tests/api/test_api.cpp). Never installed.
 
 #include <array>
 #include <cstdint>

@@ -10,7 +10,7 @@
 // a round bundle's radius, a slab's rounded rectangle) and, where the brush has
 // one, the refined subdivision surface at rest, whichever reaches lower. The
 // bristle strips are left out: they lie between the spines, and no library
-// brush's reach below its bundles (tests/test_first_contact.cpp).
+// brush's reach below its bundles (tests/engine/geometry/test_first_contact.cpp).
 
 #include <vector>
 

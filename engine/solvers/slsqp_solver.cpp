@@ -4,7 +4,7 @@
 // Callbacks). About 9 energy evaluations per 4-joint spine while dragging;
 // per step it is the faster solver for brushes of few spines
 // (docs/PERFORMANCE.md, "Per step: Ipopt and SLSQP").
-// Ipopt stays the reference; tests/test_solvers.cpp checks that the two agree.
+// Ipopt stays the reference; tests/engine/solvers/test_solvers.cpp checks that the two agree.
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -3,7 +3,7 @@
 // simulated along the trajectory, its footprints painted onto paper (docs/paint.md),
 // composed to 8-bit sRGB. The same pixels as
 //   bristle render --brush B --trajectory T -o out.png
-// with the same options (tests/test_api.cpp checks it byte for byte), given
+// with the same options (tests/api/test_api.cpp checks it byte for byte), given
 // the command line's process-wide set-up (docs/api.md).
 //
 // The canvas is sized to everything the brush can reach along the trajectory,

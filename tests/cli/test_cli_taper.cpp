@@ -81,7 +81,7 @@ TEST_CASE("taper: a round lifted while moving narrows to a point", "[marks][tape
   TempDir dir;
   const std::string csv = dir.write("liftmove.csv", liftWhileMovingCsv());
   const std::string png = dir.file("liftmove.png");
-  // Ipopt, the reference for a brush with hair volume (tests/test_cli_marks.cpp).
+  // Ipopt, the reference for a brush with hair volume (tests/cli/test_cli_marks.cpp).
   const RunResult r = runBristle("render -q --solver ipopt --px-per-mm 8 --brush '" + brush_path +
                                  "' --trajectory '" + csv + "' -o '" + png + "'");
   INFO(r.err);

@@ -82,7 +82,7 @@ TEST_CASE("render: the stroke lies where the brush touched, and the trace has ev
   const std::string png = dir.file("s.png"), trace = dir.file("s.jsonl");
   // Smooth paper: this test checks where the brush touches, not the paper's grain
   // (on a toothy paper a joint that barely touches may meet a valley and leave no
-  // paint, tests/test_paint_render.cpp).
+  // paint, tests/render/test_paint_render.cpp).
   const RunResult run = runBristle("render --brush '" + kBrush + "' --trajectory '" + kSCurve +
                                    "' -o '" + png + "' --trace '" + trace + "' --paper-tooth 0");
   INFO(run.err);
