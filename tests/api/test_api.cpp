@@ -202,6 +202,19 @@ TEST_CASE("api: a Simulation lowered onto the paper touches it and is pushed bac
     for (const auto& j : spine.joints_mm) CHECK(j[2] >= -kPenetrationToleranceMm);
 }
 
+TEST_CASE("api: a Simulation made from a temporary Brush keeps the brush it needs", "[api]") {
+  // simulation.h's own example: the Brush is gone when the constructor
+  // returns, and the engine's simulation refers to its model. The Simulation
+  // keeps a copy (its model is shared), so stepping it reads nothing freed.
+  api::Simulation sim(api::Brush::load(sourcePath("scenes/brushes/round.json")));
+  sim.reset({{0, 0, 25}}, 0);
+  for (int k = 1; k <= 30; ++k) sim.step({{0, 0, 25 - 0.25 * k}}, 0.01 * k);
+  const api::StepResult& s = sim.state();
+  REQUIRE(s.spines.size() == 7);
+  CHECK(s.contact());  // 25 - 7.5 mm: pressed past the round's 20 mm of hair
+  for (const api::SpineState& spine : s.spines) CHECK(spine.solved);
+}
+
 TEST_CASE("api: bad input raises Error naming the argument and the rule", "[api]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   using C = api::ErrorCategory;
