@@ -93,6 +93,7 @@ OBJECT_PROPS = {
     "strips_clumps": (int, lambda v: v >= 0, ">= 0"),
     "strips_clumping": (float, lambda v: 0 <= v <= 1, "in [0, 1]"),
     "paint_capacity": (float, lambda v: v > 0, "> 0"),
+    "paint_flag_mm": (float, lambda v: 0 <= v <= 5, "in [0, 5]"),
     # Hair volume (docs/brush-format.md): the ranges bristle's reader enforces.
     "volume_min_separation": (float, lambda v: 0 < v < 1, "in (0, 1)"),
     "volume_stiffness_n_per_mm": (float, lambda v: 0 < v <= 1000, "in (0, 1000]"),
@@ -519,8 +520,10 @@ class _Export:
         elif any("volume_" + k in props for k in VOLUME_KEYS):
             self.warn("%s: volume_* properties without 'volume_min_separation': no hair volume"
                       % self.where)
-        if "paint_capacity" in props:
-            out["paint"] = {"capacity": props["paint_capacity"]}
+        paint = {name: props["paint_" + name] for name in ("capacity", "flag_mm")
+                 if "paint_" + name in props}
+        if paint:
+            out["paint"] = paint
         if "solver_friction_form" in props:
             out["solver"] = {"friction_form": props["solver_friction_form"]}
         return out
@@ -743,8 +746,10 @@ def import_brush(context, brush, set_units=True):
             if key in volume:
                 arm["volume_" + key] = float(volume[key])
     paint = brush.get("paint")
-    if paint is not None and "capacity" in paint:
-        arm["paint_capacity"] = float(paint["capacity"])
+    if paint is not None:
+        for key in ("capacity", "flag_mm"):
+            if key in paint:
+                arm["paint_" + key] = float(paint[key])
     solver = brush.get("solver")
     if solver is not None and "friction_form" in solver:
         arm["solver_friction_form"] = str(solver["friction_form"])
