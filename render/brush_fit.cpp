@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/base/csv.h"
 #include "engine/base/error.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/base/json_reader.h"
@@ -52,24 +53,16 @@ namespace {
 const std::vector<std::string> kTableColumns = {"depth_mm", "width_mm", "drag_mm", "offset_mm",
                                                 "failed_steps"};
 
-std::string trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
-}
-
-std::vector<std::string> splitFields(const std::string& line) {
+// A row's cells (engine/base/csv.h: the splitter every reader of bristle
+// uses, so a quoted cell holding ',' is one cell), unquoted.
+std::vector<std::string> splitFields(std::string_view line) {
   std::vector<std::string> out;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) out.push_back(trim(field));
-  if (!line.empty() && line.back() == ',') out.emplace_back();
+  for (std::string_view cell : csv::splitLine(line)) out.emplace_back(csv::unquote(cell));
   return out;
 }
 
 std::string where(int line, size_t column, const std::string& name) {
-  return "line " + std::to_string(line) + ", column " + std::to_string(column + 1) + " (" + name +
-         ")";
+  return csv::place(line, static_cast<int>(column) + 1, name);
 }
 
 // The header's columns as indices into kTableColumns; checks names and the
@@ -104,13 +97,13 @@ std::vector<int> readHeader(const std::vector<std::string>& names, int line,
   return index;
 }
 
-double readValue(const std::string& field, const std::string& path, const std::string& at) {
-  char* end = nullptr;
-  const double v = std::strtod(field.c_str(), &end);
-  if (field.empty() || end != field.c_str() + field.size())
-    throw dataError(path, at, "'" + field + "' is not a number");
-  if (!std::isfinite(v)) throw dataError(path, at, "must be finite");
-  if (v < 0) throw dataError(path, at, field + " must be >= 0 (a length in mm)");
+// A cell as a length in mm: a finite number (csv::parseNumber, whose
+// messages name the cell) that is not negative.
+double readValue(const std::string& field, const std::string& path, int line, size_t column,
+                 const std::string& name) {
+  const double v = csv::parseNumber(field, path, line, static_cast<int>(column) + 1, name);
+  if (v < 0)
+    throw dataError(path, where(line, column, name), field + " must be >= 0 (a length in mm)");
   return v;
 }
 
@@ -126,7 +119,7 @@ MeasurementTable parseMeasurementTable(const std::string& text, const std::strin
   int line = 0;
   while (std::getline(in, raw)) {
     ++line;
-    const std::string s = trim(raw);
+    const std::string s(csv::trim(raw));
     if (s.empty() || s[0] == '#') continue;
     const std::vector<std::string> fields = splitFields(s);
     if (columns.empty()) {
@@ -144,7 +137,7 @@ MeasurementTable parseMeasurementTable(const std::string& text, const std::strin
     for (size_t c = 0; c < fields.size(); ++c) {
       const int k = columns[c];
       if (k == 4) continue;  // failed_steps: measure's note, not a measurement
-      const double v = readValue(fields[c], path, where(line, c, kTableColumns[size_t(k)]));
+      const double v = readValue(fields[c], path, line, c, kTableColumns[size_t(k)]);
       if (k == 0)
         row.depth_mm = v;
       else

@@ -67,7 +67,11 @@ TEST_CASE("fit table: each broken rule is one line naming the file, the line and
   CHECK(refusal("depth_mm,width_mm,drag_mm\n1,2,-3\n") ==
         "m.csv: line 2, column 3 (drag_mm): -3 must be >= 0 (a length in mm)");
   CHECK(refusal("depth_mm,width_mm,drag_mm\n1,2,nan\n") ==
-        "m.csv: line 2, column 3 (drag_mm): must be finite");
+        "m.csv: line 2, column 3 (drag_mm): 'nan': must be finite");
+  CHECK(refusal("depth_mm,width_mm,drag_mm\n1,2,0x1p3\n") ==
+        "m.csv: line 2, column 3 (drag_mm): '0x1p3' is not a number");
+  CHECK(refusal("depth_mm,width_mm,drag_mm\n1,\"2,5\",3\n") ==
+        "m.csv: line 2, column 2 (width_mm): '2,5' is not a number");
   CHECK(refusal("depth_mm,width_mm,drag_mm\n1,2\n") ==
         "m.csv: line 2: 2 fields where the header names 3");
   CHECK(refusal("# only a comment\n") ==
