@@ -39,6 +39,9 @@ from . import _paths  # noqa: E402
 
 _bristle._set_error_class(Error)
 __version__ = _bristle.__version__
+# True when Ipopt's timers answer without a system call inside a solve, as in
+# the command line (docs/python.md, "Speed"); False: the same strokes, slower.
+timers_patched = _bristle._timers_patched
 
 # Library names resolve in this build's or install's share/bristle/brushes,
 # then in BRISTLE_BRUSH_PATH's folders, as for the `bristle` beside it.
