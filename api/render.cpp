@@ -104,7 +104,7 @@ RenderOptions presetOptions(const std::string& name) {
                      "preset " + name + ": unknown (known: default, thumbnail)");
   // A step solved well moves no hair root more than max_step_mm
   // (docs/dynamics.md); at 2 px/mm a millimetre is two pixels, and a stroke
-  // of 0.3 s still gets 30 steps or more. 0.4x the default's CPU time on the
+  // of 0.3 s still gets 9 steps or more. 0.6x the default's CPU time on the
   // data-set strokes, SSIM >= 0.95 against them (docs/PERFORMANCE.md, "A
   // thumbnail preset").
   o.max_step_mm = kThumbnailMaxStepMm;

@@ -32,9 +32,10 @@ from bristle import _bristle, _options  # noqa: E402
 from stroke_dataset import PX_PER_MM, random_stroke  # noqa: E402
 
 
-def throughput(brush, trajs, threads, solver):
+def throughput(brush, trajs, threads, solver, **options):
     start, cpu = time.perf_counter(), time.process_time()
-    bristle.render_many(brush, trajs, threads=threads, px_per_mm=PX_PER_MM, solver=solver)
+    bristle.render_many(brush, trajs, threads=threads, px_per_mm=PX_PER_MM, solver=solver,
+                        **options)
     wall = time.perf_counter() - start
     return len(trajs) / wall, wall, time.process_time() - cpu
 
@@ -137,6 +138,7 @@ def getrusage_calls(count, seed, routed):
 # Coarser steps for thumbnails, against the default (docs/dynamics.md: a step
 # is solved well when no hair root moves more than max_step_mm).
 PRESETS = {
+    "preset=thumbnail": {"preset": "thumbnail"},
     "max_step_mm=0.5": {"max_step_mm": 0.5, "min_rate_hz": 60},
     "max_step_mm=1": {"max_step_mm": 1.0, "min_rate_hz": 30},
     "steady_step_mm=0.5": {"steady_step_mm": 0.5},
@@ -200,6 +202,15 @@ def main():
         if a.timers_ab:
             print(f"threads={threads}: routed/unrouted {rates[threads, True] / rates[threads, False]:.2f}x")
     _bristle._route_ipopt_getrusage(True)
+    if a.thumbnails:
+        for threads in (1, 2):
+            rate, wall, cpu = throughput(brush, trajs, threads, a.solver, preset="thumbnail")
+            rates[threads, "thumbnail"] = rate
+            print(f"render_many threads={threads} preset=thumbnail: {a.count} strokes in "
+                  f"{wall:.2f} s wall, {cpu:.2f} s CPU: {rate:.2f} strokes/s "
+                  f"({cpu / a.count * 1000:.0f} ms CPU a stroke)")
+        print(f"preset=thumbnail: 2 threads over 1: "
+              f"{rates[2, 'thumbnail'] / rates[1, 'thumbnail']:.2f}x")
     print(f"speed-up 2 threads over 1: {rates[2, True] / rates[1, True]:.2f}x"
           + (f" (unrouted {rates[2, False] / rates[1, False]:.2f}x)" if a.timers_ab else ""))
     some = trajs[: min(10, a.count)]
@@ -224,7 +235,7 @@ def main():
     if a.thumbnails:
         import tempfile
         with tempfile.TemporaryDirectory() as tmp:
-            thumbnails(brush, trajs[: min(20, a.count)], a.bristle, tmp)
+            thumbnails(brush, trajs, a.bristle, tmp)
     print(f"load average: {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
 
 
