@@ -200,7 +200,8 @@ def main():
                   f"{a.count} strokes in {wall:.2f} s wall, {cpu:.2f} s CPU: {rate:.2f} strokes/s "
                   f"({cpu / a.count * 1000:.0f} ms CPU a stroke)")
         if a.timers_ab:
-            print(f"threads={threads}: routed/unrouted {rates[threads, True] / rates[threads, False]:.2f}x")
+            ratio = rates[threads, True] / rates[threads, False]
+            print(f"threads={threads}: routed/unrouted {ratio:.2f}x")
     _bristle._route_ipopt_getrusage(True)
     if a.thumbnails:
         for threads in (1, 2):

@@ -267,8 +267,8 @@ Subcommand registerRender(CLI::App& app) {
       ->check(CLI::Range(1.0, 10000.0));
   render->add_option("--preset", r->preset,
                      "Named step options: thumbnail takes coarser steps for small images "
-                     "(2 px/mm data sets; docs/PERFORMANCE.md); --max-step-mm, --steady-step-mm and "
-                     "--min-rate-hz given beside it win")
+                     "(2 px/mm data sets; docs/PERFORMANCE.md); --max-step-mm, "
+                     "--steady-step-mm and --min-rate-hz given beside it win")
       ->check(CLI::IsMember({"default", "thumbnail"}));
   render->add_option("--contact-band-mm", r->contact_band_mm,
                      "Brush geometry below this height touches the paper (mm)")

@@ -46,7 +46,8 @@ RelocTables relocTables(const dl_phdr_info& info) {
   const ElfW(Dyn)* dyn = nullptr;
   for (int i = 0; i < info.dlpi_phnum; ++i) {
     const ElfW(Phdr)& ph = info.dlpi_phdr[i];
-    if (ph.p_type == PT_DYNAMIC) dyn = reinterpret_cast<const ElfW(Dyn)*>(info.dlpi_addr + ph.p_vaddr);
+    if (ph.p_type == PT_DYNAMIC)
+      dyn = reinterpret_cast<const ElfW(Dyn)*>(info.dlpi_addr + ph.p_vaddr);
     if (ph.p_type == PT_GNU_RELRO && page > 0) {
       // As the loader protects it: whole pages only, its last partial page stays writable.
       const auto mask = ~static_cast<std::uintptr_t>(page - 1);
@@ -77,7 +78,8 @@ bool writeSlot(std::uintptr_t slot, void* hook, const RelocTables& t) {
   const long page = sysconf(_SC_PAGESIZE);
   if (page <= 0 || slot % alignof(void*) != 0) return false;
   void* page_start = reinterpret_cast<void*>(slot & ~static_cast<std::uintptr_t>(page - 1));
-  if (mprotect(page_start, static_cast<std::size_t>(page), PROT_READ | PROT_WRITE) != 0) return false;
+  if (mprotect(page_start, static_cast<std::size_t>(page), PROT_READ | PROT_WRITE) != 0)
+    return false;
   std::memcpy(reinterpret_cast<void*>(slot), &hook, sizeof hook);
   if (slot >= t.relro_begin && slot < t.relro_end)
     mprotect(page_start, static_cast<std::size_t>(page), PROT_READ);
@@ -110,8 +112,9 @@ int patchObject(dl_phdr_info* info, std::size_t, void* data) {
   const RelocTables t = relocTables(*info);
   if (t.symtab == nullptr || t.strtab == nullptr) return 0;
   auto& patch = *static_cast<Patch*>(data);
-  patch.written += patchRelocations(t.jmprel, t.jmprel_bytes / sizeof(ElfW(Rela)), *info, t, patch.hook);
-  patch.written += patchRelocations(t.rela, t.rela_bytes / sizeof(ElfW(Rela)), *info, t, patch.hook);
+  constexpr std::size_t kRela = sizeof(ElfW(Rela));
+  patch.written += patchRelocations(t.jmprel, t.jmprel_bytes / kRela, *info, t, patch.hook);
+  patch.written += patchRelocations(t.rela, t.rela_bytes / kRela, *info, t, patch.hook);
   return 0;
 }
 
