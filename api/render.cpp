@@ -33,6 +33,11 @@ void checkRange(const char* field, double v, double lo, double hi) {
                                                 shortNumber(lo) + ", " + shortNumber(hi) + "]");
 }
 
+// The "thumbnail" preset's steps (presetOptions below).
+constexpr double kThumbnailMaxStepMm = 1.0;
+constexpr double kThumbnailMinRateHz = 30;
+constexpr double kThumbnailSteadyStepMm = 0;
+
 void checkRenderRanges(const RenderOptions& o) {
   checkRange("px_per_mm", o.px_per_mm, 0.5, 100);
   checkRange("solver_max_iterations", o.solver_max_iterations, 1, 100000);
@@ -90,6 +95,23 @@ RenderResult renderOn(render::StrokeRenderer* renderer, const Brush& brush,
 }
 
 }  // namespace
+
+RenderOptions presetOptions(const std::string& name) {
+  RenderOptions o;
+  if (name == "default") return o;
+  if (name != "thumbnail")
+    throw api::Error(ErrorCategory::kUsage,
+                     "preset " + name + ": unknown (known: default, thumbnail)");
+  // A step solved well moves no hair root more than max_step_mm
+  // (docs/dynamics.md); at 2 px/mm a millimetre is two pixels, and a stroke
+  // of 0.3 s still gets 9 steps or more. 0.6x the default's CPU time on the
+  // data-set strokes, SSIM >= 0.95 against them (docs/PERFORMANCE.md, "A
+  // thumbnail preset").
+  o.max_step_mm = kThumbnailMaxStepMm;
+  o.min_rate_hz = kThumbnailMinRateHz;
+  o.steady_step_mm = kThumbnailSteadyStepMm;
+  return o;
+}
 
 RenderResult renderStroke(const Brush& brush, const Trajectory& trajectory,
                           const RenderOptions& options) {

@@ -11,7 +11,9 @@ stroke_dataset.py: 10-30 mm curves pressed 1-5 mm, 0.3 s each, the round at
     call (process/getrusage_override.cpp), and their cost.
 
     PYTHONPATH=build/python python3 bench/python_throughput.py [-n 40] [--getrusage]
-        [--thumbnails]   also coarser-step presets: speed and SSIM against the default
+        [--timers-ab]    also libipopt's getrusage put back to the C library's, in
+                         turns with bristle's rule (process/getrusage_hook.h)
+        [--thumbnails]   also preset="thumbnail": speed and SSIM against the default
 """
 import argparse
 import ctypes
@@ -30,9 +32,10 @@ from bristle import _bristle, _options  # noqa: E402
 from stroke_dataset import PX_PER_MM, random_stroke  # noqa: E402
 
 
-def throughput(brush, trajs, threads, solver):
+def throughput(brush, trajs, threads, solver, **options):
     start, cpu = time.perf_counter(), time.process_time()
-    bristle.render_many(brush, trajs, threads=threads, px_per_mm=PX_PER_MM, solver=solver)
+    bristle.render_many(brush, trajs, threads=threads, px_per_mm=PX_PER_MM, solver=solver,
+                        **options)
     wall = time.perf_counter() - start
     return len(trajs) / wall, wall, time.process_time() - cpu
 
@@ -111,13 +114,15 @@ def getrusage_cost_s():
     return max(loop - (time.perf_counter() - a), 0) / n
 
 
-def getrusage_calls(count, seed):
-    """getrusage system calls of `count` strokes rendered in a child process."""
+def getrusage_calls(count, seed, routed):
+    """getrusage system calls of `count` strokes rendered in a child process,
+    libipopt's getrusage routed to bristle's rule or not."""
     code = ("import sys; sys.path.insert(0, %r); import numpy as np, bristle; "
             "from stroke_dataset import random_stroke; rng = np.random.default_rng(%d); "
             "ts = [random_stroke(rng)[2] for _ in range(%d)]; b = bristle.Brush('round'); "
+            "bristle._bristle._route_ipopt_getrusage(%r); "
             "[bristle.render(b, t, px_per_mm=2, threads=1) for t in ts]"
-            % (os.path.join(HERE, "..", "python", "examples"), seed, count))
+            % (os.path.join(HERE, "..", "python", "examples"), seed, count, routed))
     base = ("import sys; sys.path.insert(0, %r); import numpy as np, bristle; "
             "from stroke_dataset import random_stroke" % os.path.join(HERE, "..", "python", "examples"))
     calls = []
@@ -133,6 +138,7 @@ def getrusage_calls(count, seed):
 # Coarser steps for thumbnails, against the default (docs/dynamics.md: a step
 # is solved well when no hair root moves more than max_step_mm).
 PRESETS = {
+    "preset=thumbnail": {"preset": "thumbnail"},
     "max_step_mm=0.5": {"max_step_mm": 0.5, "min_rate_hz": 60},
     "max_step_mm=1": {"max_step_mm": 1.0, "min_rate_hz": 30},
     "steady_step_mm=0.5": {"steady_step_mm": 0.5},
@@ -172,6 +178,8 @@ def main():
     p.add_argument("--solver", default="ipopt", choices=("ipopt", "slsqp"))
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--getrusage", action="store_true", help="count Ipopt's timer calls (strace)")
+    p.add_argument("--timers-ab", action="store_true",
+                   help="also with libipopt's getrusage put back to the C library's")
     p.add_argument("--thumbnails", action="store_true",
                    help="coarser-step presets: speed and SSIM against the default")
     p.add_argument("--bristle", default=os.path.join(HERE, "..", "build", "cli", "bristle"),
@@ -184,11 +192,28 @@ def main():
     bristle.render_many(brush, trajs[:2], threads=1, px_per_mm=PX_PER_MM)  # warm up
     rates = {}
     for threads in (1, 2):
-        rate, wall, cpu = throughput(brush, trajs, threads, a.solver)
-        rates[threads] = rate
-        print(f"render_many threads={threads}: {a.count} strokes in {wall:.2f} s wall, "
-              f"{cpu:.2f} s CPU: {rate:.2f} strokes/s ({cpu / a.count * 1000:.0f} ms CPU a stroke)")
-    print(f"speed-up 2 threads over 1: {rates[2] / rates[1]:.2f}x")
+        for routed in ((False, True) if a.timers_ab else (True,)):
+            _bristle._route_ipopt_getrusage(routed)
+            rate, wall, cpu = throughput(brush, trajs, threads, a.solver)
+            rates[threads, routed] = rate
+            print(f"render_many threads={threads}{'' if routed else ' (Ipopt timers unrouted)'}: "
+                  f"{a.count} strokes in {wall:.2f} s wall, {cpu:.2f} s CPU: {rate:.2f} strokes/s "
+                  f"({cpu / a.count * 1000:.0f} ms CPU a stroke)")
+        if a.timers_ab:
+            ratio = rates[threads, True] / rates[threads, False]
+            print(f"threads={threads}: routed/unrouted {ratio:.2f}x")
+    _bristle._route_ipopt_getrusage(True)
+    if a.thumbnails:
+        for threads in (1, 2):
+            rate, wall, cpu = throughput(brush, trajs, threads, a.solver, preset="thumbnail")
+            rates[threads, "thumbnail"] = rate
+            print(f"render_many threads={threads} preset=thumbnail: {a.count} strokes in "
+                  f"{wall:.2f} s wall, {cpu:.2f} s CPU: {rate:.2f} strokes/s "
+                  f"({cpu / a.count * 1000:.0f} ms CPU a stroke)")
+        print(f"preset=thumbnail: 2 threads over 1: "
+              f"{rates[2, 'thumbnail'] / rates[1, 'thumbnail']:.2f}x")
+    print(f"speed-up 2 threads over 1: {rates[2, True] / rates[1, True]:.2f}x"
+          + (f" (unrouted {rates[2, False] / rates[1, False]:.2f}x)" if a.timers_ab else ""))
     some = trajs[: min(10, a.count)]
     total, inner = module_overhead(brush, some, a.solver)
     wrapper = wrapper_cost_s(brush, some[0])
@@ -200,18 +225,18 @@ def main():
         cli = cli_cpu_per_stroke(made[: len(some)], a.bristle, tmp)
     print(f"bristle render --threads 1 on the same strokes: {cli * 1000:.1f} ms CPU a stroke "
           f"(its start-up taken off): the module takes {(inner / cli - 1) * 100:+.1f} % "
-          f"more (no getrusage override, no keepFreedHeap; docs/python.md, \"Speed\")")
+          f"more (docs/python.md, \"Speed\")")
     if a.getrusage:
         n = min(5, a.count)
-        calls = getrusage_calls(n, a.seed) / n
+        calls = getrusage_calls(n, a.seed, False) / n
         cost = getrusage_cost_s()
-        print(f"Ipopt's timers: {calls:.0f} getrusage calls a stroke at {cost * 1e6:.2f} us each: "
-              f"{calls * cost * 1000:.1f} ms a stroke ({calls * cost / inner * 100:.1f} % of "
-              f"the extension's {inner * 1000:.0f} ms)")
+        print(f"Ipopt's timers unrouted: {calls:.0f} getrusage calls a stroke at {cost * 1e6:.2f} "
+              f"us each: {calls * cost * 1000:.1f} ms a stroke; routed (bristle.timers_patched="
+              f"{bristle.timers_patched}): {getrusage_calls(n, a.seed, True) / n:.0f} a stroke")
     if a.thumbnails:
         import tempfile
         with tempfile.TemporaryDirectory() as tmp:
-            thumbnails(brush, trajs[: min(20, a.count)], a.bristle, tmp)
+            thumbnails(brush, trajs, a.bristle, tmp)
     print(f"load average: {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
 
 

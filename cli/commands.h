@@ -78,6 +78,7 @@ struct RenderArgs : PaintOptions {  // paint and paper: cli/paint_options.h
   int solver_max_iterations = kDefaultSolverMaxIterations;  // also a scene's
   int threads = 0;  // --threads (0: render::defaultRenderThreads()); also a scene's
   std::vector<std::string> ipopt_options;  // NAME=VALUE
+  std::string preset;  // --preset: bristle/render.h's presetOptions, under the step options given
   std::vector<double> offset_mm;           // x, y, z added to every handle position
   bool quiet = false;
   std::string batch_key;  // --batch-key (hidden): from `bristle batch` (batch/job_key.h)

@@ -4,7 +4,10 @@
 #include <iostream>
 #include <memory>
 
+#include <algorithm>
+
 #include "batch/job_key.h"
+#include "bristle/render.h"
 #include "bristle/version.h"
 #include "cli/commands.h"
 #include "cli/options.h"
@@ -68,6 +71,19 @@ RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_
   return stats;
 }
 
+// --preset NAME: the preset's step options (bristle/render.h, presetOptions),
+// each unless given on the command line itself.
+void applyPreset(const RenderArgs& args, StrokePngOptions* png) {
+  if (args.preset.empty()) return;
+  const api::RenderOptions preset = api::presetOptions(args.preset);
+  const auto given = [&args](const char* name) {
+    return std::find(args.given.begin(), args.given.end(), name) != args.given.end();
+  };
+  if (!given("--max-step-mm")) png->max_step_mm = preset.max_step_mm;
+  if (!given("--steady-step-mm")) png->steady_step_mm = preset.steady_step_mm;
+  if (!given("--min-rate-hz")) png->min_rate_hz = preset.min_rate_hz;
+}
+
 // The options of a stroke's render (render --brush --trajectory).
 StrokePngOptions strokePngOptionsOf(const RenderArgs& args) {
   StrokePngOptions png;
@@ -81,6 +97,7 @@ StrokePngOptions strokePngOptionsOf(const RenderArgs& args) {
   png.min_rate_hz = args.min_rate_hz;
   png.threads = args.threads;
   static_cast<PaintOptions&>(png) = args;
+  applyPreset(args, &png);
   return png;
 }
 
@@ -248,6 +265,11 @@ Subcommand registerRender(CLI::App& app) {
   render->add_option("--min-rate-hz", r->min_rate_hz, "Fewest simulation steps per second")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 10000.0));
+  render->add_option("--preset", r->preset,
+                     "Named step options: thumbnail takes coarser steps for small images "
+                     "(2 px/mm data sets; docs/PERFORMANCE.md); --max-step-mm, "
+                     "--steady-step-mm and --min-rate-hz given beside it win")
+      ->check(CLI::IsMember({"default", "thumbnail"}));
   render->add_option("--contact-band-mm", r->contact_band_mm,
                      "Brush geometry below this height touches the paper (mm)")
       ->capture_default_str()

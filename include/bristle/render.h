@@ -49,6 +49,14 @@ struct RenderOptions {
   int threads = 0;
 };
 
+// Named sets of RenderOptions (docs/python.md, "Presets"; `bristle render
+// --preset`): "default" is RenderOptions{}; "thumbnail" takes coarser
+// simulation steps (max_step_mm, min_rate_hz, steady_step_mm) for small
+// data-set images, within SSIM 0.95 of the default's at 2 px/mm
+// (docs/PERFORMANCE.md, "A thumbnail preset"). Throws Error (kUsage) naming
+// the known presets for another name.
+RenderOptions presetOptions(const std::string& name);
+
 // 8-bit sRGB, RGB (3 channels), row 0 at the top, rows packed.
 struct Image {
   int width_px = 0, height_px = 0, channels = 3;

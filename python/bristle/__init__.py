@@ -39,6 +39,9 @@ from . import _paths  # noqa: E402
 
 _bristle._set_error_class(Error)
 __version__ = _bristle.__version__
+# True when Ipopt's timers answer without a system call inside a solve, as in
+# the command line (docs/python.md, "Speed"); False: the same strokes, slower.
+timers_patched = _bristle._timers_patched
 
 # Library names resolve in this build's or install's share/bristle/brushes,
 # then in BRISTLE_BRUSH_PATH's folders, as for the `bristle` beside it.
@@ -189,6 +192,13 @@ def render_many(brushes, trajectories, threads=2, details=False, **options):
     return [image for image, _ in results]
 
 
+def preset_options(name):
+    """The step options a preset (the preset= option: "default", "thumbnail")
+    sets, as a dict: max_step_mm, min_rate_hz, steady_step_mm."""
+    o = _options.preset("preset_options", name, Error)
+    return {k: getattr(o, k) for k in ("max_step_mm", "min_rate_hz", "steady_step_mm")}
+
+
 def save_png(path, image):
     """An (H, W, C) uint8 array (C = 1 to 4) written as a PNG with bristle's
     provenance text, atomically (a failed write leaves no file)."""
@@ -205,4 +215,5 @@ from ._canvas import Canvas  # noqa: E402,F401
 from ._simulation import Simulation, State  # noqa: E402,F401
 
 __all__ = ["Brush", "Canvas", "Error", "Simulation", "State", "Stroke", "Trajectory",
-           "render", "render_many", "render_stroke", "save_png", "set_brush_library_dirs"]
+           "preset_options", "render", "render_many", "render_stroke", "save_png",
+           "set_brush_library_dirs"]

@@ -5,7 +5,7 @@ import os
 from . import Error, _brush, _bristle, _options, _trajectory
 
 _PAPER = ("paper_colour", "paper_tooth_mm", "paper_scale_mm", "paper_seed", "mix")
-_STROKE = ("paint", "load", "amount", "tip_length", "solver", "solver_max_iterations",
+_STROKE = ("preset", "paint", "load", "amount", "tip_length", "solver", "solver_max_iterations",
            "max_step_mm", "steady_step_mm", "min_rate_hz", "contact_band_mm", "threads")
 
 
@@ -38,7 +38,7 @@ class Canvas:
         self.width_px, self.height_px = int(w), int(h)
 
     def stroke(self, brush, trajectory, **options):
-        """Paints one stroke (options as render()'s paint, load, amount,
+        """Paints one stroke (options as render()'s preset, paint, load, amount,
         tip_length, solver and step options; the canvas keeps its paper and
         px_per_mm). Returns touched, paint_laid_mm3, failed_spine_solves."""
         where = "Canvas.stroke"

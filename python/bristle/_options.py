@@ -9,7 +9,10 @@ import numbers
 from . import _bristle
 
 # name -> kind; the ranges are the engine's (docs/python.md, "Options").
+# preset names a set of them (bristle/render.h, presetOptions: "default",
+# "thumbnail"); an option given by name beside it still wins.
 RENDER_OPTIONS = {
+    "preset": "preset",
     "paint": "str",
     "load": ("solid", "across", "tip"),
     "amount": "real",
@@ -58,13 +61,28 @@ def _value(where, name, kind, value, error):
     return float(value)
 
 
+def preset(where, value, error):
+    """The _bristle.RenderOptions of the preset named `value`, or an Error."""
+    if not isinstance(value, str):
+        raise error(f"{where}: preset: must be a str", 64)
+    try:
+        return _bristle.preset_options(value)
+    except error as e:
+        raise error(f"{where}: {e.message}", e.exit_code) from None
+
+
 def render_options(where, options, error, allowed=None):
-    """A _bristle.RenderOptions from keyword options; unknown names are errors."""
+    """A _bristle.RenderOptions from keyword options (the preset's, then each
+    option given by name); unknown names are errors."""
     out = _bristle.RenderOptions()
     for name, value in options.items():
         kind = RENDER_OPTIONS.get(name)
         if kind is None or (allowed is not None and name not in allowed):
             known = ", ".join(allowed if allowed is not None else RENDER_OPTIONS)
             raise error(f"{where}: unknown option {name!r} (known: {known})", 64)
-        setattr(out, name, _value(where, name, kind, value, error))
+        if kind == "preset":
+            out = preset(where, value, error)
+    for name, value in options.items():
+        if name != "preset":
+            setattr(out, name, _value(where, name, RENDER_OPTIONS[name], value, error))
     return out

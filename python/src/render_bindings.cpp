@@ -47,6 +47,8 @@ void bindOptions(py::module_& m) {
       .def_readwrite("min_rate_hz", &api::RenderOptions::min_rate_hz)
       .def_readwrite("contact_band_mm", &api::RenderOptions::contact_band_mm)
       .def_readwrite("threads", &api::RenderOptions::threads);
+  m.def("preset_options", &api::presetOptions, py::arg("name"),
+        "RenderOptions of a named preset (bristle/render.h, presetOptions)");
 }
 
 py::dict imageFacts(const api::Image& image) {

@@ -1564,6 +1564,11 @@ case("brush-flag-too-long", "a brush whose flagged hair ends are 8 mm long",
      "b.json: /paint/flag_mm = 8: must be in [0, 5] (mm of split hair ends)",
      brush(edit=lambda b: b.update(paint={"capacity": 1.0, "flag_mm": 8})))
 
+case("render-preset-unknown", "`render --preset` a name no preset has",
+     ["render", "--brush", "b.json", "--trajectory", "t.csv", "--preset", "poster", "-o", "o.png"],
+     64, "--preset: poster not in {default,thumbnail} (see bristle --help)",
+     all_of(brush(), trajectory()))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":

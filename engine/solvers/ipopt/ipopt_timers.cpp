@@ -1,5 +1,7 @@
 #include "engine/solvers/ipopt/ipopt_timers.h"
 
+#include <IpUtils.hpp>
+
 namespace bristle {
 namespace {
 
@@ -20,6 +22,13 @@ bool skipIpoptTimerRead() {
   if (!t_timers_off) return false;
   ++t_reads_skipped;
   return true;
+}
+
+bool ipoptClockReadSkipped() {
+  const std::uint64_t before = t_reads_skipped;
+  const IpoptTimersOff off(true);
+  static_cast<void>(Ipopt::CpuTime());
+  return t_reads_skipped != before;
 }
 
 }  // namespace bristle

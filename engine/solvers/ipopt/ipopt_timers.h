@@ -37,6 +37,11 @@ class IpoptTimersOff {
 // getrusage calls this thread answered with zeros since it started (tests).
 std::uint64_t ipoptTimerReadsSkipped();
 
+// Reads Ipopt's own CPU clock (Ipopt::CpuTime, through libipopt's binding of
+// getrusage) inside an engaged IpoptTimersOff scope: true when bristle's rule
+// answered it without a system call (tests of process/getrusage_hook.h).
+bool ipoptClockReadSkipped();
+
 // For the getrusage override: true (and counted) when this thread is inside an
 // engaged IpoptTimersOff scope, so the call is answered with zeros.
 bool skipIpoptTimerRead();
