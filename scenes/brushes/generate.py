@@ -257,27 +257,40 @@ def fan():
 
 
 def calligraphy():
-    lengths = [7.0, 7.0, 6.5, 5.5, 4.0]
+    # The point's last 4 mm in two segments, so that its hair meets the paper
+    # a little at a time: as one rigid 4 mm segment it lay down at once
+    # between 3.5 and 4 mm of press, and an upright pull's width jumped from
+    # 2.4 to 3.6 mm there (docs/fidelity.md, "Entries and blots").
+    lengths = [7.0, 7.0, 6.5, 5.5, 2.0, 2.0]
     # Graded stiffness (docs/dynamics.md, "Graded stiffness"): a stiff root
     # and a soft belly and tip, so that a press lays the belly down.
-    K, D = [60.0, 15.0, 4.0, 1.2, 0.5], [0.01, 0.008, 0.006, 0.005, 0.004]
+    K, D = [60.0, 15.0, 4.0, 1.2, 0.8, 0.5], [0.01, 0.008, 0.006, 0.005, 0.004, 0.004]
     # The belly's bundles, widened 1.15-1.5x from the root so that the laid
     # belly covers the paper between spines as a real brush's hair does. The
     # lower belly and the tip are as full as the real 30 mm brush of
     # data/real-brushes/wang2020-calligraphy.csv: its stroke is 1.8 mm wide at
     # 1 mm of press, 3 mm at 3 mm and 5-5.5 mm at 5 mm (docs/fidelity.md,
     # "Real brushes"), so its hair 4 mm from the tip is ~3 mm across, not a
-    # needle's point.
-    sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0], [0, 0]],
-                [4.5, 6.32, 6.5, 7.35, 4.41, 1.2])]
+    # needle's point. The point's new joint halves the old tip segment's taper.
+    # The centre spine is straight at rest: a brush has no preferred side, so
+    # that a press lays it over the way the handle moves (with a rest angle
+    # it lay over one way whatever the stroke's direction, and an entry's
+    # head sat beside the stroke's line).
+    sp = [spine([0, 0, 0], lengths, K, D, [[0.0, 0.0]] * 6,
+                [4.5, 6.32, 6.5, 7.35, 4.41, 2.805, 1.2])]
     for k in range(6):
         a = math.pi / 6 + k * math.pi / 3
+        # The belly gathers the hair into the point (-0.18, -0.14) and the
+        # point's segments turn back (0.1, 0.22), so that its last 2 mm hang
+        # about straight down (0.07 rad out) instead of pointing in at the
+        # axis: inward-pointing tips, pressed, push each spine's belly
+        # outwards and the bundle splays round its point into a bead.
         sp.append(spine([2.6 * math.cos(a), 2.6 * math.sin(a), 0], lengths, K, D,
-                        bend_towards(a, [0.05, 0.02, -0.15, -0.12, -0.08]),
-                        [3.2, 4.37, 4.42, 5.46, 2.94, 0.9]))
+                        bend_towards(a, [0.05, 0.02, -0.18, -0.14, 0.1, 0.22]),
+                        [3.2, 4.37, 4.42, 5.46, 2.94, 1.92, 0.9]))
     b = base("calligraphy", "Oriental calligraphy brush: 30 mm long, 8 mm at the ferrule, "
              "fine tip, soft", sp, 0.4, 0.3, 0.4)
-    belly = [1.2, 1.8, 1.6, 1.0, 0.4, 0.2]
+    belly = [1.2, 1.8, 1.6, 1.0, 0.4, 0.3, 0.2]
     b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
     b["strips"] = {"count": 150, "root_width_mm": 0.12, "tip_width_mm": 0.04, "seed": 9,
                    "placement": "area", "length_jitter": 0.1}

@@ -277,16 +277,23 @@ def petals():
 # points (x, y, depth_mm). Each begins with a press (the entry), is pulled with
 # the pressure the stroke's shape asks for, and ends lifting (a point) or
 # pressing (a blunt end). Depths are for the calligraphy brush held upright.
+# A stroke enters as a calligrapher's exposed tip (露锋) does: the brush comes
+# down while already travelling the stroke's way, from ENTRY_APPROACH_MM back
+# along its first segment, and presses to about the body's depth, so that the
+# hair trails before the press builds (docs/fidelity.md, "Entries and
+# blots"). Pressed deeper than the body while barely moving, the brush
+# leaves a bead of a head about twice the body's width.
+ENTRY_APPROACH_MM = 8.0
 YONG = [
     ("dot", "点 dot: a short press down to the right, blunt end",
      [(45, 93, 1.5), (48, 90, 4.0), (52, 86, 5.5), (53, 84.5, 4.0), (52, 84, 1.0)]),
     ("heng-zhe-gou", "横折钩 horizontal, turn (lift a little, press again), long vertical, "
      "hook to the left",
-     [(29, 73, 1.5), (31, 74, 4.0), (40, 74.6, 3.0), (50, 75.3, 3.0), (55, 76.5, 4.5),
+     [(29, 73, 1.5), (31, 74, 3.2), (40, 74.6, 3.0), (50, 75.3, 3.0), (55, 76.5, 4.5),
       (56.5, 76.5, -0.3), (57.5, 74, 4.6), (57, 60, 4.8), (56.5, 40, 4.8), (56.5, 22, 4.8),
       (56.5, 13, 5.5), (55, 12, 4.0), (49, 17, 1.8), (46, 20, 0.3)]),
     ("heng-pie", "横撇 short horizontal, turn, sweep down to the left, tapering",
-     [(17, 56, 1.5), (19, 57, 3.5), (28, 57.4, 2.8), (37, 58.5, 4.0), (38.5, 58, -0.3),
+     [(17, 56, 1.5), (19, 57, 3.0), (28, 57.4, 2.8), (37, 58.5, 4.0), (38.5, 58, -0.3),
       (36, 52, 4.0), (28, 44, 3.2), (20, 35, 2.2), (12, 28, 0.8), (9, 26, 0.1)]),
     ("pie", "撇 short left-falling stroke from the upper right, tapering",
      [(83, 65, 1.5), (82, 63, 4.0), (77, 58, 3.5), (70, 52, 2.5), (63, 47, 1.0),
@@ -303,10 +310,15 @@ def calligraphy():
     strokes = []
     for i, (name, comment, pts) in enumerate(YONG):
         keys = [(ox + x * scale, oy + y * scale, depth, 0.0) for x, y, depth in pts]
+        (x0, y0, _, _), (x1, y1, _, _) = keys[:2]
+        run = math.hypot(x1 - x0, y1 - y0)
+        approach = (x0 - (x1 - x0) / run * ENTRY_APPROACH_MM,
+                    y0 - (y1 - y0) / run * ENTRY_APPROACH_MM, -HOVER_MM, 0.0)
+        keys = [approach] + keys + [keys[-1][:2] + (-HOVER_MM, 0.0)]
         rel = write_trajectory("calligraphy/%d-%s.csv" % (i + 1, name), [
             "Stroke %d of the character 永: %s." % (i + 1, comment),
             "The calligraphy brush held upright, pressure modulated by height."],
-            stroke(keys, 30, "calligraphy", tilt_deg=0))
+            stroke(keys, 30, "calligraphy", tilt_deg=0, hover=False))
         strokes.append(placed("calligraphy", rel, {"paints": ["sumi-ink"], "amount": 1.0}))
     write_scene("calligraphy.json", {
         "format": "bristle-scene/1",

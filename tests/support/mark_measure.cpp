@@ -79,6 +79,7 @@ WidthProfile widthProfile(const Coverage& img, double threshold, Axis axis) {
   const int along = axis == Axis::kX ? img.w : img.h;
   const int across = axis == Axis::kX ? img.h : img.w;
   p.width_mm.assign(static_cast<size_t>(along), 0.0);
+  p.centre_mm.assign(static_cast<size_t>(along), 0.0);
   for (int i = 0; i < along; ++i) {
     int lo = -1, hi = -1;
     for (int j = 0; j < across; ++j) {
@@ -90,6 +91,10 @@ WidthProfile widthProfile(const Coverage& img, double threshold, Axis axis) {
     }
     if (lo < 0) continue;
     p.width_mm[size_t(i)] = (hi - lo + 1) / img.px_per_mm;
+    // Pixel edges: rows count down from the top, columns right from x0.
+    p.centre_mm[size_t(i)] = axis == Axis::kX
+                                 ? img.y0_mm + (2.0 * img.h - lo - hi - 1) / (2 * img.px_per_mm)
+                                 : img.x0_mm + (lo + hi + 1) / (2 * img.px_per_mm);
     if (p.first < 0) p.first = i;
     p.last = i;
   }

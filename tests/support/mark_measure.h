@@ -41,11 +41,14 @@ enum class Axis { kX, kY };
 // Width of the mark across the stroke, per position along it. With Axis::kX the
 // stroke runs along x: for each column, the extent (mm) from the first to the
 // last inked pixel of the column (both included; 0 when the column has none).
-// With Axis::kY the same per row, across x.
+// With Axis::kY the same per row, across x. The centre is the canvas
+// coordinate across the stroke (y for kX, x for kY, mm) of the middle of that
+// extent: where the ink of a column sits against the stroke's line.
 struct WidthProfile {
   Axis axis = Axis::kX;
   double px_per_mm = 8;
-  std::vector<double> width_mm;  // per column (kX) or row (kY)
+  std::vector<double> width_mm;   // per column (kX) or row (kY)
+  std::vector<double> centre_mm;  // likewise; 0 where there is no ink
   int first = -1, last = -1;     // the inked span (indices into width_mm); -1: no ink
   bool empty() const { return first < 0; }
 };

@@ -167,8 +167,13 @@ TEST_CASE("mark_measure: a rectangle's width is exact to one pixel", "[mark]") {
   CHECK(p.last == 179);
   CHECK(std::abs(meanWidthMm(p) - 4.625) <= 1 / 8.0);
   CHECK(widthCv(p) == Approx(0).margin(1e-12));
+  // Its centre across the stroke: rows 10..46 of 60 are y 13/8..50/8 mm
+  // up from the bottom edge, columns 20..179 x 20/8..180/8 mm.
+  CHECK(p.centre_mm[100] == Approx(63.0 / 16).margin(1e-12));
+  CHECK(p.centre_mm[5] == 0);
   const WidthProfile py = widthProfile(img, 0.1, Axis::kY);
   CHECK(std::abs(meanWidthMm(py) - 20.0) <= 1 / 8.0);
+  CHECK(py.centre_mm[30] == Approx(12.5).margin(1e-12));
   // An axis-aligned rectangle of pixel squares is its own hull.
   const BlotStats b = blotStats(img);
   CHECK(b.fill == Approx(1.0).margin(1e-12));
