@@ -224,8 +224,9 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         cli = cli_cpu_per_stroke(made[: len(some)], a.bristle, tmp)
     print(f"bristle render --threads 1 on the same strokes: {cli * 1000:.1f} ms CPU a stroke "
-          f"(its start-up taken off): the module takes {(inner / cli - 1) * 100:+.1f} % "
-          f"more (docs/python.md, \"Speed\")")
+          f"(its start-up taken off, but not the shaders llvmpipe compiles at the first draw of every process): the "
+          f"module takes {abs(inner / cli - 1) * 100:.1f} % {'more' if inner > cli else 'less'} "
+          f"(docs/python.md, \"Speed\")")
     if a.getrusage:
         n = min(5, a.count)
         calls = getrusage_calls(n, a.seed, False) / n
