@@ -278,6 +278,7 @@ BrushPaint::BrushPaint(const Brush& brush)
     : map_(brush),
       capacity_(brush.paint_capacity),
       flag_mm_(brush.paint_flag_mm),
+      wicking_(brush.paint_wicking),
       cells_(BrushTexelMap::kTexels) {}
 
 void BrushPaint::clean() {
@@ -639,7 +640,14 @@ void depositAndPickUp(const BrushPaint& brush, PaintCanvas& canvas, const Transf
     // The paper takes paint at a rate set by the paint, not by how much the hairs
     // hold: a fixed share of a full load's film per step, as long as the texel
     // has it. So a lightly loaded brush runs out sooner, not thinner.
-    const double want = rate * full_film * area_px;
+    // Hair that does not wick (BrushPaint::wicking below 1) keeps what it
+    // took up on the outside of its ends, and a texel holding more than a
+    // full load's film gives in proportion to what it holds: what a softener
+    // lifts from wet paint it lays again a little further on (docs/paint.md,
+    // "Unabsorbent hair").
+    const double film = brush.wicking() < 1 ? std::max(full_film, v / brush.map().texelAreaMm2())
+                                            : full_film;
+    const double want = rate * film * area_px;
     const double total = want * scratch.demand[t];
     const double cap = max_out * v;
     per_pixel[t] = static_cast<float>(total > cap && total > 0 ? want * cap / total : want);
@@ -742,7 +750,8 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   const double exposure = std::max(params.exposure, 0.0);
   depositAndPickUp(brush, canvas, params, exposure, scratch);
   settleTexels(brush, scratch, &stats);
-  const double flow = compoundFraction(params.reservoir_flow, exposure);
+  // Unabsorbent hair draws up only its share of the flow (BrushPaint::wicking).
+  const double flow = compoundFraction(params.reservoir_flow, exposure) * brush.wicking();
   if (flow > 0) flowWithinColumns(brush, flow);
   return stats;
 }
