@@ -37,7 +37,7 @@ std::vector<double> positiveArray(const JsonObject& o, const std::string& key, s
 
 SpineSpec parseSpine(const JsonObject& o) {
   o.declareKeys({"root_mm", "segment_lengths_mm", "stiffness_nmm_per_rad", "damping_nmm",
-                 "width_mm", "thickness_mm", "rest_angles_rad"});
+                 "width_mm", "thickness_mm", "rest_angles_rad", "flat_load_n"});
   SpineSpec s;
   const std::vector<double> root = o.numbers("root_mm");
   o.require(root.size() == 3, "root_mm", "must be [x, y, z]");
@@ -66,6 +66,11 @@ SpineSpec parseSpine(const JsonObject& o) {
       checkedElement(o, "thickness_mm", j, s.thickness_mm[j],
                      (s.thickness_mm[j] > 0) == (s.width_mm[j] > 0),
                      "must be > 0 where width_mm is, and 0 where it is 0");
+  }
+  if (o.has("flat_load_n")) {
+    s.flat_load_n = o.number("flat_load_n", 0.0);
+    o.require(s.flat_load_n > 0 && s.flat_load_n <= kMaxFlatLoadN, "flat_load_n",
+              "must be in (0, 1] (N that press the bundle flat)");
   }
   s.rest_angles_rad.assign(n, Eigen::Vector2d::Zero());
   if (o.has("rest_angles_rad")) {
@@ -328,12 +333,15 @@ Brush parseBrush(const std::string& text, const std::string& path,
   });
   if (top.has("paint")) part([&] {
     const JsonObject p = top.object("paint");
-    p.declareKeys({"capacity", "flag_mm"});
+    p.declareKeys({"capacity", "flag_mm", "wicking"});
     b.paint_capacity = p.number("capacity", 1.0);
     p.require(b.paint_capacity > 0, "capacity", "must be > 0");
     b.paint_flag_mm = p.number("flag_mm", 0.0);
     p.require(b.paint_flag_mm >= 0 && b.paint_flag_mm <= kMaxFlagMm, "flag_mm",
               "must be in [0, 5] (mm of split hair ends)");
+    b.paint_wicking = p.number("wicking", 1.0);
+    p.require(b.paint_wicking >= 0 && b.paint_wicking <= 1, "wicking",
+              "must be in [0, 1] (share of the reservoir flow)");
     p.rejectUnknownKeys();
   });
   for (const char* key : {"surface", "strips"})  // known even when skipped above

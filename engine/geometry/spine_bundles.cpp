@@ -20,9 +20,9 @@ double bundleSpread(double radius_mm, double reach_mm) {
   return area / (area - segment);
 }
 
-double bundlePressDepth(double radius_mm, double load_n) {
+double bundlePressDepth(double radius_mm, double load_n, double flat_load_n) {
   if (!(radius_mm > 0) || !(load_n > 0)) return 0;
-  return radius_mm * std::min(1.0, load_n / kBundleFlatLoadN);
+  return radius_mm * std::min(1.0, load_n / flat_load_n);
 }
 
 namespace {
@@ -147,12 +147,13 @@ void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& ha
   for (double f : spine.solution.normal_force_n) load_n += f;
   // Each joint's bundle: its centre raised until the half solid around it
   // (the part that reaches lowest) is only as deep below the canvas as
-  // the load presses it, see kBundleFlatLoadN.
+  // the load presses it, see kBundleFlatLoadN (or the spine's own flat_load_n).
+  const double flat_load_n = spec.flat_load_n > 0 ? spec.flat_load_n : kBundleFlatLoadN;
   centre.assign(n + 1, Eigen::Vector3d::Zero());
   for (int j = 0; j <= n; ++j) {
     const double r = section[j].depth();
     const double sunk = r - std::max(x[j].z(), 0.0);  // below the canvas, as placed
-    const double raise = std::max(0.0, sunk - bundlePressDepth(r, load_n));
+    const double raise = std::max(0.0, sunk - bundlePressDepth(r, load_n, flat_load_n));
     centre[j] = x[j] + raise * Eigen::Vector3d::UnitZ();
   }
 }

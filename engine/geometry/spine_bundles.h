@@ -79,8 +79,10 @@ double bundleSpread(double radius_mm, double reach_mm);
 inline constexpr double kBundleFlatLoadN = 0.05;
 
 // How deep (mm) a bundle of radius r may reach below the canvas under a load
-// (N): r * load / kBundleFlatLoadN, within [0, r].
-double bundlePressDepth(double radius_mm, double load_n);
+// (N): r * load / flat_load_n, within [0, r]. A spine's SpineSpec::flat_load_n
+// replaces kBundleFlatLoadN: a badger's fine, soft hair splays under a fifth
+// of the load, so that a light touch lays its dome down over a patch.
+double bundlePressDepth(double radius_mm, double load_n, double flat_load_n = kBundleFlatLoadN);
 
 
 // Where buildSpineGeometry draws the bundle around each point 0..n of a

@@ -34,6 +34,10 @@ struct SpineSpec {
   // has both the same: an empty thickness_mm means thickness = width.
   std::vector<double> width_mm;
   std::vector<double> thickness_mm;
+  // The load (N) that presses this bundle flat onto the paper, 0 for the
+  // library's default (kBundleFlatLoadN, engine/geometry/spine_bundles.h):
+  // fine, soft hair splays under less (docs/brush-format.md, `flat_load_n`).
+  double flat_load_n = 0;
 
   double thicknessMm(size_t j) const {
     return thickness_mm.empty() ? width_mm[j] : thickness_mm[j];
@@ -62,6 +66,9 @@ inline constexpr int kMaxCageVertices = 4096;
 // hog's flags are a millimetre or two; 5 mm would be split hair for a third of
 // a short brush's length.
 inline constexpr double kMaxFlagMm = 5.0;
+// Largest load a spine may declare to press its bundle flat (flat_load_n):
+// 1 N is twenty times what presses a round's bundle flat.
+inline constexpr double kMaxFlatLoadN = 1.0;
 // Skin weights of a cage vertex must sum to 1 within this (weights are
 // written with a few decimals in brush files).
 inline constexpr double kSkinWeightSumTol = 1e-3;
@@ -152,6 +159,10 @@ struct Brush {
   // flags reach the paper, within this distance of the footprint's outline,
   // the brush lays a thinner film (docs/brush-format.md, `paint.flag_mm`).
   double paint_flag_mm = 0.0;
+  // How much of the paint the hair takes up is drawn up into the belly, in
+  // [0, 1]: 1 (the default) the full reservoir flow; below 1 the hair keeps
+  // it at its ends and lays it again (docs/brush-format.md, `paint.wicking`).
+  double paint_wicking = 1.0;
 
   // Largest distance from the ferrule centre any hair can reach (mm).
   double reachMm() const;

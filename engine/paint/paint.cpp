@@ -278,6 +278,7 @@ BrushPaint::BrushPaint(const Brush& brush)
     : map_(brush),
       capacity_(brush.paint_capacity),
       flag_mm_(brush.paint_flag_mm),
+      wicking_(brush.paint_wicking),
       cells_(BrushTexelMap::kTexels) {}
 
 void BrushPaint::clean() {
@@ -543,13 +544,24 @@ bool flagRim(const FootprintView& fp, double flag_mm, double px_per_mm, std::vec
   return true;
 }
 
+// The share of the flagged rim's deposit every touched pixel keeps, however
+// few flags reach it (flagDeposit). Without it the rim broke into a fringe of
+// lone dots where only a grain peak passed the gate: in an opaque paint each
+// was a speck beside a pressed blot (7 of them at 0.3 of the hair). With
+// half, the rim's film still varies twofold from pixel to pixel but grows
+// steadily inwards, so what shows is one piece with a ragged edge.
+constexpr float kFlagFloor = 0.5f;
+
 // Deposit factor of the flagged rim (flagRim's g in [0, 1]): thinner, and
-// broken. The flags are few and splay unevenly, so the further out, the fewer
-// of them reach a pixel: a pixel takes paint only where the paper stands high
-// (tooth) or the hair there is well loaded (hairNoise), their mean above 1 - g,
-// over the dry brush's soft edge (kInvDryEdge). At g = 1 every pixel passes.
+// uneven. The flags are few and splay unevenly, so the further out, the fewer
+// of them reach a pixel: a pixel takes its full share g only where the paper
+// stands high (tooth) or the hair there is well loaded (hairNoise), their mean
+// above 1 - g, over the dry brush's soft edge (kInvDryEdge); elsewhere
+// kFlagFloor of it. At g = 1 every pixel passes.
 float flagDeposit(float g, float tooth, float hair) {
-  return g * std::clamp((0.5f * (tooth + hair) - (1 - g)) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
+  const float pass =
+      std::clamp((0.5f * (tooth + hair) - (1 - g)) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
+  return g * (kFlagFloor + (1 - kFlagFloor) * pass);
 }
 
 // Stage 1 of transfer: who touches what, and how hard. Fills scratch.touches
@@ -639,7 +651,14 @@ void depositAndPickUp(const BrushPaint& brush, PaintCanvas& canvas, const Transf
     // The paper takes paint at a rate set by the paint, not by how much the hairs
     // hold: a fixed share of a full load's film per step, as long as the texel
     // has it. So a lightly loaded brush runs out sooner, not thinner.
-    const double want = rate * full_film * area_px;
+    // Hair that does not wick (BrushPaint::wicking below 1) keeps what it
+    // took up on the outside of its ends, and a texel holding more than a
+    // full load's film gives in proportion to what it holds: what a softener
+    // lifts from wet paint it lays again a little further on (docs/paint.md,
+    // "Unabsorbent hair").
+    const double film = brush.wicking() < 1 ? std::max(full_film, v / brush.map().texelAreaMm2())
+                                            : full_film;
+    const double want = rate * film * area_px;
     const double total = want * scratch.demand[t];
     const double cap = max_out * v;
     per_pixel[t] = static_cast<float>(total > cap && total > 0 ? want * cap / total : want);
@@ -742,7 +761,8 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   const double exposure = std::max(params.exposure, 0.0);
   depositAndPickUp(brush, canvas, params, exposure, scratch);
   settleTexels(brush, scratch, &stats);
-  const double flow = compoundFraction(params.reservoir_flow, exposure);
+  // Unabsorbent hair draws up only its share of the flow (BrushPaint::wicking).
+  const double flow = compoundFraction(params.reservoir_flow, exposure) * brush.wicking();
   if (flow > 0) flowWithinColumns(brush, flow);
   return stats;
 }

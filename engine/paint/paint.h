@@ -188,6 +188,9 @@ class BrushPaint {
   // The brush's flagged hair ends (mm, Brush::paint_flag_mm; 0: none): the
   // rim of the footprint this deep lays a thinner film (transfer()).
   double flagMm() const { return flag_mm_; }
+  // The share of the reservoir flow that draws paint up the hair
+  // (Brush::paint_wicking, 1: all of it; transfer()).
+  double wicking() const { return wicking_; }
 
  private:
   BrushTexelMap map_;
@@ -196,6 +199,7 @@ class BrushPaint {
   double full_film_mm_ = kFullLoadFilmMm;
   double flow_ = 1;
   double flag_mm_ = 0;
+  double wicking_ = 1;
   MixModel model_ = MixModel::kKubelkaMunk;
   std::vector<PaintCell> cells_;
 };

@@ -184,6 +184,13 @@ K_BADGER = [3.0, 2.5, 2.0, 2.0]
 BADGER_WIDTHS = ([5.0, 6.0, 6.0, 5.5, 4.5], [3.5, 4.5, 4.5, 4.0, 3.5])
 BADGER_CAPACITY = 0.6
 BADGER_FLAG_MM = 1.5
+# The radius (mm) of the sphere the badger's hair ends are cut to.
+BADGER_DOME_MM = 13.0
+# The load (N) that presses a badger's bundle flat: a fifth of the library's
+# 0.05 N (kBundleFlatLoadN). Its hair is the finest and softest of the
+# library's and splays at a touch; at 0.05 of its hair (1.25 mm of press) its
+# spines bear 0.005-0.015 N each, enough to lay their bundles down side by side.
+BADGER_FLAT_LOAD_N = 0.01
 
 
 def badger():
@@ -197,12 +204,25 @@ def badger():
     lengths, K, D = [8.0, 7.0, 6.0, 4.0], K_BADGER, [0.01] * 4
     sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0]],
                 BADGER_WIDTHS[0])]
+    tip_z = -rest_points(sp[0])[-1][2]
     for ring, (r, count) in enumerate([(3.2, 6), (6.0, 8)]):
         for k in range(count):
             a = 2 * math.pi * k / count + ring * 0.3
-            sp.append(spine([r * math.cos(a), r * math.sin(a), 0], lengths, K, D,
-                            bend_towards(a, [0.06 + 0.04 * ring, 0.0, -0.1, -0.05]),
-                            BADGER_WIDTHS[1]))
+            s = spine([r * math.cos(a), r * math.sin(a), 0], lengths, K, D,
+                      bend_towards(a, [0.06 + 0.04 * ring, 0.0, -0.1, -0.05]),
+                      BADGER_WIDTHS[1])
+            # The head is domed: its hair ends lie on a sphere of radius
+            # BADGER_DOME_MM, so the outer hair is shorter by the sphere's sag
+            # at its tip. Tilted as it is held, the dome still meets the paper
+            # over a patch (radius sqrt(2 R d) pressed d deep), where a flat-cut
+            # head would meet it with its rim's two or three tips only.
+            x, y, z = rest_points(s)[-1]
+            sag = BADGER_DOME_MM - math.sqrt(BADGER_DOME_MM ** 2 - x * x - y * y)
+            f = (tip_z - sag) / -z
+            s["segment_lengths_mm"] = [round(L * f, 3) for L in lengths]
+            sp.append(s)
+    for s in sp:
+        s["flat_load_n"] = BADGER_FLAT_LOAD_N
     b = base("badger", "Badger softener: a soft dome of flagged hair, 14 mm across, 25 mm long",
              sp, 0.4, 0.3, 0.2)
     b["surface"] = tube_cage(sp, 12, lambda k: 1.2, lambda k: 1.2)
@@ -211,7 +231,9 @@ def badger():
     b["volume"] = volume(0.3)
     # A softener holds a thin film (capacity) and lays it thinner still where
     # only its flags touch; it is worked nearly clean to blend paint already down.
-    b["paint"] = {"capacity": BADGER_CAPACITY, "flag_mm": BADGER_FLAG_MM}
+    # Its hair does not wick (wicking 0): what it lifts from wet paint stays at
+    # its ends and is laid again further on, so it moves paint, not scrubs it.
+    b["paint"] = {"capacity": BADGER_CAPACITY, "flag_mm": BADGER_FLAG_MM, "wicking": 0.0}
     return b
 
 

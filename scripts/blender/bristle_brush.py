@@ -74,6 +74,7 @@ BONE_DAMPING = "damping_nmm"
 # bone's tail, and on a chain's first bone also at its head (the spine's root).
 BONE_THICKNESS = "thickness_mm"
 BONE_ROOT_THICKNESS = "root_thickness_mm"
+BONE_FLAT_LOAD = "flat_load_n"
 
 # Brush-object custom properties: name -> (JSON place, type, check, rule text).
 # Ranges are the reader's rules (docs/brush-format.md §3), so a bad value is named
@@ -94,6 +95,7 @@ OBJECT_PROPS = {
     "strips_clumping": (float, lambda v: 0 <= v <= 1, "in [0, 1]"),
     "paint_capacity": (float, lambda v: v > 0, "> 0"),
     "paint_flag_mm": (float, lambda v: 0 <= v <= 5, "in [0, 5]"),
+    "paint_wicking": (float, lambda v: 0 <= v <= 1, "in [0, 1]"),
     # Hair volume (docs/brush-format.md): the ranges bristle's reader enforces.
     "volume_min_separation": (float, lambda v: 0 < v < 1, "in (0, 1)"),
     "volume_stiffness_n_per_mm": (float, lambda v: 0 < v <= 1000, "in (0, 1000]"),
@@ -336,6 +338,10 @@ class _Export:
                                  "'%s' on every bone; some are missing"
                                  % (self.where, chain[0].name, BONE_ROOT_THICKNESS, BONE_THICKNESS))
             spine["thickness_mm"] = [_round(t, LENGTH_DECIMALS) for t in [head] + tails]
+        # The load that presses the bundle flat: on the chain's first bone.
+        flat = self.bone_number(chain[0], BONE_FLAT_LOAD, None, lambda v: 0 < v <= 1, "in (0, 1] (N)")
+        if flat is not None:
+            spine["flat_load_n"] = flat
         return spine, points
 
     def find_cage(self):
@@ -520,7 +526,7 @@ class _Export:
         elif any("volume_" + k in props for k in VOLUME_KEYS):
             self.warn("%s: volume_* properties without 'volume_min_separation': no hair volume"
                       % self.where)
-        paint = {name: props["paint_" + name] for name in ("capacity", "flag_mm")
+        paint = {name: props["paint_" + name] for name in ("capacity", "flag_mm", "wicking")
                  if "paint_" + name in props}
         if paint:
             out["paint"] = paint
@@ -719,6 +725,8 @@ def import_brush(context, brush, set_units=True):
                 bone[BONE_THICKNESS] = float(spine["thickness_mm"][k + 1])
                 if k == 0:
                     bone[BONE_ROOT_THICKNESS] = float(spine["thickness_mm"][0])
+            if k == 0 and "flat_load_n" in spine:
+                bone[BONE_FLAT_LOAD] = float(spine["flat_load_n"])
 
     if brush.get("description"):
         arm["description"] = brush["description"]
@@ -747,7 +755,7 @@ def import_brush(context, brush, set_units=True):
                 arm["volume_" + key] = float(volume[key])
     paint = brush.get("paint")
     if paint is not None:
-        for key in ("capacity", "flag_mm"):
+        for key in ("capacity", "flag_mm", "wicking"):
             if key in paint:
                 arm["paint_" + key] = float(paint[key])
     solver = brush.get("solver")

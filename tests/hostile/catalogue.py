@@ -1563,6 +1563,14 @@ case("brush-flag-too-long", "a brush whose flagged hair ends are 8 mm long",
      ["validate", "b.json"], 65,
      "b.json: /paint/flag_mm = 8: must be in [0, 5] (mm of split hair ends)",
      brush(edit=lambda b: b.update(paint={"capacity": 1.0, "flag_mm": 8})))
+case("brush-wicking-negative", "a brush whose hair wicks a negative share of its paint",
+     ["validate", "b.json"], 65,
+     "b.json: /paint/wicking = -0.5: must be in [0, 1] (share of the reservoir flow)",
+     brush(edit=lambda b: b.update(paint={"capacity": 1.0, "wicking": -0.5})))
+case("brush-flat-load-zero", "a spine whose bundle is pressed flat by no load at all",
+     ["validate", "b.json"], 65,
+     "b.json: /spines/0/flat_load_n = 0: must be in (0, 1] (N that press the bundle flat)",
+     brush(edit=lambda b: b["spines"][0].update(flat_load_n=0)))
 
 case("render-preset-unknown", "`render --preset` a name no preset has",
      ["render", "--brush", "b.json", "--trajectory", "t.csv", "--preset", "poster", "-o", "o.png"],

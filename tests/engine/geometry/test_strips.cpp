@@ -733,6 +733,11 @@ TEST_CASE("a bundle is pressed into the paper only as far as its load presses it
   CHECK(bundlePressDepth(r, kBundleFlatLoadN / 4) == Approx(r / 4).epsilon(1e-12));
   CHECK(bundlePressDepth(r, kBundleFlatLoadN) == Approx(r).epsilon(1e-12));
   CHECK(bundlePressDepth(r, 10 * kBundleFlatLoadN) == Approx(r).epsilon(1e-12));  // flat at most
+  // A spine's own flat load (SpineSpec::flat_load_n, the badger's 0.01 N)
+  // replaces the default: a fifth of the default load presses it flat.
+  CHECK(bundlePressDepth(r, kBundleFlatLoadN / 5, kBundleFlatLoadN / 5) == Approx(r).epsilon(1e-12));
+  CHECK(bundlePressDepth(r, kBundleFlatLoadN / 10, kBundleFlatLoadN / 5) ==
+        Approx(r / 2).epsilon(1e-12));
 }
 
 TEST_CASE("a bundle's joint caps are drawn as asked, and rounded as their cut gives",
