@@ -545,11 +545,10 @@ bool flagRim(const FootprintView& fp, double flag_mm, double px_per_mm, std::vec
 }
 
 // The share of the flagged rim's deposit every touched pixel keeps, however
-// few flags reach it (flagDeposit). Without it the rim broke into a fringe of
-// lone dots where only a grain peak passed the gate: in an opaque paint each
-// was a speck beside a pressed blot (7 of them at 0.3 of the hair). With
-// half, the rim's film still varies twofold from pixel to pixel but grows
-// steadily inwards, so what shows is one piece with a ragged edge.
+// few flags reach it (flagDeposit). A rim laid only where a grain peak passes
+// the gate is a fringe of lone dots, each a speck beside a pressed blot in an
+// opaque paint; with half, the film still varies twofold from pixel to pixel
+// but grows steadily inwards, so the rim is one piece with a ragged edge.
 constexpr float kFlagFloor = 0.5f;
 
 // Deposit factor of the flagged rim (flagRim's g in [0, 1]): thinner, and
