@@ -119,8 +119,12 @@ void validateTrajectoryForBrush(const Trajectory& traj, const Brush& brush) {
     }
   }
   // The simulation starts from the rest shape: it must not start pressed in.
+  // The message names the lowest joint, the one to raise the start past.
   const TrajectorySample& first = traj.samples.front();
   SpineFk fk;
+  double lowest_z = 0;
+  size_t lowest_spine = 0;
+  int lowest_joint = 0;
   for (size_t s = 0; s < brush.spines.size(); ++s) {
     const SpineSpec& spec = brush.spines[s];
     std::vector<double> q(2 * spec.jointCount());
@@ -130,15 +134,20 @@ void validateTrajectoryForBrush(const Trajectory& traj, const Brush& brush) {
     }
     spineForwardKinematics(spec, first.pose, q.data(), 0, &fk);
     for (int j = 1; j <= spec.jointCount(); ++j)
-      if (fk.x[j].z() < 0)
-        throw dataError(traj.path, "line " + std::to_string(first.line),
-                        "the brush starts below the canvas (spine " + std::to_string(s) +
-                            " joint " + std::to_string(j) + " at z = " + fmt(fk.x[j].z()) +
-                            " mm at rest); start the trajectory with the hairs above z = 0" +
-                            (traj.depth_column != 0
-                                 ? " (a negative depth_mm, here " + fmt(first.depth_mm) + ")"
-                                 : std::string()));
+      if (fk.x[j].z() < lowest_z) {
+        lowest_z = fk.x[j].z();
+        lowest_spine = s;
+        lowest_joint = j;
+      }
   }
+  if (lowest_z < 0)
+    throw dataError(traj.path, "line " + std::to_string(first.line),
+                    "the brush starts below the canvas (spine " + std::to_string(lowest_spine) +
+                        " joint " + std::to_string(lowest_joint) + " at z = " + fmt(lowest_z) +
+                        " mm at rest, its lowest); start the trajectory with the hairs above z = 0" +
+                        (traj.depth_column != 0
+                             ? " (a negative depth_mm, here " + fmt(first.depth_mm) + ")"
+                             : std::string()));
 }
 
 

@@ -556,7 +556,7 @@ case("traj-depth-through-ferrule", "a press depth that puts the ferrule into the
                                         for r in [[0, 15, 40, -2, *REST], [1, 15, 40, 25, *REST]]))))
 case("traj-depth-starts-pressed", "a depth trajectory that starts pressed into the paper",
      ["validate", "b.json", "t.csv"], 65,
-     "t.csv: line 3: the brush starts below the canvas (spine 0 joint 4 at z = -1.6 mm at rest); "
+     "t.csv: line 3: the brush starts below the canvas (spine 0 joint 4 at z = -1.6 mm at rest, its lowest); "
      "start the trajectory with the hairs above z = 0 (a negative depth_mm, here 2)",
      all_of(brush(), trajectory(text="# bristle-trajectory/1\n" + DEPTH_HEADER + "\n"
                                 "0,15,40,2,1,0,0,0\n1,15,40,-3,1,0,0,0\n")))
