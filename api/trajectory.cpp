@@ -5,7 +5,9 @@
 #include <string>
 
 #include "api/model.h"
+#include "engine/base/text_file.h"
 #include "engine/formats/trajectory_reader.h"
+#include "input/import.h"
 
 namespace bristle::api {
 
@@ -73,6 +75,18 @@ Trajectory::Model arraysModel(size_t n) {
 Trajectory Trajectory::load(const std::string& path) {
   return translateErrors([&] {
     return Trajectory(std::make_shared<Model>(Model{loadTrajectory(path)}));
+  });
+}
+
+Trajectory Trajectory::load(const std::string& path, const Brush& brush,
+                            std::vector<std::string>* warnings) {
+  return translateErrors([&] {
+    const bristle::Brush& b = brush.model().brush;
+    std::vector<std::string> notes;
+    bristle::Trajectory t =
+        input::loadTrajectoryOrRecording(readTextFile(path), path, b, b.name, &notes);
+    if (warnings != nullptr) warnings->insert(warnings->end(), notes.begin(), notes.end());
+    return Trajectory(std::make_shared<Model>(Model{std::move(t)}));
   });
 }
 

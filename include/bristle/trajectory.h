@@ -15,6 +15,8 @@
 
 namespace bristle::api {
 
+class Brush;
+
 class Trajectory {
  public:
   using Quaternions = std::vector<std::array<double, 4>>;  // w, x, y, z each
@@ -22,6 +24,16 @@ class Trajectory {
   // A bristle-trajectory/1 CSV file. Throws Error: kNoInput when missing,
   // kDataError naming the line, column and rule.
   static Trajectory load(const std::string& path);
+
+  // What `bristle render --trajectory FILE` reads for `brush`: a
+  // bristle-trajectory/1 file as load(path) reads it, or a pen recording
+  // (MyPaint events, a Pointer Events CSV, an SVG's paths; docs/input.md)
+  // imported with bristle import's default mapping for this brush, so the
+  // same file gives the same pixels as the command line. What the import
+  // notes (samples merged, SVG elements skipped) is appended to *warnings
+  // when given. Throws Error as load(path) does.
+  static Trajectory load(const std::string& path, const Brush& brush,
+                         std::vector<std::string>* warnings = nullptr);
 
   // From arrays of equal length (at least 2 samples): t_s[i], the ferrule at
   // xyz_mm[i], rotated by quaternion_wxyz[i]. Throws Error (kDataError) naming

@@ -10,6 +10,7 @@ with the command line's one-line message and exit code (docs/python.md).
 """
 import os as _os
 import types as _types
+import warnings as _warnings
 
 import numpy as _np
 
@@ -31,6 +32,11 @@ class Error(Exception):
         self.message = message
         self.exit_code = int(exit_code)
         self.category = self.CATEGORIES.get(self.exit_code, "software")
+
+
+class RecordingWarning(UserWarning):
+    """What importing a pen recording notes without refusing it (samples
+    merged, SVG elements skipped), as the command line's warnings."""
 
 
 from . import _bristle  # noqa: E402  (Error first: the extension raises it)
@@ -106,12 +112,24 @@ class Trajectory:
             self._t = _bristle.Trajectory.from_depth(t, xy, depth, q)
 
     @classmethod
-    def load(cls, path):
-        """A bristle-trajectory/1 CSV file (docs/formats.md, "Trajectory")."""
+    def load(cls, path, brush=None):
+        """A bristle-trajectory/1 CSV file (docs/formats.md, "Trajectory").
+
+        With a brush, also what `bristle render --trajectory` reads: a pen
+        recording (MyPaint events, a Pointer Events CSV, an SVG's paths;
+        docs/input.md) imported with bristle import's default mapping for
+        that brush. What the import notes (samples merged, SVG elements
+        skipped) is issued as a bristle.RecordingWarning."""
         if not isinstance(path, (str, _os.PathLike)):
             raise Error("Trajectory.load: path: must be a str or os.PathLike", 64)
         self = cls.__new__(cls)
-        self._t = _bristle.Trajectory.load(_os.fspath(path))
+        if brush is None:
+            self._t = _bristle.Trajectory.load(_os.fspath(path))
+            return self
+        self._t, notes = _bristle.Trajectory.load_for(_os.fspath(path),
+                                                      _brush("Trajectory.load", brush))
+        for note in notes:
+            _warnings.warn(note, RecordingWarning, stacklevel=2)
         return self
 
     sample_count = property(lambda self: self._t.sample_count, doc="samples")
@@ -214,6 +232,7 @@ def save_png(path, image):
 from ._canvas import Canvas  # noqa: E402,F401
 from ._simulation import Simulation, State  # noqa: E402,F401
 
-__all__ = ["Brush", "Canvas", "Error", "Simulation", "State", "Stroke", "Trajectory",
+__all__ = ["Brush", "Canvas", "Error", "RecordingWarning", "Simulation", "State", "Stroke",
+           "Trajectory",
            "preset_options", "render", "render_many", "render_stroke", "save_png",
            "set_brush_library_dirs"]

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bindings.h"
@@ -66,7 +67,17 @@ ending in .json, or an os.PathLike, is a file. Immutable; cheap to share.)")
 
 void bindTrajectory(py::module_& m) {
   py::class_<api::Trajectory>(m, "Trajectory")
-      .def_static("load", &api::Trajectory::load, py::arg("path"))
+      .def_static(
+          "load", [](const std::string& path) { return api::Trajectory::load(path); },
+          py::arg("path"))
+      .def_static(
+          "load_for",
+          [](const std::string& path, const api::Brush& brush) {
+            std::vector<std::string> warnings;
+            api::Trajectory t = api::Trajectory::load(path, brush, &warnings);
+            return std::make_pair(std::move(t), std::move(warnings));
+          },
+          py::arg("path"), py::arg("brush"))
       .def_static("from_arrays",
                   [](const DoubleArray& t, const DoubleArray& xyz, const DoubleArray& q) {
                     return api::Trajectory::fromArrays(valuesOf(t), rowsOf<3>(xyz), rowsOf<4>(q));

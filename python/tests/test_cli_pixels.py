@@ -5,6 +5,7 @@ import os
 import subprocess
 
 import numpy as np
+import pytest
 
 import bristle
 from conftest import BRISTLE_BIN, SOURCE_DIR
@@ -63,3 +64,30 @@ def test_arrays_equal_to_the_csv_render_the_clis_pixels(tmp_path):
                          paint="burnt-umber,cadmium-red")
     ok, said = same_pixels(tmp_path, cli, img)
     assert ok, said
+
+
+def test_recordings_load_with_a_brush_and_render_the_clis_pixels(tmp_path):
+    # What `render --trajectory` reads besides its own CSV: a Pointer Events
+    # recording and an SVG's paths, imported for the brush (docs/input.md).
+    # Each note the command line prints as a warning is a RecordingWarning:
+    # the recording merges samples of repeated times, the SVG's <text> is
+    # skipped.
+    brush = bristle.Brush("round")
+    for name, note in [("pointer-events.csv", "merged"), ("three-strokes.svg", "<text>")]:
+        path = os.path.join(SOURCE_DIR, "scenes", "recordings", name)
+        with pytest.warns(bristle.RecordingWarning, match=note):
+            t = bristle.Trajectory.load(path, brush)
+        cli = cli_render(tmp_path, ["--brush", "round", "--trajectory", path, "--px-per-mm", "2",
+                                    "--solver", "slsqp"])
+        img = bristle.render(brush, t, px_per_mm=2, solver="slsqp")
+        ok, said = same_pixels(tmp_path, cli, img)
+        assert ok, f"{name}: {said}"
+
+
+def test_a_recording_without_a_brush_is_refused_naming_the_format_rule():
+    # Without a brush there is no mapping from pen pressure to press depth.
+    path = os.path.join(SOURCE_DIR, "scenes", "recordings", "pointer-events.csv")
+    with pytest.raises(bristle.Error) as e:
+        bristle.Trajectory.load(path)
+    assert e.value.exit_code == 65
+    assert "line 1: the first line must be '# bristle-trajectory/1'" in e.value.message

@@ -215,6 +215,30 @@ TEST_CASE("api: a Simulation made from a temporary Brush keeps the brush it need
   for (const api::SpineState& spine : s.spines) CHECK(spine.solved);
 }
 
+TEST_CASE("api: a pen recording loads for a brush as bristle render --trajectory reads it",
+          "[api]") {
+  // An SVG's paths (docs/input.md) become a depth trajectory for the brush:
+  // its depths are placed when rendered, and what the import notes (the
+  // <text> it skips) comes back as a warning, not on stderr.
+  const api::Brush round = api::Brush::load(sourcePath("scenes/brushes/round.json"));
+  const std::string svg = sourcePath("scenes/recordings/three-strokes.svg");
+  std::vector<std::string> warnings;
+  const api::Trajectory t = api::Trajectory::load(svg, round, &warnings);
+  CHECK(t.hasDepths());
+  CHECK(t.sampleCount() > 2);
+  REQUIRE(warnings.size() == 1);
+  CHECK(warnings[0].find("skipped 1 <text>") != std::string::npos);
+  // Without a brush only bristle's own CSV is read, refused at its first line.
+  try {
+    api::Trajectory::load(svg);
+    FAIL("an SVG loaded without a brush");
+  } catch (const api::Error& e) {
+    CHECK(e.category() == api::ErrorCategory::kDataError);
+    CHECK(std::string(e.what()).find("line 1: the first line must be '# bristle-trajectory/1'") !=
+          std::string::npos);
+  }
+}
+
 TEST_CASE("api: bad input raises Error naming the argument and the rule", "[api]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   using C = api::ErrorCategory;
