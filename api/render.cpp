@@ -9,7 +9,9 @@
 #include "engine/dynamics/simulation.h"
 #include "engine/geometry/first_contact.h"
 #include "engine/model/canvas.h"
+#include "engine/formats/scene.h"
 #include "render/image/compose.h"
+#include "render/scene_renderer.h"
 #include "render/stroke_pipeline.h"
 
 namespace bristle::api {
@@ -25,10 +27,11 @@ std::string shortNumber(double v) {
   return buf;
 }
 
-void checkRange(const char* field, double v, double lo, double hi) {
+void checkRange(const char* field, double v, double lo, double hi,
+                const char* options = "RenderOptions") {
   const bool ok = std::isfinite(v) && v >= lo && v <= hi;
   if (!ok)
-    throw api::Error(ErrorCategory::kUsage, std::string("RenderOptions.") + field + " " +
+    throw api::Error(ErrorCategory::kUsage, std::string(options) + "." + field + " " +
                                                 shortNumber(v) + ": must be in [" +
                                                 shortNumber(lo) + ", " + shortNumber(hi) + "]");
 }
@@ -208,6 +211,28 @@ Image Canvas::image(bool impasto) const {
     render::ComposeOptions compose;
     compose.impasto = impasto;
     return imageOf(render::composeRgb8(impl_->canvas, compose), impl_->canvas.grid());
+  });
+}
+
+SceneResult renderScene(const std::string& path, const SceneOptions& options) {
+  return translateErrors([&] {
+    checkRange("solver_max_iterations", options.solver_max_iterations, 1, 100000, "SceneOptions");
+    checkRange("threads", options.threads, 0, 2, "SceneOptions");
+    const Scene scene = loadScene(path);
+    PaintCanvas canvas = render::makeSceneCanvas(scene);
+    render::SceneRenderOptions o;
+    o.solver_max_iterations = options.solver_max_iterations;
+    o.threads = options.threads;
+    const render::SceneResult r = render::renderScene(scene, o, &canvas);
+    render::ComposeOptions compose;
+    compose.impasto = options.impasto;
+    SceneResult out;
+    out.image = imageOf(render::composeRgb8(canvas, compose), canvas.grid());
+    out.paint_laid_mm3 = r.deposited_mm3;
+    out.paint_picked_up_mm3 = r.picked_up_mm3;
+    out.untouched = r.untouched;
+    out.failed_spine_solves = r.stats.failed_spine_solves;
+    return out;
   });
 }
 

@@ -107,6 +107,29 @@ struct StrokeFacts {
   int failed_spine_solves = 0;
 };
 
+// A painting: a bristle-scene/1 file (docs/scene-format.md), its strokes
+// painted in order on the scene's own canvas with the scene's paper, paints
+// and solvers, as `bristle render SCENE -o out.png` paints it (the same
+// pixels). A scene sets everything else, so only these are open.
+struct SceneOptions {
+  bool impasto = false;             // the paint's relief lit (render --impasto)
+  int solver_max_iterations = 200;  // [1, 100000], per solve
+  int threads = 0;                  // [0, 2], as RenderOptions::threads
+};
+
+struct SceneResult {
+  Image image;                      // the whole canvas
+  double paint_laid_mm3 = 0;        // laid down by all the strokes
+  double paint_picked_up_mm3 = 0;   // wet paint the brushes took up again
+  std::vector<int> untouched;       // strokes (from 0) whose brush never touched
+  int failed_spine_solves = 0;
+};
+
+// Throws Error: kNoInput for a missing file, kDataError naming the file and
+// field (the scene's, or a brush's or trajectory's it names), kUsage for an
+// option out of its range.
+SceneResult renderScene(const std::string& path, const SceneOptions& options = {});
+
 // A canvas that accumulates strokes, as a painting's does: each stroke loads
 // its brush afresh and paints onto the paint already there, wet into wet
 // until dry() (docs/paint.md). One stroke on a canvas placed and sized as

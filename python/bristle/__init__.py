@@ -165,6 +165,31 @@ class Stroke(_types.SimpleNamespace):
     touched, ink_pixels, paint_laid_mm3, failed_spine_solves."""
 
 
+class Painting(_types.SimpleNamespace):
+    """A rendered scene: image (H, W, 3) uint8 sRGB of the scene's whole
+    canvas, row 0 at the top; x0_mm, y0_mm and px_per_mm; paint_laid_mm3,
+    paint_picked_up_mm3, untouched (the strokes, from 0, whose brush never
+    touched the paper), failed_spine_solves."""
+
+
+def render_scene(path, impasto=False, solver_max_iterations=200, threads=0):
+    """A bristle-scene/1 file (docs/scene-format.md): its strokes painted in
+    order on its own canvas, with its brushes, paints and paper, the pixels
+    of `bristle render SCENE -o out.png` with the same options (a Painting).
+    The scene sets everything else; the GIL is released while it paints."""
+    where = "render_scene"
+    if not isinstance(path, (str, _os.PathLike)):
+        raise Error(f"{where}: path: must be a str or os.PathLike", 64)
+    if not isinstance(impasto, bool):
+        raise Error(f"{where}: impasto: must be True or False", 64)
+    for name, value in (("solver_max_iterations", solver_max_iterations), ("threads", threads)):
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise Error(f"{where}: {name}: must be an int", 64)
+    image, facts = _bristle.render_scene(_os.fspath(path), impasto, solver_max_iterations,
+                                         threads)
+    return Painting(image=image, **facts)
+
+
 def render_stroke(brush, trajectory, **options):
     """render(), with the image's placement and the stroke's facts (a Stroke)."""
     opts = _options.render_options("render", options, Error)
@@ -232,7 +257,7 @@ def save_png(path, image):
 from ._canvas import Canvas  # noqa: E402,F401
 from ._simulation import Simulation, State  # noqa: E402,F401
 
-__all__ = ["Brush", "Canvas", "Error", "RecordingWarning", "Simulation", "State", "Stroke",
-           "Trajectory",
+__all__ = ["Brush", "Canvas", "Error", "Painting", "RecordingWarning", "Simulation", "State",
+           "Stroke", "Trajectory", "render_scene",
            "preset_options", "render", "render_many", "render_stroke", "save_png",
            "set_brush_library_dirs"]

@@ -88,6 +88,27 @@ py::tuple renderOne(const api::Brush& brush, const api::Trajectory& trajectory,
   return strokeTuple(std::move(r));
 }
 
+// A whole scene file, painted as `bristle render SCENE` paints it; the image
+// and the painting's facts, as the package's Painting takes them.
+py::tuple renderScene(const std::string& path, bool impasto, int solver_max_iterations,
+                      int threads) {
+  api::SceneOptions options;
+  options.impasto = impasto;
+  options.solver_max_iterations = solver_max_iterations;
+  options.threads = threads;
+  api::SceneResult r;
+  {
+    py::gil_scoped_release unlocked;
+    r = api::renderScene(path, options);
+  }
+  py::dict facts = imageFacts(r.image);
+  facts["paint_laid_mm3"] = r.paint_laid_mm3;
+  facts["paint_picked_up_mm3"] = r.paint_picked_up_mm3;
+  facts["untouched"] = r.untouched;
+  facts["failed_spine_solves"] = r.failed_spine_solves;
+  return py::make_tuple(imageArray(std::move(r.image)), facts);
+}
+
 // Strokes taken in turn by `threads` threads, each stroke on the thread that
 // took it, on that thread's OSMesa context (threadRenderer).
 // The first failure (by stroke index) is rethrown, prefixed with its index,
@@ -210,6 +231,7 @@ void bindRender(py::module_& m) {
   bindOptions(m);
   m.def("render_stroke", &renderOne);
   m.def("render_many", &renderMany);
+  m.def("render_scene", &renderScene);
   m.def("write_png", &writeArrayPng);
   bindCanvas(m);
 }

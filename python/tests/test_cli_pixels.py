@@ -1,6 +1,7 @@
 """The same inputs and options give `bristle render`'s pixels byte for byte
 (docs/python.md, "The same pixels as the command line"): the module installs
 the command line's KKT solver at import (docs/api.md, "Process-wide set-up")."""
+import json
 import os
 import subprocess
 
@@ -91,3 +92,47 @@ def test_a_recording_without_a_brush_is_refused_naming_the_format_rule():
         bristle.Trajectory.load(path)
     assert e.value.exit_code == 65
     assert "line 1: the first line must be '# bristle-trajectory/1'" in e.value.message
+
+
+def test_a_scene_renders_the_clis_pixels(tmp_path):
+    # A painting of two strokes, the second laid beside the first's wet paint
+    # and meeting it (docs/scene-format.md): render_scene paints what
+    # `bristle render SCENE` paints, byte for byte.
+    short = short_csv(tmp_path, rows=80)  # pressed, then pulled 9 mm along +x
+    brush = os.path.join(SOURCE_DIR, "scenes", "brushes", "round.json")
+    scene = {
+        "format": "bristle-scene/1", "name": "crossing",
+        "canvas": {"size_mm": [40, 30], "px_per_mm": 3},
+        "solver": "slsqp",
+        "strokes": [
+            {"brush": brush, "trajectory": str(short), "paint": {"paints": ["ultramarine"]},
+             "placement": {"offset_mm": [0, -5]}},  # y = 15, x 12 to 21
+            {"brush": brush, "trajectory": str(short), "paint": {"paints": ["cadmium-red"]},
+             "placement": {"offset_mm": [36, 0], "rotate_deg": 90}},  # x = 16, y 12 to 21
+        ],
+    }
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(scene))
+    env = {k: v for k, v in os.environ.items() if k != "GALLIUM_DRIVER"}
+    cli = tmp_path / "cli.png"
+    run = subprocess.run([BRISTLE_BIN, "render", "-q", str(path), "-o", str(cli)],
+                         capture_output=True, text=True, env=env)
+    assert run.returncode == 0, run.stderr
+    painting = bristle.render_scene(path)
+    assert painting.image.shape == (90, 120, 3)
+    assert painting.untouched == []
+    assert painting.paint_laid_mm3 > 0
+    ok, said = same_pixels(tmp_path, cli, painting.image)
+    assert ok, said
+
+
+def test_a_bad_scene_raises_the_clis_message(tmp_path):
+    path = tmp_path / "scene.json"
+    path.write_text('{"format": "bristle-scene/1", "name": "x", "canvas": {"size_mm": [40, 30], '
+                    '"px_per_mm": 3}, "strokes": []}')
+    with pytest.raises(bristle.Error) as e:
+        bristle.render_scene(path)
+    assert e.value.exit_code == 65
+    assert str(path) in e.value.message and "/strokes" in e.value.message
+    with pytest.raises(bristle.Error, match="SceneOptions.threads 3: must be in"):
+        bristle.render_scene(path, threads=3)
