@@ -324,12 +324,13 @@ TEST_CASE("marks: a calligraphy stroke's head is about as wide as its body and o
   // beside it. The head is the ink before kPressedXMm + 2 (where the press
   // reaches the body's depth, and the bundle's reach beyond the handle), the
   // body the kBodyMm after kPressedXMm + 4. Its width: at most kMaxHeadToBody
-  // of the body's mean (the hand-tuned brush before its point was split
-  // and its centre spine straightened: 1.45 on this entry, 2.7 pressed to
-  // 4 mm while barely moving). On the line: every column of the head at
-  // least half its width wide has its ink's middle within kMaxOffset of the
-  // head's width of y = 15 (0.34 before, the bundle laid over to +y by its
-  // centre spine's rest angle, whatever the stroke's direction).
+  // of the body's mean (a bead fails it: the brush with its point in one
+  // segment and a leaning centre spine measures 1.45 on this entry, 2.7
+  // pressed to 4 mm while barely moving). On the line: every column of the
+  // head at least half its width wide has its ink's middle within kMaxOffset
+  // of the head's width of y = 15 (that brush measures 0.34: its bundle lays
+  // over to +y by the centre spine's rest angle, whatever the stroke's
+  // direction).
   constexpr double kMaxHeadToBody = 1.35, kMaxOffset = 0.15, kBodyMm = 4;
   const char* name = GENERATE("calligraphy", "calligraphy-wang2020");
   INFO(name);
