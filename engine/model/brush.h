@@ -161,7 +161,8 @@ struct Brush {
   double paint_flag_mm = 0.0;
   // How much of the paint the hair takes up is drawn up into the belly, in
   // [0, 1]: 1 (the default) the full reservoir flow; below 1 the hair keeps
-  // it at its ends and lays it again (docs/brush-format.md, `paint.wicking`).
+  // it at its ends and lays it again, and the rest of the flow only runs
+  // down towards the tips (docs/brush-format.md, `paint.wicking`).
   double paint_wicking = 1.0;
 
   // Largest distance from the ferrule centre any hair can reach (mm).

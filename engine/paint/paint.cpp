@@ -747,6 +747,36 @@ void flowWithinColumns(BrushPaint& brush, double flow) {
   }
 }
 
+// Stage 4 for hair that does not wick (BrushPaint::wicking below 1): paint
+// runs down each column's hairs, from a texel to the next one towards the tip
+// where that holds less, a fraction `flow` of half their difference (half: a
+// pair at flow 1 ends level), and never back up. So a loaded belly still feeds
+// tips that run drier than it, while what the tips lifted from wet paint stays
+// there (docs/paint.md, "Unabsorbent hair"). Every junction's share is taken
+// from the texels as they were before this step (the order of rows does not
+// matter), and a texel gives at most flow / 2 of what it holds.
+void flowTowardsTips(BrushPaint& brush, double flow) {
+  constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
+  const double half = 0.5 * flow;
+  std::array<float, R> give;
+  for (int col = 0; col < C; ++col) {
+    for (int row = 0; row + 1 < R; ++row) {
+      const double drop =
+          brush.cell(row * C + col).volume_mm3 - brush.cell((row + 1) * C + col).volume_mm3;
+      give[row] = drop > 0 ? static_cast<float>(half * drop) : 0.0f;
+    }
+    give[R - 1] = 0;
+    // From the tip back, so each texel gives its own mixture before it receives.
+    for (int row = R - 2; row >= 0; --row) {
+      if (give[row] <= 0) continue;
+      PaintCell& from = brush.cell(row * C + col);
+      PaintCell& to = brush.cell((row + 1) * C + col);
+      mixInto(to, to.volume_mm3, from.optics, give[row]);
+      from.volume_mm3 -= give[row];
+    }
+  }
+}
+
 }  // namespace
 
 TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& canvas,
@@ -760,9 +790,11 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   const double exposure = std::max(params.exposure, 0.0);
   depositAndPickUp(brush, canvas, params, exposure, scratch);
   settleTexels(brush, scratch, &stats);
-  // Unabsorbent hair draws up only its share of the flow (BrushPaint::wicking).
-  const double flow = compoundFraction(params.reservoir_flow, exposure) * brush.wicking();
-  if (flow > 0) flowWithinColumns(brush, flow);
+  // Unabsorbent hair draws up only its share of the flow (BrushPaint::wicking);
+  // the rest runs towards the tips only.
+  const double flow = compoundFraction(params.reservoir_flow, exposure);
+  if (flow * brush.wicking() > 0) flowWithinColumns(brush, flow * brush.wicking());
+  if (flow * (1 - brush.wicking()) > 0) flowTowardsTips(brush, flow * (1 - brush.wicking()));
   return stats;
 }
 

@@ -189,7 +189,8 @@ class BrushPaint {
   // rim of the footprint this deep lays a thinner film (transfer()).
   double flagMm() const { return flag_mm_; }
   // The share of the reservoir flow that draws paint up the hair
-  // (Brush::paint_wicking, 1: all of it; transfer()).
+  // (Brush::paint_wicking, 1: all of it; the rest runs only towards the
+  // tips; transfer()).
   double wicking() const { return wicking_; }
 
  private:

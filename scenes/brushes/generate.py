@@ -232,7 +232,8 @@ def badger():
     # A softener holds a thin film (capacity) and lays it thinner still where
     # only its flags touch; it is worked nearly clean to blend paint already down.
     # Its hair does not wick (wicking 0): what it lifts from wet paint stays at
-    # its ends and is laid again further on, so it moves paint, not scrubs it.
+    # its ends and is laid again further on, so it moves paint, not scrubs it;
+    # its load still runs down to the tips (docs/paint.md, "Unabsorbent hair").
     b["paint"] = {"capacity": BADGER_CAPACITY, "flag_mm": BADGER_FLAG_MM, "wicking": 0.0}
     return b
 

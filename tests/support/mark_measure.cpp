@@ -350,4 +350,30 @@ EdgeRamp edgeRamp(const std::vector<double>& profile, double px_per_mm) {
   return e;
 }
 
+double inkRunMm(const std::vector<double>& along, double px_per_mm, double share,
+                double start_mm, double window_mm, double smooth_mm) {
+  if (along.empty()) return 0;
+  const double peak = *std::max_element(along.begin(), along.end());
+  if (!(peak > 0)) return 0;
+  const int n = static_cast<int>(along.size());
+  int first = 0, last = n - 1;
+  while (along[static_cast<size_t>(first)] < 0.1 * peak) ++first;
+  while (along[static_cast<size_t>(last)] < 0.1 * peak) --last;
+  auto px = [&](double mm) { return static_cast<int>(std::lround(mm * px_per_mm)); };
+  // The mean over positions [a, b), clipped to the stroke.
+  auto mean = [&](int a, int b) {
+    a = std::clamp(a, first, last + 1);
+    b = std::clamp(b, a, last + 1);
+    double sum = 0;
+    for (int i = a; i < b; ++i) sum += along[static_cast<size_t>(i)];
+    return b > a ? sum / (b - a) : 0.0;
+  };
+  const int w0 = first + px(start_mm), w1 = w0 + std::max(1, px(window_mm));
+  const double level = share * mean(w0, w1);
+  const int k = std::max(1, px(smooth_mm));
+  for (int i = w1; i + k <= last + 1; ++i)
+    if (mean(i, i + k) < level) return (i - first) / px_per_mm;
+  return (last + 1 - first) / px_per_mm;
+}
+
 }  // namespace bristle::testsupport

@@ -137,6 +137,18 @@ struct EdgeRamp {
 };
 EdgeRamp edgeRamp(const std::vector<double>& profile, double px_per_mm);
 
+// How far (mm) a stroke lays its paint before running dry, from its profile
+// along the travel (the mean ink across it per position: crossProfile with
+// the other axis). The stroke starts where the profile first reaches 10 % of
+// its maximum; its start level is the profile's mean from start_mm to
+// start_mm + window_mm past that (after the landing, over the body). The run
+// ends where the profile's running mean over smooth_mm first falls under
+// share x the start level; the run is the distance from the start to there,
+// or to the stroke's last position (10 % of the maximum) if it never does.
+// 0 for an empty profile.
+double inkRunMm(const std::vector<double>& along, double px_per_mm, double share,
+                double start_mm = 2, double window_mm = 8, double smooth_mm = 2);
+
 // Inked pixels of the whole image.
 long inkedPixels(const Coverage& img, double threshold = 0.1);
 

@@ -284,6 +284,22 @@ TEST_CASE("mark_measure: the spread of a stroke's ends", "[mark]") {
   CHECK(endSpread(Coverage(10, 10), Axis::kX).lanes == 0);
 }
 
+TEST_CASE("mark_measure: how far a stroke lays paint before it runs dry", "[mark]") {
+  // At 4 px/mm: 4 mm of blank, then a stroke of ink 0.8 for 20 mm that fades
+  // linearly to 0.2 over the next 20 mm and stops there.
+  constexpr double ppm = 4;
+  std::vector<double> along(200, 0.0);
+  for (int i = 16; i < 96; ++i) along[static_cast<size_t>(i)] = 0.8;
+  for (int i = 96; i < 176; ++i) along[static_cast<size_t>(i)] = 0.8 - 0.6 * (i - 96) / 80.0;
+  // Half the start level, 0.4, is reached 20 + 13.3 mm in; the 2 mm running
+  // mean falls under it 1 mm (half its window) before that.
+  CHECK(inkRunMm(along, ppm, 0.5) == Approx(20 + 40.0 / 3 - 1).margin(0.3));
+  // A share it never falls under: the whole stroke, 40 mm.
+  CHECK(inkRunMm(along, ppm, 0.1) == Approx(40.0));
+  // No ink: no run.
+  CHECK(inkRunMm(std::vector<double>(50, 0.0), ppm, 0.5) == 0.0);
+}
+
 TEST_CASE("mark_measure: coverage from RGBA, against the paper or from alpha", "[mark]") {
   // Paper #f6f1e6 at the top-left, black paint, and paint at half the paper's luminance.
   std::vector<std::uint8_t> px = {0xf6, 0xf1, 0xe6, 255, 0, 0, 0, 255, 0x7b, 0x79, 0x73, 255};

@@ -266,6 +266,57 @@ TEST_CASE("Transfer conserves paint: brush + wet canvas is constant", "[paint][t
   CHECK(canvas.dryVolumeMm3() == Approx(wet).epsilon(kConservationTol));
 }
 
+TEST_CASE("Transfer: unabsorbent hair feeds its tips from the belly, never the belly from them",
+          "[paint][transfer]") {
+  // paint.wicking 0 (docs/paint.md, "Unabsorbent hair"): the reservoir flow
+  // runs only down the hair, from a texel to the next one towards the tip
+  // where that holds less. The footprint touches texel row 25 of 32 (v 0.8).
+  Brush brush = fivesSpineBrush();
+  brush.paint_wicking = 0;
+  constexpr int kContactRow = 25;
+  auto rowVolume = [](const BrushPaint& p, int row) {
+    double v = 0;
+    for (int c = 0; c < BrushTexelMap::kColumns; ++c) v += p.cellAt(c, row).volume_mm3;
+    return v;
+  };
+  const Footprint fp(48, 10, 0.8f, 0.5f);
+  constexpr double kConservationTol = 1e-5;  // as "Transfer conserves paint"
+  {
+    // Loaded, pulled down clean paper: the contact row runs drier than the
+    // belly, and the belly feeds it; the rows past it, towards the tip, never
+    // give (they touch nothing and are never below the row above them).
+    BrushPaint loaded(brush);
+    loaded.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+    PaintCanvas canvas(grid(64, 200), PaperSpec{}, MixModel::kKubelkaMunk);
+    const double total0 = loaded.totalVolumeMm3(), belly0 = rowVolume(loaded, 20),
+                 tip0 = rowVolume(loaded, 31);
+    for (int row = 0; row < 150; ++row) transfer(fp.at(8, row), loaded, canvas, TransferParams{});
+    INFO("rows 20, 25, 31 hold " << rowVolume(loaded, 20) / belly0 << ", "
+         << rowVolume(loaded, kContactRow) / belly0 << ", " << rowVolume(loaded, 31) / tip0
+         << " of their load");
+    CHECK(loaded.totalVolumeMm3() + canvas.wetVolumeMm3() ==
+          Approx(total0).epsilon(kConservationTol));
+    // The belly gave: five rows up, row 20 lost paint to the contact row.
+    CHECK(rowVolume(loaded, 20) < 0.95 * belly0);
+    // The tip kept its load to the last float (it gives only to a drier row
+    // nearer the tip, and there is none).
+    CHECK(rowVolume(loaded, 31) == Approx(tip0).epsilon(1e-6));
+  }
+  {
+    // Clean, pulled through wet paint: what the contact row lifts stays there
+    // or runs on towards the tip; the belly stays dry.
+    PaintCanvas canvas(grid(64, 200), PaperSpec{}, MixModel::kKubelkaMunk);
+    BrushPaint yellow(brush);
+    yellow.load(solid("cadmium-yellow"), MixModel::kKubelkaMunk, "t");
+    for (int row = 0; row < 40; ++row) transfer(fp.at(8, row), yellow, canvas, TransferParams{});
+    BrushPaint clean(brush);
+    clean.clean();
+    for (int row = 0; row < 60; ++row) transfer(fp.at(8, row), clean, canvas, TransferParams{});
+    CHECK(rowVolume(clean, kContactRow) > 0);
+    for (int row = 0; row < kContactRow; ++row) CHECK(rowVolume(clean, row) == 0);
+  }
+}
+
 TEST_CASE("Transfer: a clean brush picks up wet paint and carries it on", "[paint][transfer]") {
   const Brush brush = fivesSpineBrush();
   PaintCanvas canvas(grid(64, 200), PaperSpec{}, MixModel::kKubelkaMunk);
