@@ -199,7 +199,10 @@ def main():
     made = [random_stroke(rng) for _ in range(a.count)]
     trajs = [m[2] for m in made]
     brush = bristle.Brush("round")
-    bristle.render_many(brush, trajs[:2], threads=1, px_per_mm=PX_PER_MM)  # warm up
+    # Warm up both threads' OSMesa contexts (llvmpipe compiles its shaders at
+    # a context's first draw; render_many's second thread keeps borrowing the
+    # one this call makes).
+    bristle.render_many(brush, trajs[:2], threads=2, px_per_mm=PX_PER_MM)
     rates = {}
     for threads in (1, 2):
         for routed in ((False, True) if a.timers_ab else (True,)):
