@@ -47,6 +47,7 @@ void bindOptions(py::module_& m) {
       .def_readwrite("steady_step_mm", &api::RenderOptions::steady_step_mm)
       .def_readwrite("min_rate_hz", &api::RenderOptions::min_rate_hz)
       .def_readwrite("contact_band_mm", &api::RenderOptions::contact_band_mm)
+      .def_readwrite("ipopt_options", &api::RenderOptions::ipopt_options)
       .def_readwrite("threads", &api::RenderOptions::threads);
   m.def("preset_options", &api::presetOptions, py::arg("name"),
         "RenderOptions of a named preset (bristle/render.h, presetOptions)");
