@@ -33,11 +33,21 @@ from stroke_dataset import PX_PER_MM, random_stroke  # noqa: E402
 
 
 def throughput(brush, trajs, threads, solver, **options):
+    """Strokes/s, wall and CPU seconds of one render_many call, and its
+    system time and minor page faults per stroke: what a run on one thread
+    and a run on two may spend differently besides the solves, whose work
+    (iterations) is the same on any thread count."""
+    import resource
+    before = resource.getrusage(resource.RUSAGE_SELF)
     start, cpu = time.perf_counter(), time.process_time()
     bristle.render_many(brush, trajs, threads=threads, px_per_mm=PX_PER_MM, solver=solver,
                         **options)
     wall = time.perf_counter() - start
-    return len(trajs) / wall, wall, time.process_time() - cpu
+    after = resource.getrusage(resource.RUSAGE_SELF)
+    n = len(trajs)
+    kernel = (f"system {(after.ru_stime - before.ru_stime) / n * 1000:.1f} ms, "
+              f"{(after.ru_minflt - before.ru_minflt) / n:.0f} page faults a stroke")
+    return n / wall, wall, time.process_time() - cpu, kernel
 
 
 def module_overhead(brush, trajs, solver):
@@ -189,27 +199,31 @@ def main():
     made = [random_stroke(rng) for _ in range(a.count)]
     trajs = [m[2] for m in made]
     brush = bristle.Brush("round")
-    bristle.render_many(brush, trajs[:2], threads=1, px_per_mm=PX_PER_MM)  # warm up
+    # Warm up both threads' OSMesa contexts (llvmpipe compiles its shaders at
+    # a context's first draw; render_many's second thread keeps borrowing the
+    # one this call makes).
+    bristle.render_many(brush, trajs[:2], threads=2, px_per_mm=PX_PER_MM)
     rates = {}
     for threads in (1, 2):
         for routed in ((False, True) if a.timers_ab else (True,)):
             _bristle._route_ipopt_getrusage(routed)
-            rate, wall, cpu = throughput(brush, trajs, threads, a.solver)
+            rate, wall, cpu, kernel = throughput(brush, trajs, threads, a.solver)
             rates[threads, routed] = rate
             print(f"render_many threads={threads}{'' if routed else ' (Ipopt timers unrouted)'}: "
                   f"{a.count} strokes in {wall:.2f} s wall, {cpu:.2f} s CPU: {rate:.2f} strokes/s "
-                  f"({cpu / a.count * 1000:.0f} ms CPU a stroke)")
+                  f"({cpu / a.count * 1000:.0f} ms CPU a stroke; {kernel})")
         if a.timers_ab:
             ratio = rates[threads, True] / rates[threads, False]
             print(f"threads={threads}: routed/unrouted {ratio:.2f}x")
     _bristle._route_ipopt_getrusage(True)
     if a.thumbnails:
         for threads in (1, 2):
-            rate, wall, cpu = throughput(brush, trajs, threads, a.solver, preset="thumbnail")
+            rate, wall, cpu, kernel = throughput(brush, trajs, threads, a.solver,
+                                                 preset="thumbnail")
             rates[threads, "thumbnail"] = rate
             print(f"render_many threads={threads} preset=thumbnail: {a.count} strokes in "
                   f"{wall:.2f} s wall, {cpu:.2f} s CPU: {rate:.2f} strokes/s "
-                  f"({cpu / a.count * 1000:.0f} ms CPU a stroke)")
+                  f"({cpu / a.count * 1000:.0f} ms CPU a stroke; {kernel})")
         print(f"preset=thumbnail: 2 threads over 1: "
               f"{rates[2, 'thumbnail'] / rates[1, 'thumbnail']:.2f}x")
     print(f"speed-up 2 threads over 1: {rates[2, True] / rates[1, True]:.2f}x"

@@ -72,7 +72,8 @@ RunStats strokeStats(const StrokePngResult& png_result, const std::string& traj_
 }
 
 // --preset NAME: the preset's step options (bristle/render.h, presetOptions),
-// each unless given on the command line itself.
+// each unless given on the command line itself (--ipopt-option given replaces
+// the preset's Ipopt options, as Python's ipopt_options= does).
 void applyPreset(const RenderArgs& args, StrokePngOptions* png) {
   if (args.preset.empty()) return;
   const api::RenderOptions preset = api::presetOptions(args.preset);
@@ -82,6 +83,7 @@ void applyPreset(const RenderArgs& args, StrokePngOptions* png) {
   if (!given("--max-step-mm")) png->max_step_mm = preset.max_step_mm;
   if (!given("--steady-step-mm")) png->steady_step_mm = preset.steady_step_mm;
   if (!given("--min-rate-hz")) png->min_rate_hz = preset.min_rate_hz;
+  if (!given("--ipopt-option")) png->ipopt_options = preset.ipopt_options;
 }
 
 // The options of a stroke's render (render --brush --trajectory).
@@ -266,9 +268,10 @@ Subcommand registerRender(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1.0, 10000.0));
   render->add_option("--preset", r->preset,
-                     "Named step options: thumbnail takes coarser steps for small images "
-                     "(2 px/mm data sets; docs/PERFORMANCE.md); --max-step-mm, "
-                     "--steady-step-mm and --min-rate-hz given beside it win")
+                     "Named step options: thumbnail takes coarser steps and Ipopt's tol=1e-4 "
+                     "for small images (2 px/mm data sets; docs/PERFORMANCE.md); "
+                     "--max-step-mm, --steady-step-mm, --min-rate-hz and --ipopt-option "
+                     "given beside it win")
       ->check(CLI::IsMember({"default", "thumbnail"}));
   render->add_option("--contact-band-mm", r->contact_band_mm,
                      "Brush geometry below this height touches the paper (mm)")

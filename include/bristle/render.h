@@ -43,6 +43,10 @@ struct RenderOptions {
   double steady_step_mm = 0;         // [0, 5]; 0 solves every planned step
   double min_rate_hz = 120;          // [1, 10000]
   double contact_band_mm = 0.1;      // [0.001, 2]
+  // Ipopt options as NAME=VALUE, `bristle render --ipopt-option`'s (`bristle
+  // help ipopt-option` lists those allowed); each checked, an Error naming it.
+  // Empty by default; the "thumbnail" preset's loosens Ipopt's tol.
+  std::vector<std::string> ipopt_options;
   // `bristle render --threads`: 1 simulates and draws in turns, 2 simulates
   // the next steps on a second thread; 0 is 2 where the process may use 2+
   // CPUs. The same pixels on any count. [0, 2]
@@ -51,8 +55,8 @@ struct RenderOptions {
 
 // Named sets of RenderOptions (docs/python.md, "Presets"; `bristle render
 // --preset`): "default" is RenderOptions{}; "thumbnail" takes coarser
-// simulation steps (max_step_mm, min_rate_hz, steady_step_mm) for small
-// data-set images, within SSIM 0.95 of the default's at 2 px/mm
+// simulation steps (max_step_mm, min_rate_hz, steady_step_mm) and a looser
+// Ipopt tolerance (ipopt_options) for small data-set images, within SSIM 0.95 of the default's at 2 px/mm
 // (docs/PERFORMANCE.md, "A thumbnail preset"). Throws Error (kUsage) naming
 // the known presets for another name.
 RenderOptions presetOptions(const std::string& name);

@@ -236,10 +236,11 @@ def render_many(brushes, trajectories, threads=2, details=False, **options):
 
 
 def preset_options(name):
-    """The step options a preset (the preset= option: "default", "thumbnail")
-    sets, as a dict: max_step_mm, min_rate_hz, steady_step_mm."""
+    """The options a preset (the preset= option: "default", "thumbnail")
+    sets, as a dict: max_step_mm, min_rate_hz, steady_step_mm, ipopt_options."""
     o = _options.preset("preset_options", name, Error)
-    return {k: getattr(o, k) for k in ("max_step_mm", "min_rate_hz", "steady_step_mm")}
+    return {k: getattr(o, k)
+            for k in ("max_step_mm", "min_rate_hz", "steady_step_mm", "ipopt_options")}
 
 
 def save_png(path, image):

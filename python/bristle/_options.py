@@ -30,6 +30,7 @@ RENDER_OPTIONS = {
     "steady_step_mm": "real",
     "min_rate_hz": "real",
     "contact_band_mm": "real",
+    "ipopt_options": "strs",
     "threads": "int",
 }
 
@@ -45,6 +46,11 @@ def _value(where, name, kind, value, error):
         if not isinstance(value, str):
             raise error(f"{where}: {name}: must be a str", 64)
         return value
+    if kind == "strs":
+        items = None if isinstance(value, (str, bytes)) else value
+        if not isinstance(items, (list, tuple)) or not all(isinstance(v, str) for v in items):
+            raise error(f"{where}: {name}: must be a list of str (NAME=VALUE)", 64)
+        return list(items)
     if kind == "bool":
         if not isinstance(value, (bool,)):
             raise error(f"{where}: {name}: must be True or False", 64)

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -46,6 +47,7 @@ void bindOptions(py::module_& m) {
       .def_readwrite("steady_step_mm", &api::RenderOptions::steady_step_mm)
       .def_readwrite("min_rate_hz", &api::RenderOptions::min_rate_hz)
       .def_readwrite("contact_band_mm", &api::RenderOptions::contact_band_mm)
+      .def_readwrite("ipopt_options", &api::RenderOptions::ipopt_options)
       .def_readwrite("threads", &api::RenderOptions::threads);
   m.def("preset_options", &api::presetOptions, py::arg("name"),
         "RenderOptions of a named preset (bristle/render.h, presetOptions)");
@@ -77,6 +79,44 @@ api::StrokeRenderer& threadRenderer() {
   thread_local api::StrokeRenderer renderer;
   return renderer;
 }
+
+// The OSMesa contexts of render_many's second and later threads, kept
+// between calls and lent to one thread at a time: each call starts its
+// threads anew, and a context made for each would compile llvmpipe's shaders
+// again, about 130 ms of CPU a call (docs/python.md, "Speed"). A context is
+// made current on the thread that draws with it (render/gl/gl_context.cpp),
+// so a lent one is current only on its borrower or on threads that have ended.
+class LentRenderer {
+ public:
+  LentRenderer() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (idle_.empty()) {
+      ++made_;
+      renderer_ = std::make_unique<api::StrokeRenderer>();
+      return;
+    }
+    renderer_ = std::move(idle_.back());
+    idle_.pop_back();
+  }
+  ~LentRenderer() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    idle_.push_back(std::move(renderer_));
+  }
+  LentRenderer(const LentRenderer&) = delete;
+  LentRenderer& operator=(const LentRenderer&) = delete;
+  api::StrokeRenderer& get() { return *renderer_; }
+  // How many contexts have been made to lend, for the tests.
+  static long made() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return made_;
+  }
+
+ private:
+  std::unique_ptr<api::StrokeRenderer> renderer_;
+  static inline std::mutex mutex_;
+  static inline std::vector<std::unique_ptr<api::StrokeRenderer>> idle_;
+  static inline long made_ = 0;
+};
 
 py::tuple renderOne(const api::Brush& brush, const api::Trajectory& trajectory,
                     const api::RenderOptions& options) {
@@ -110,7 +150,8 @@ py::tuple renderScene(const std::string& path, bool impasto, int solver_max_iter
 }
 
 // Strokes taken in turn by `threads` threads, each stroke on the thread that
-// took it, on that thread's OSMesa context (threadRenderer).
+// took it: the calling thread on its own OSMesa context (threadRenderer), the
+// others on lent ones (LentRenderer).
 // The first failure (by stroke index) is rethrown, prefixed with its index,
 // once every thread has stopped.
 std::vector<api::RenderResult> renderAll(const std::vector<api::Brush>& brushes,
@@ -121,8 +162,7 @@ std::vector<api::RenderResult> renderAll(const std::vector<api::Brush>& brushes,
   std::vector<std::exception_ptr> errors(n);
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
-  auto work = [&] {
-    api::StrokeRenderer& renderer = threadRenderer();
+  auto work = [&](api::StrokeRenderer& renderer) {
     for (size_t i; !failed.load() && (i = next.fetch_add(1)) < n;) {
       try {
         results[i] = renderer.render(brushes[brushes.size() == 1 ? 0 : i], trajectories[i],
@@ -134,8 +174,12 @@ std::vector<api::RenderResult> renderAll(const std::vector<api::Brush>& brushes,
     }
   };
   std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
+  for (int t = 1; t < threads; ++t)
+    pool.emplace_back([&] {
+      LentRenderer lent;
+      work(lent.get());
+    });
+  work(threadRenderer());
   for (std::thread& t : pool) t.join();
   for (size_t i = 0; i < n; ++i) {
     if (!errors[i]) continue;
@@ -231,6 +275,8 @@ void bindRender(py::module_& m) {
   bindOptions(m);
   m.def("render_stroke", &renderOne);
   m.def("render_many", &renderMany);
+  m.def("_lent_renderers_made", &LentRenderer::made,
+        "OSMesa contexts made for render_many's lent threads so far (for the tests)");
   m.def("render_scene", &renderScene);
   m.def("write_png", &writeArrayPng);
   bindCanvas(m);

@@ -48,7 +48,8 @@ def test_an_option_given_by_name_wins_over_the_preset(round_brush, short_pull):
                           max_step_mm=0.5)
     named = bristle.render(round_brush, short_pull, px_per_mm=2, max_step_mm=0.5,
                            min_rate_hz=preset["min_rate_hz"],
-                           steady_step_mm=preset["steady_step_mm"])
+                           steady_step_mm=preset["steady_step_mm"],
+                           ipopt_options=preset["ipopt_options"])
     assert np.array_equal(both, named)
     assert np.array_equal(bristle.render(round_brush, short_pull, px_per_mm=2, preset="default"),
                           bristle.render(round_brush, short_pull, px_per_mm=2))
@@ -72,3 +73,23 @@ def test_an_unknown_preset_is_an_error(round_brush, short_pull, value, said):
     with pytest.raises(bristle.Error) as e:
         bristle.render(round_brush, short_pull, preset=value)
     assert str(e.value) == said and e.value.exit_code == 64
+
+
+def test_the_preset_loosens_ipopts_tolerance_and_an_option_given_wins(round_brush, short_pull):
+    # The thumbnail preset's tol=1e-4 (docs/PERFORMANCE.md, "Where a
+    # thumbnail's iterations go"); ipopt_options given by name replace it.
+    assert bristle.preset_options("thumbnail")["ipopt_options"] == ["tol=1e-4"]
+    assert bristle.preset_options("default")["ipopt_options"] == []
+    given = bristle.render(round_brush, short_pull, px_per_mm=2, preset="thumbnail",
+                           ipopt_options=["tol=1e-8"])
+    steps_only = bristle.render(round_brush, short_pull, px_per_mm=2,
+                                **{k: v for k, v in bristle.preset_options("thumbnail").items()
+                                   if k != "ipopt_options"})
+    assert np.array_equal(given, steps_only)
+
+
+@pytest.mark.parametrize("value", ["tol=1e-4", [3], ["tol=abc"], ["not_an_option=1"]])
+def test_a_bad_ipopt_option_is_an_error(round_brush, short_pull, value):
+    with pytest.raises(bristle.Error) as e:
+        bristle.render(round_brush, short_pull, ipopt_options=value)
+    assert e.value.exit_code == 64 and "ipopt_option" in str(e.value)

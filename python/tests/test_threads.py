@@ -6,6 +6,7 @@ import time
 import numpy as np
 
 import bristle
+from bristle import _bristle
 from conftest import pull
 
 
@@ -63,3 +64,17 @@ def test_python_threads_run_while_a_stroke_renders(round_brush):
     quarter = (end - start) / 4
     middle = [t for t in stamps if start + quarter < t < end - quarter]
     assert middle, f"no stamp in the middle half of a {end - start:.3f} s render"
+
+
+def test_render_many_lends_its_contexts_to_the_next_call(round_brush):
+    # render_many's second thread draws on an OSMesa context an earlier call
+    # made: one made per call would compile llvmpipe's shaders again, about
+    # 130 ms of CPU a call (docs/python.md, "Speed"). The same pixels on it.
+    trajs = strokes()[:2]
+    bristle.render_many(round_brush, trajs, threads=2, px_per_mm=2)
+    made = _bristle._lent_renderers_made()
+    assert made >= 1
+    again = bristle.render_many(round_brush, trajs, threads=2, px_per_mm=2)
+    assert _bristle._lent_renderers_made() == made
+    for a, t in zip(again, trajs):
+        assert np.array_equal(a, bristle.render(round_brush, t, px_per_mm=2))
