@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "tests/cli/scene_render.h"
 #include "tests/support/mark_measure.h"
-#include "tests/support/mark_png.h"
 
 using namespace bristle::testing;
 using namespace bristle::testsupport;
@@ -40,18 +40,7 @@ Coverage renderYongStroke(int index, const TempDir& dir) {
   stroke["brush"] = folder + stroke.at("brush").get<std::string>();
   stroke["trajectory"] = folder + stroke.at("trajectory").get<std::string>();
   scene["strokes"] = nlohmann::json::array({stroke});
-  const std::string tag = "yong-" + std::to_string(index + 1);
-  const std::string scene_path = dir.file(tag + ".json");
-  std::ofstream(scene_path) << scene.dump();
-  const std::string png = dir.file(tag + ".png");
-  const std::string stats = dir.file(tag + "-stats.json");
-  const RunResult r =
-      runBristle("render -q '" + scene_path + "' -o '" + png + "' --stats '" + stats + "'");
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  std::ifstream st_in(stats);
-  CHECK(nlohmann::json::parse(st_in).at("failed_steps").get<int>() == 0);
-  return loadCoveragePng(png);
+  return renderSceneChecked(scene, dir, "yong-" + std::to_string(index + 1));
 }
 
 // The mark's width along the line from a to b (canvas mm): its inked area in
@@ -80,46 +69,52 @@ std::vector<double> yongWidthsAlong(const Coverage& img, YongPoint a, YongPoint 
   return widths;
 }
 
+// Stroke `index` of the painting rendered alone, its widths along the line
+// from key point (ax, ay) to (bx, by) (units) every kYongBinMm.
+constexpr double kYongBinMm = 2;
+std::vector<double> yongStrokeWidths(int index, double ax, double ay, double bx, double by) {
+  TempDir dir;
+  return yongWidthsAlong(renderYongStroke(index, dir), yongUnits(ax, ay), yongUnits(bx, by),
+                         kYongBinMm);
+}
+
 std::string yongList(const std::vector<double>& v) {
   std::ostringstream out;
   for (double w : v) out << ' ' << std::round(w * 100) / 100;
   return out.str();
 }
 
-// The inked rows of column x_mm between y0_mm and y1_mm: the top edge's height
-// (canvas mm, NAN without ink) and the inked length.
-struct YongColumn {
-  double top_mm = NAN, inked_mm = 0;
+// Lines of pixels across the painting at u0, u0 + step, ... below u1 (units):
+// columns at x = u (columns) or rows at y = u, each read between lo_mm and
+// hi_mm (canvas mm) along it. For each line with ink: its far edge (the top
+// of a column's ink, the right end of a row's; canvas mm), its inked length
+// and the middle of its ink.
+struct YongScan {
+  std::vector<double> edge_mm, inked_mm, middle_mm;
 };
-YongColumn yongColumn(const Coverage& img, double x_mm, double y0_mm, double y1_mm) {
-  YongColumn out;
-  const int c = static_cast<int>(std::floor((x_mm - img.x0_mm) * img.px_per_mm));
-  for (int r = 0; r < img.h; ++r) {
-    const double y = img.y0_mm + (img.h - r - 0.5) / img.px_per_mm;
-    if (y < y0_mm || y > y1_mm || img.at(c, r) <= 0.1f) continue;
-    if (std::isnan(out.top_mm)) out.top_mm = y + 0.5 / img.px_per_mm;
-    out.inked_mm += 1 / img.px_per_mm;
+YongScan yongScan(const Coverage& img, bool columns, double u0, double u1, double step,
+                  double lo_mm, double hi_mm) {
+  YongScan out;
+  const double px = 1 / img.px_per_mm;
+  for (double u = u0; u < u1; u += step) {
+    const YongPoint p = yongUnits(u, u);
+    const int col = static_cast<int>(std::floor((p.x - img.x0_mm) * img.px_per_mm));
+    const int row = img.h - 1 - static_cast<int>(std::floor((p.y - img.y0_mm) * img.px_per_mm));
+    double edge = -1e9, inked = 0, sum = 0;
+    for (int k = 0; k < (columns ? img.h : img.w); ++k) {
+      const int c = columns ? col : k, r = columns ? k : row;
+      const double along =
+          columns ? img.y0_mm + (img.h - r - 0.5) * px : img.x0_mm + (c + 0.5) * px;
+      if (along < lo_mm || along > hi_mm || img.at(c, r) <= 0.1f) continue;
+      edge = std::max(edge, along + px / 2);
+      inked += px;
+      sum += along * px;
+    }
+    if (inked <= 0) continue;
+    out.edge_mm.push_back(edge);
+    out.inked_mm.push_back(inked);
+    out.middle_mm.push_back(sum / inked);
   }
-  return out;
-}
-
-// The inked columns of row y_mm between x0_mm and x1_mm: the right edge
-// (canvas mm, NAN without ink), the inked length and the ink's middle.
-struct YongRow {
-  double right_mm = NAN, inked_mm = 0, middle_mm = NAN;
-};
-YongRow yongRow(const Coverage& img, double y_mm, double x0_mm, double x1_mm) {
-  YongRow out;
-  const int r = img.h - 1 - static_cast<int>(std::floor((y_mm - img.y0_mm) * img.px_per_mm));
-  double sum = 0;
-  for (int c = 0; c < img.w; ++c) {
-    const double x = img.x0_mm + (c + 0.5) / img.px_per_mm;
-    if (x < x0_mm || x > x1_mm || img.at(c, r) <= 0.1f) continue;
-    out.right_mm = x + 0.5 / img.px_per_mm;
-    out.inked_mm += 1 / img.px_per_mm;
-    sum += x;
-  }
-  if (out.inked_mm > 0) out.middle_mm = sum / (out.inked_mm * img.px_per_mm);
   return out;
 }
 
@@ -135,16 +130,14 @@ TEST_CASE("yong: the dot gathers its weight at its pressed lower end", "[marks][
   // 点: the brush enters light and fast, presses as it slows at the lower
   // right, and turns back up as it lifts; the dot is blunt and heavy there and
   // light where it came down. Along the line from its entry to its press (the
-  // key points (45, 93) and (54.5, 83.5)), in kBinMm bins: the half of its
+  // key points (45, 93) and (54.5, 83.5)), in 2 mm bins: the half of its
   // length nearer the press holds at least kMinPressedHalf of its ink, and its
   // widest bin lies in that half. Entering at 1.5 mm and pressing 5.5 mm
   // while still travelling, the pressed belly printed where the brush came
   // down (it trails the handle by 5-8 mm at such presses): a tadpole with
   // 0.30 of its ink in that half, widest at 0.31 of its length.
-  constexpr double kBinMm = 2, kMinPressedHalf = 0.5;
-  TempDir dir;
-  const std::vector<double> w =
-      yongWidthsAlong(renderYongStroke(0, dir), yongUnits(45, 93), yongUnits(54.5, 83.5), kBinMm);
+  constexpr double kMinPressedHalf = 0.5;
+  const std::vector<double> w = yongStrokeWidths(0, 45, 93, 54.5, 83.5);
   REQUIRE(w.size() >= 4);
   double total = 0, pressed = 0;
   const double half = w.size() / 2.0;
@@ -154,7 +147,7 @@ TEST_CASE("yong: the dot gathers its weight at its pressed lower end", "[marks][
   }
   const double widest =
       (std::max_element(w.begin(), w.end()) - w.begin() + 0.5) / static_cast<double>(w.size());
-  INFO("widths (mm) every " << kBinMm << " mm:" << yongList(w) << "; pressed half "
+  INFO("widths (mm) every " << kYongBinMm << " mm:" << yongList(w) << "; pressed half "
                             << pressed / total << ", widest at " << widest << " of its length");
   CHECK(pressed / total >= kMinPressedHalf);
   CHECK(widest >= 0.5);
@@ -162,20 +155,17 @@ TEST_CASE("yong: the dot gathers its weight at its pressed lower end", "[marks][
 
 TEST_CASE("yong: the left-falling stroke enters without a ball", "[marks][yong]") {
   // 撇 comes down along its own line and presses to its body's depth as it
-  // travels: its head (the first 2 bins of kBinMm along the line from (85, 67)
-  // to (70, 52)) at most kMaxHeadToBody of its body (the mean of bins 4-6, 6 to
-  // 12 mm from where its ink begins),
-  // the bound of the entry test in test_cli_marks.cpp. Pressed 4 mm over its
-  // first 1.8 mm, deeper than its body, it began with a ball 1.5 times the
-  // body's width.
-  constexpr double kBinMm = 2, kMaxHeadToBody = 1.35;
-  TempDir dir;
-  const std::vector<double> w =
-      yongWidthsAlong(renderYongStroke(3, dir), yongUnits(85, 67), yongUnits(70, 52), kBinMm);
+  // travels: its head (its first 4 mm along the line from (85, 67) to
+  // (70, 52)) at most kMaxHeadToBody of its body (6 to 12 mm from where its
+  // ink begins), the bound of the entry test in test_cli_marks.cpp. Pressed
+  // 4 mm over its first 1.8 mm, deeper than its body, it began with a ball
+  // 1.5 times the body's width.
+  constexpr double kMaxHeadToBody = 1.35;
+  const std::vector<double> w = yongStrokeWidths(3, 85, 67, 70, 52);
   REQUIRE(w.size() >= 6);
   const double head = std::max(w[0], w[1]), body = (w[3] + w[4] + w[5]) / 3;
-  INFO("widths (mm) every " << kBinMm << " mm:" << yongList(w) << "; head " << head << ", body "
-                            << body);
+  INFO("widths (mm) every " << kYongBinMm << " mm:" << yongList(w) << "; head " << head
+                             << ", body " << body);
   CHECK(head <= kMaxHeadToBody * body);
 }
 
@@ -195,41 +185,27 @@ TEST_CASE("yong: the turn of the horizontal into the long vertical is square", "
   constexpr double kMaxShoulder = 0.6, kMaxBow = 0.3;
   TempDir dir;
   const Coverage img = renderYongStroke(1, dir);
+  // The horizontal (columns at 38-48 units) and the corner after it (50-62),
+  // read between y = 65 and 85 units; the vertical (rows at 35-55 units) and
+  // the corner above it (60-80), read between x = 50 and 70 units.
   const double band0 = yongUnits(0, 65).y, band1 = yongUnits(0, 85).y;
-  std::vector<double> tops, widths;
-  for (double u = 38; u < 48; u += 0.5) {
-    const YongColumn c = yongColumn(img, yongUnits(u, 0).x, band0, band1);
-    if (std::isnan(c.top_mm)) continue;
-    tops.push_back(c.top_mm);
-    widths.push_back(c.inked_mm);
-  }
-  const double h_top = yongMedian(tops), h_width = yongMedian(widths);
-  double corner_top = -1e9;
-  for (double u = 50; u < 62; u += 0.25) {
-    const YongColumn c = yongColumn(img, yongUnits(u, 0).x, band0, band1);
-    if (!std::isnan(c.top_mm)) corner_top = std::max(corner_top, c.top_mm);
-  }
   const double x0 = yongUnits(50, 0).x, x1 = yongUnits(70, 0).x;
-  std::vector<double> rights, v_widths, middles;
-  for (double u = 35; u < 55; u += 1) {
-    const YongRow r = yongRow(img, yongUnits(0, u).y, x0, x1);
-    if (std::isnan(r.right_mm)) continue;
-    rights.push_back(r.right_mm);
-    v_widths.push_back(r.inked_mm);
-  }
-  const double v_right = yongMedian(rights), v_width = yongMedian(v_widths);
-  double corner_right = -1e9;
-  for (double u = 60; u < 80; u += 0.25) {
-    const YongRow r = yongRow(img, yongUnits(0, u).y, x0, x1);
-    if (!std::isnan(r.right_mm)) corner_right = std::max(corner_right, r.right_mm);
-  }
-  for (double u = 30; u <= 70; u += 1) {
-    const YongRow r = yongRow(img, yongUnits(0, u).y, x0, x1);
-    if (!std::isnan(r.middle_mm)) middles.push_back(r.middle_mm);
-  }
-  const double mid = yongMedian(middles);
+  const YongScan horizontal = yongScan(img, true, 38, 48, 0.5, band0, band1);
+  const YongScan corner_cols = yongScan(img, true, 50, 62, 0.25, band0, band1);
+  const YongScan vertical = yongScan(img, false, 35, 55, 1, x0, x1);
+  const YongScan corner_rows = yongScan(img, false, 60, 80, 0.25, x0, x1);
+  const YongScan top = yongScan(img, false, 30, 70.5, 1, x0, x1);
+  REQUIRE_FALSE(corner_cols.edge_mm.empty());
+  REQUIRE_FALSE(corner_rows.edge_mm.empty());
+  const double h_top = yongMedian(horizontal.edge_mm), h_width = yongMedian(horizontal.inked_mm);
+  const double v_right = yongMedian(vertical.edge_mm), v_width = yongMedian(vertical.inked_mm);
+  const double corner_top =
+      *std::max_element(corner_cols.edge_mm.begin(), corner_cols.edge_mm.end());
+  const double corner_right =
+      *std::max_element(corner_rows.edge_mm.begin(), corner_rows.edge_mm.end());
+  const double mid = yongMedian(top.middle_mm);
   double bow = 0;
-  for (double m : middles) bow = std::max(bow, std::fabs(m - mid));
+  for (double m : top.middle_mm) bow = std::max(bow, std::fabs(m - mid));
   INFO("horizontal " << h_width << " mm wide, the corner " << corner_top - h_top
                      << " mm above it; vertical " << v_width << " mm wide, the corner "
                      << corner_right - v_right << " mm right of it; its top bowed by " << bow
