@@ -296,7 +296,8 @@ def petals():
 #   not bow the vertical's top) and presses again down the next stroke's
 #   way; a press while the handle slows along the horizontal left a lump;
 # - 撇 comes down along its own line and presses to its body's depth over
-#   its first 4 mm.
+#   its first 4 mm, and the horizontals press to theirs over their first
+#   3 mm: pressed over 1.6 mm, nearly standing, they began with round knobs.
 ENTRY_APPROACH_MM = 8.0
 YONG = [
     ("dot", "点 dot: enters light, pressed at its end, turns back as it lifts: blunt end",
@@ -304,11 +305,11 @@ YONG = [
       (53.5, 84.5, 3.0), (52.5, 85.5, 0.5)]),
     ("heng-zhe-gou", "横折钩 horizontal, square turn (lift, press down the new way), long "
      "vertical, hook to the left",
-     [(29, 73, 1.5), (31, 74, 3.2), (40, 74.6, 3.0), (50, 75.3, 3.0), (55, 76, 3.0),
-      (56.5, 76.2, -0.3), (57.6, 74.5, 3.8), (57.5, 70, 4.6), (57, 60, 4.8), (56.5, 40, 4.8),
+     [(29, 73, 1.0), (33, 74.2, 3.0), (40, 74.6, 3.0), (50, 75.3, 3.0), (55, 76, 3.0),
+      (56.5, 76.2, -0.3), (57.6, 74.5, 3.5), (57.5, 70, 4.6), (57, 60, 4.8), (56.5, 40, 4.8),
       (56.5, 22, 4.8), (56.5, 13, 5.5), (55, 12, 4.0), (49, 17, 1.8), (46, 20, 0.3)]),
     ("heng-pie", "横撇 short horizontal, square turn, sweep down to the left, tapering",
-     [(17, 56, 1.5), (19, 57, 3.0), (28, 57.4, 2.8), (34, 58, 2.8), (37, 58.4, 1.8),
+     [(17, 56, 1.0), (21, 57.1, 2.8), (28, 57.4, 2.8), (34, 58, 2.8), (37, 58.4, 1.8),
       (38, 57, 3.8), (36, 52, 3.6), (28, 44, 3.2), (20, 35, 2.2), (12, 28, 0.8),
       (9, 26, 0.1)]),
     ("pie", "撇 short left-falling stroke from the upper right, tapering",

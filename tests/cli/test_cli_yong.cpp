@@ -169,17 +169,35 @@ TEST_CASE("yong: the left-falling stroke enters without a ball", "[marks][yong]"
   CHECK(head <= kMaxHeadToBody * body);
 }
 
+TEST_CASE("yong: the long horizontal enters with a head about as wide as its body",
+          "[marks][yong]") {
+  // 横折钩's horizontal comes down travelling its way and presses to its
+  // body's 3 mm over its first 3 mm: its head (its first 4 mm along the line
+  // from (29, 73) to (50, 75.3)) at most kMaxHeadToBody of its body (6 to
+  // 12 mm from where its ink begins, before the turn), the bound of the
+  // entry test in test_cli_marks.cpp. Pressed to 3.2 mm over its first
+  // 1.6 mm, nearly standing, it began with a round knob 1.5 times its body.
+  constexpr double kMaxHeadToBody = 1.35;
+  const std::vector<double> w = yongStrokeWidths(1, 29, 73, 50, 75.3);
+  REQUIRE(w.size() >= 6);
+  const double head = std::max(w[0], w[1]), body = (w[3] + w[4] + w[5]) / 3;
+  INFO("widths (mm) every " << kYongBinMm << " mm:" << yongList(w) << "; head " << head
+                             << ", body " << body);
+  CHECK(head <= kMaxHeadToBody * body);
+}
+
 TEST_CASE("yong: the turn of the horizontal into the long vertical is square", "[marks][yong]") {
   // 横折钩's turn: the horizontal keeps its body's depth to the corner, the
   // brush lifts and presses again down the vertical's way (顿笔), leaving a
   // shoulder, not a lump. The corner's ink may rise above the horizontal's
   // top edge, and stand out right of the vertical's right edge, by at most
-  // kMaxShoulder of that stroke's width; and the vertical's top is not bowed
-  // by hair still trailing from the horizontal: the middle of its ink, row by
-  // row down to y = 30 units, stays within kMaxBow of its width of its median.
+  // kMaxShoulder of the width of the vertical, the stroke whose press makes
+  // the shoulder; and the vertical's top is not bowed by hair still trailing
+  // from the horizontal: the middle of its ink, row by row down to y = 30
+  // units, stays within kMaxBow of its width of its median.
   // Pressed to 4.5 mm as the handle slowed before the turn and 4.6 mm standing
-  // after it, the corner was a lump rising 0.85 of the horizontal's width
-  // above it and 0.85 of the vertical's right of it, and the vertical's top
+  // after it, the corner was a lump rising 0.85 of the vertical's width
+  // above the horizontal and as much right of the vertical, and its top
   // bowed by 0.35 of its width; lifting only to 0.5 mm at the corner bowed it
   // by 0.43.
   constexpr double kMaxShoulder = 0.6, kMaxBow = 0.3;
@@ -210,7 +228,7 @@ TEST_CASE("yong: the turn of the horizontal into the long vertical is square", "
                      << " mm above it; vertical " << v_width << " mm wide, the corner "
                      << corner_right - v_right << " mm right of it; its top bowed by " << bow
                      << " mm");
-  CHECK(corner_top - h_top <= kMaxShoulder * h_width);
+  CHECK(corner_top - h_top <= kMaxShoulder * v_width);
   CHECK(corner_right - v_right <= kMaxShoulder * v_width);
   CHECK(bow <= kMaxBow * v_width);
 }
