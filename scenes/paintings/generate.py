@@ -283,20 +283,37 @@ def petals():
 # hair trails before the press builds (docs/fidelity.md, "Entries and
 # blots"). Pressed deeper than the body while barely moving, the brush
 # leaves a bead of a head about twice the body's width.
+#
+# The pressed belly prints behind the handle (its footprint trails it by
+# 5-8 mm at these presses, docs/fidelity.md "Real brushes"), so a press
+# shows where the hair lies, not where the handle is:
+# - the dot enters light (0.5 mm) and fast and presses only at its end, where
+#   the handle slows into the press (顿) and turns back up as it lifts (回锋),
+#   so that its weight gathers at the blunt lower end;
+# - the turns of 横折钩 and 横撇 are square: the horizontal keeps its body's
+#   depth to the corner, the brush lifts there (off the paper before the
+#   long vertical, so that the hair trailing left along the horizontal does
+#   not bow the vertical's top) and presses again down the next stroke's
+#   way; a press while the handle slows along the horizontal left a lump;
+# - 撇 comes down along its own line and presses to its body's depth over
+#   its first 4 mm, and the horizontals press to theirs over their first
+#   3 mm: pressed over 1.6 mm, nearly standing, they began with round knobs.
 ENTRY_APPROACH_MM = 8.0
 YONG = [
-    ("dot", "点 dot: a short press down to the right, blunt end",
-     [(45, 93, 1.5), (48, 90, 4.0), (52, 86, 5.5), (53, 84.5, 4.0), (52, 84, 1.0)]),
-    ("heng-zhe-gou", "横折钩 horizontal, turn (lift a little, press again), long vertical, "
-     "hook to the left",
-     [(29, 73, 1.5), (31, 74, 3.2), (40, 74.6, 3.0), (50, 75.3, 3.0), (55, 76.5, 4.5),
-      (56.5, 76.5, -0.3), (57.5, 74, 4.6), (57, 60, 4.8), (56.5, 40, 4.8), (56.5, 22, 4.8),
-      (56.5, 13, 5.5), (55, 12, 4.0), (49, 17, 1.8), (46, 20, 0.3)]),
-    ("heng-pie", "横撇 short horizontal, turn, sweep down to the left, tapering",
-     [(17, 56, 1.5), (19, 57, 3.0), (28, 57.4, 2.8), (37, 58.5, 4.0), (38.5, 58, -0.3),
-      (36, 52, 4.0), (28, 44, 3.2), (20, 35, 2.2), (12, 28, 0.8), (9, 26, 0.1)]),
+    ("dot", "点 dot: enters light, pressed at its end, turns back as it lifts: blunt end",
+     [(45, 93, 0.5), (49, 89, 1.5), (52, 86, 3.0), (54, 84, 5.0), (54.5, 83.5, 6.0),
+      (53.5, 84.5, 3.0), (52.5, 85.5, 0.5)]),
+    ("heng-zhe-gou", "横折钩 horizontal, square turn (lift, press down the new way), long "
+     "vertical, hook to the left",
+     [(29, 73, 1.0), (33, 74.2, 3.0), (40, 74.6, 3.0), (50, 75.3, 3.0), (55, 76, 3.0),
+      (56.5, 76.2, -0.3), (57.6, 74.5, 3.5), (57.5, 70, 4.6), (57, 60, 4.8), (56.5, 40, 4.8),
+      (56.5, 22, 4.8), (56.5, 13, 5.5), (55, 12, 4.0), (49, 17, 1.8), (46, 20, 0.3)]),
+    ("heng-pie", "横撇 short horizontal, square turn, sweep down to the left, tapering",
+     [(17, 56, 1.0), (21, 57.1, 2.8), (28, 57.4, 2.8), (34, 58, 2.8), (37, 58.4, 1.8),
+      (38, 57, 3.8), (36, 52, 3.6), (28, 44, 3.2), (20, 35, 2.2), (12, 28, 0.8),
+      (9, 26, 0.1)]),
     ("pie", "撇 short left-falling stroke from the upper right, tapering",
-     [(83, 65, 1.5), (82, 63, 4.0), (77, 58, 3.5), (70, 52, 2.5), (63, 47, 1.0),
+     [(85, 67, 1.5), (81, 62.5, 3.0), (76, 57.5, 3.2), (70, 52, 2.5), (63, 47, 1.0),
       (60, 45.5, 0.2)]),
     ("na", "捺 right-falling stroke, growing heavier, pressed flat, then drawn out",
      [(61, 47, 0.8), (65, 42, 1.8), (71, 34, 2.8), (77, 26, 4.0), (82, 20, 5.5),

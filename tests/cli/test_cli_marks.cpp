@@ -20,6 +20,7 @@
 #include "render/image/png_io.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/mark_png.h"
+#include "tests/cli/scene_render.h"
 #include "tests/support/press_matrix.h"
 
 using namespace bristle;
@@ -269,18 +270,7 @@ Coverage renderCalligraphyEntry(const std::string& name, const TempDir& dir) {
        {{{"brush", sourcePath("scenes/brushes/" + name + ".json")},
          {"trajectory", csv},
          {"paint", {{"paints", {"sumi-ink"}}, {"amount", 1.0}}}}}}};
-  const std::string scene_path = dir.file(name + "-entry.json");
-  std::ofstream(scene_path) << scene.dump();
-  const std::string png = dir.file(name + "-entry.png");
-  const std::string stats = dir.file(name + "-entry-stats.json");
-  const RunResult r =
-      runBristle("render -q '" + scene_path + "' -o '" + png + "' --stats '" + stats + "'");
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  std::ifstream in(stats);
-  const nlohmann::json st = nlohmann::json::parse(in);
-  CHECK(st.at("failed_steps").get<int>() == 0);
-  return loadCoveragePng(png);
+  return renderSceneChecked(scene, dir, name + "-entry");
 }
 
 }  // namespace
