@@ -274,45 +274,10 @@ void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSol
   }
   std::vector<int> order = which;
   if (state_.step % 2 == 1) std::reverse(order.begin(), order.end());
-  sweepSpines(order, trial);
-}
-
-// One Gauss-Seidel sweep converges where the neighbours barely pull on each
-// other; where they do (a wet point's tips held together by cohesion), a
-// spine solved against where its neighbours were is off by as much as they
-// moved after it. So after the first sweep only the spines whose neighbours
-// moved more than volume_sweep_mm since their own solve are solved again, in
-// the same order, until none is left or volume_sweeps sweeps are done: the
-// spines far from the coupled ones are solved once.
-void Simulation::sweepSpines(const std::vector<int>& order, std::vector<SpineSolution>* trial) {
-  const int ns = static_cast<int>(brush_.spines.size());
-  std::vector<std::vector<Eigen::Vector3d>> now(ns);
-  for (int s = 0; s < ns; ++s) now[s] = jointsAt(s, (*trial)[s]);
-  // seen[s]: every spine's joints as spine s was last solved against them.
-  std::vector<std::vector<std::vector<Eigen::Vector3d>>> seen(ns);
-  auto moved = [&](int s) {
-    double most = 0;
-    for (const VolumePair& vp : volume_pairs_) {
-      if (vp.s != s && vp.t != s) continue;
-      const int o = vp.s == s ? vp.t : vp.s;
-      for (size_t j = 0; j < now[o].size(); ++j)
-        most = std::max(most, (now[o][j] - seen[s][o][j]).norm());
-    }
-    return most;
-  };
-  const int sweeps = std::max(1, options_.volume_sweeps);
-  for (int sweep = 0; sweep < sweeps; ++sweep) {
-    bool any = false;
-    for (int s : order) {
-      if (stopped_) return;
-      if (sweep > 0 && moved(s) <= options_.volume_sweep_mm) continue;
-      any = true;
-      seen[s] = now;
-      setVolumeContacts(s, *trial, {});
-      solveGroup({s}, trial, {});
-      now[s] = jointsAt(s, (*trial)[s]);
-    }
-    if (!any) return;
+  for (int s : order) {
+    if (stopped_) return;
+    setVolumeContacts(s, *trial, {});
+    solveGroup({s}, trial, {});
   }
 }
 

@@ -60,13 +60,6 @@ struct SimOptions {
   // (SpineState::moved_mm), the previous step's optimum stands and nothing
   // is solved (docs/dynamics.md, "A brush held still"). 0 solves every step.
   double settled_mm = kSettledMm;
-  // A solver of one spine at a time (SLSQP) sweeps the spines Gauss-Seidel;
-  // where hair volume couples them, each spine whose neighbours moved more
-  // than volume_sweep_mm since it was solved is solved again, for up to
-  // volume_sweeps sweeps in all (docs/dynamics.md, "Sweeping until the
-  // neighbours settle"). 1: one sweep per step.
-  int volume_sweeps = 4;
-  double volume_sweep_mm = 0.01;
 };
 
 struct SpineState {
@@ -316,8 +309,6 @@ class Simulation : private SolveWatch {
   std::vector<Eigen::Vector3d> jointsAt(int s, const SpineSolution& sol);
   void setVolumeContacts(int s, const std::vector<SpineSolution>& trial,
                          const std::vector<char>& group);
-  // SLSQP's Gauss-Seidel sweeps over `order` (SimOptions::volume_sweeps).
-  void sweepSpines(const std::vector<int>& order, std::vector<SpineSolution>* trial);
 };
 
 
