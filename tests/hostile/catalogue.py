@@ -1538,7 +1538,7 @@ case("fit-table-too-few-rows", "two rows past depth 0 for the round's three free
      all_of(brush(), table("depth_mm,width_mm,drag_mm\n0,0,0\n1,2,2\n2,3,3\n")))
 case("fit-table-too-deep", "a 40 mm press for a brush of 20 mm of hair", FIT, 65,
      "m.csv: line 5, column 1 (depth_mm): 40 mm is deeper than 'round' can press: its ferrule "
-     "reaches the paper 20.4 mm past first contact",
+     "reaches the paper 20 mm past first contact",
      all_of(brush(), table(GOOD_TABLE + "40,20,9,3\n")))
 case("fit-params-misspelt", "a `--params` file naming `stifness_scale`",
      FIT + ["--params", "p.json"], 65,
