@@ -273,16 +273,17 @@ class SlsqpSolver : public SpineSolver {
     return true;
   }
 
-  // Whether link l's push or cohesion acts within kBlockNearMm at joints x.
-  static bool linkNear(const VolumeLink& l, const std::vector<std::vector<Eigen::Vector3d>>& x) {
-    // Wider than a pair of joints closes in a step: the round's straight pull
-    // converges as the steps shrink with 0.25 mm (SSIM 0.997 between 0.1 and
-    // 0.05 mm steps), not with 0.05 mm (0.988, under the 0.99 asked by
-    // "marks: paint laid down converges as the steps shrink").
-    constexpr double kBlockNearMm = 0.25;
+  // Wider than a pair of joints closes in a step: the round's straight pull
+  // converges as the steps shrink with 0.25 mm (SSIM 0.997 between 0.1 and
+  // 0.05 mm steps), not with 0.05 mm (0.988, under the 0.99 asked by
+  // "marks: paint laid down converges as the steps shrink").
+  static constexpr double kBlockNearMm = 0.25;
+  // Whether link l's push or cohesion acts within near_mm at joints x.
+  static bool linkNear(const VolumeLink& l, const std::vector<std::vector<Eigen::Vector3d>>& x,
+                       double near_mm) {
     const Eigen::Vector3d d = x[l.a][l.joint] - x[l.b][l.joint];
     const double push_r = l.push_dir.isZero() ? d.norm() : l.push_dir.dot(d);
-    return push_r < l.min_mm + kBlockNearMm || (l.max_mm > 0 && d.norm() > l.max_mm - kBlockNearMm);
+    return push_r < l.min_mm + near_mm || (l.max_mm > 0 && d.norm() > l.max_mm - near_mm);
   }
 
   // Every spine's joints at the given angles.
@@ -298,12 +299,13 @@ class SlsqpSolver : public SpineSolver {
     return x;
   }
 
-  // Marks in joined_ the links held apart that act at the results; true if any.
+  // Marks in joined_ the links held apart that act at the results (where the
+  // held contact and the link part ways); true if any.
   bool joinActed(std::span<const SpineProblem* const> problems, std::span<const VolumeLink> links) {
     const auto x = blockJoints(problems, [&](size_t s) { return results_[s].q.data(); });
     bool any = false;
     for (size_t i = 0; i < links.size(); ++i)
-      if (!joined_[i] && linkNear(links[i], x)) joined_[i] = any = true;
+      if (!joined_[i] && linkNear(links[i], x, 0.0)) joined_[i] = any = true;
     return any;
   }
 
@@ -327,7 +329,7 @@ class SlsqpSolver : public SpineSolver {
     std::vector<std::vector<Eigen::Vector3d>> x;
     if (!links.empty()) x = blockJoints(problems, [&](size_t s) { return starts[s]->q.data(); });
     for (size_t i = 0; i < links.size(); ++i) {
-      if (!joined_[i]) joined_[i] = linkNear(links[i], x);
+      if (!joined_[i]) joined_[i] = linkNear(links[i], x, kBlockNearMm);
       if (joined_[i]) root[find(links[i].a)] = find(links[i].b);
     }
     std::vector<std::vector<int>> blocks;

@@ -140,7 +140,7 @@ struct SlsqpSettings {
   double active_mm = 1e-6;            // joints this close to the canvas may carry force
   // Brushes of up to this many spines solve their hair volume as one block;
   // larger ones one spine at a time. The block's dense QP costs about the cube
-  // of its angles: the round (7 spines) takes 7-12 times the CPU of its sweep
+  // of its angles: the round (7 spines) takes 8-13 times the CPU of its sweep
   // (docs/PERFORMANCE.md, "SLSQP's block solve"); the badger's 15 would take
   // about 8 times that again.
   int max_block_spines = 8;

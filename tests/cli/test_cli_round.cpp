@@ -146,7 +146,7 @@ TEST_CASE("marks: the round pressed straight down leaves one blot with no speck"
   CHECK(b.fill >= 0.85);
   // Not a streak: the belly laid over to one side gives a blot about twice
   // as long as wide; a round blot is 1. Both solvers' converged states lay it
-  // so (SLSQP's block solve 2.00, Ipopt 1.98, docs/fidelity.md), so this asks
+  // so (SLSQP's block solve 1.93, Ipopt 1.98, docs/fidelity.md), so this asks
   // only that it stays under 2.2, a blot and not a streak.
   constexpr double kMaxRatio = 2.2;
   CHECK(ratio <= kMaxRatio);
