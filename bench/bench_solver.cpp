@@ -150,7 +150,7 @@ class TimedSolver : public SpineSolver {
     *total_s_ += seconds(t0, Clock::now());
     return s;
   }
-  bool couplesSpines() const override { return inner_->couplesSpines(); }
+  bool couplesSpines(int spines) const override { return inner_->couplesSpines(spines); }
   bool wantsPredictedStart() const override { return inner_->wantsPredictedStart(); }
   void setWatch(SolveWatch* watch) override { inner_->setWatch(watch); }
   const char* name() const override { return inner_->name(); }

@@ -126,10 +126,11 @@ void Simulation::setVolumeContacts(int s, const std::vector<SpineSolution>& tria
   p.volume.clear();
   p.volume_stiffness_n_per_mm = brush_.volume.stiffness_n_per_mm;
   p.cohesion_n_per_mm = brush_.volume.max_separation > 0 ? brush_.volume.cohesion_n_per_mm : 0.0;
-  // Pushes are held along a direction for Newton's method (VolumeLink); SLSQP
-  // builds its own positive definite Hessian and keeps the joints' own line
-  // (docs/dynamics.md, "The push's direction is held for a step").
-  const bool hold = solver_->couplesSpines();
+  // Pushes are held along a direction for a solver of the coupled spines
+  // (VolumeLink), so that its neighbours outside the group push as its links
+  // do; one spine at a time keeps the joints' own line (docs/dynamics.md,
+  // "The push's direction is held for a step").
+  const bool hold = solver_->couplesSpines(static_cast<int>(brush_.spines.size()));
   for (const VolumePair& vp : volume_pairs_) {
     if (vp.s != s && vp.t != s) continue;
     const int other = vp.s == s ? vp.t : vp.s;
@@ -233,10 +234,11 @@ void Simulation::setFriction(int s, const std::vector<bool>& sliding,
 }
 
 // Hair volume couples the spines. A solver that takes the whole brush as one NLP
-// (Ipopt) gets every neighbour pair within `which` as links and solves them
+// (Ipopt; SLSQP up to SlsqpSettings::max_block_spines) gets every neighbour pair
+// within `which` as links and solves them
 // together, each pair's push held along its direction where the solve starts
 // (VolumeLink); a neighbour outside `which` is held where it is. A solver
-// of one spine at a time (SLSQP) solves them in turn, each against its
+// of one spine at a time solves them in turn, each against its
 // neighbours as last solved (Gauss-Seidel), the order reversed every step so
 // that no side of the brush always goes first.
 void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSolution>* trial) {
@@ -245,7 +247,7 @@ void Simulation::solveSpines(const std::vector<int>& which, std::vector<SpineSol
     return;
   }
   const int ns = static_cast<int>(brush_.spines.size());
-  if (solver_->couplesSpines()) {
+  if (solver_->couplesSpines(ns)) {
     // Where every spine's joints are as the solves start: the pushes' held
     // directions (VolumeLink), for the links and for the neighbours held
     // where they are alike.

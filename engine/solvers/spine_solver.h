@@ -76,6 +76,7 @@ class SpineSolver {
   // on entry and the result on exit (unchanged if the summary is not usable).
   // `links` couple the problems' energies (hair volume); only a solver whose
   // couplesSpines() is true takes them, any other fails the solve when given some.
+  // Without links the problems are independent.
   virtual SolveSummary solve(std::span<const SpineProblem* const> problems,
                              std::span<SpineSolution* const> solutions,
                              std::span<const VolumeLink> links) = 0;
@@ -84,8 +85,11 @@ class SpineSolver {
     return solve(problems, solutions, {});
   }
   // True when solve() minimises the problems' energies and the links' as one
-  // NLP. Otherwise hair volume is solved one spine at a time (Gauss-Seidel).
-  virtual bool couplesSpines() const { return false; }
+  // NLP for a brush of `spines` spines (Ipopt at any size; SLSQP as one dense
+  // block up to SlsqpSettings::max_block_spines). Otherwise hair volume is
+  // solved one spine at a time (Gauss-Seidel), which does not converge in one
+  // sweep where the spines press on each other (docs/dynamics.md).
+  virtual bool couplesSpines(int /*spines*/) const { return false; }
   // True when the solver gains from a start that puts stuck joints back on
   // their anchors (Simulation's predicted start, docs/dynamics.md "Where a
   // solve starts"): an interior-point method does; SLSQP, whose quasi-Newton
@@ -115,13 +119,16 @@ std::unique_ptr<SpineSolver> makeIpoptSolver(const IpoptSettings& settings = {})
 
 namespace bristle {
 
-// NLopt SLSQP backend (docs/design.md, "Solver notes"): one dense SQP per spine, with
-// the spine energy's gradient only (no Hessian). NLopt returns no multipliers:
+// NLopt SLSQP backend (docs/design.md, "Solver notes"): one dense SQP per spine, or
+// one for all the spines when hair volume links them (docs/dynamics.md, "SLSQP
+// solves the coupled spines as one block"), with the energy's gradient only
+// (no Hessian). NLopt returns no multipliers:
 // normal forces come from the KKT conditions over the joints on the canvas.
 // Its SolveSummary::iterations counts energy evaluations; its status is
 // kAcceptable for NLopt's ROUNDOFF_LIMITED at a point on the canvas.
 struct SlsqpSettings {
-  int max_evaluations = 200;          // objective evaluations per spine (~9 dragging)
+  int max_evaluations = 200;          // objective evaluations per spine (~9 dragging);
+                                      // a block of k spines may take k times as many
   // Stop when a line search changes E by less (N mm). SLSQP's quasi-Newton
   // Hessian starts at identity every solve and can take a step of tiny progress
   // well before the optimum: at 1e-10 it stopped up to 1.4e-3 mm short of
@@ -131,6 +138,12 @@ struct SlsqpSettings {
   double constraint_tol_mm = 1e-10;   // NLopt's feasibility tolerance on z_j >= 0
   double feasibility_tol_mm = 1e-6;   // a result deeper below the canvas fails
   double active_mm = 1e-6;            // joints this close to the canvas may carry force
+  // Brushes of up to this many spines solve their hair volume as one block;
+  // larger ones one spine at a time. The block's dense QP costs about the cube
+  // of its angles: the round (7 spines) takes 8-13 times the CPU of its sweep
+  // (docs/PERFORMANCE.md, "SLSQP's block solve"); the badger's 15 would take
+  // about 8 times that again.
+  int max_block_spines = 8;
 };
 // Throws bristle::Error(kUsage) naming a setting that is out of range.
 std::unique_ptr<SpineSolver> makeSlsqpSolver(const SlsqpSettings& settings = {});

@@ -130,7 +130,12 @@ def volume(tip_spread):
 
 def round_brush():
     lengths, K, D = [6.0, 5.5, 5.0, 3.5], [30.0, 12.0, 3.0, 0.8], [0.008, 0.006, 0.005, 0.004]
-    sp = [spine([0, 0, 0], lengths, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0]],
+    # The six outer spines converge to the point; the centre one stands for the
+    # belly's core and ends 1 mm inside it, so that it never stands on its own
+    # tip ahead of theirs as the hair springs back at lift-off, nor props the
+    # pressed point up on one side (docs/fidelity.md, "Artefacts").
+    centre = lengths[:-1] + [lengths[-1] - 1.0]
+    sp = [spine([0, 0, 0], centre, K, D, [[0.03, 0.0], [0, 0], [0, 0], [0, 0]],
                 [3.2, 3.6, 3.2, 2.4, 0.8])]
     for k in range(6):
         a = math.pi / 6 + k * math.pi / 3

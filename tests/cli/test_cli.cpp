@@ -273,8 +273,8 @@ TEST_CASE("render: a trajectory that never touches the canvas gives a blank imag
 TEST_CASE("render: failed solves are counted, traced and reported, and the run goes on", "[cli]") {
   TempDir dir;
   const std::string trace = dir.file("t.jsonl");
-  // The press-lift's first 0.5 s: the round (first contact at 20.4 mm) comes
-  // 2.4 mm past first contact, 14 planned steps on the paper, going down.
+  // The press-lift's first 0.5 s: the round (first contact at 20.0 mm) comes
+  // 2 mm past first contact, a dozen planned steps on the paper, going down.
   // Each failed step gets every rescue (a re-centred start, the spines alone
   // with each solver, halves), dozens of solves: the whole press-lift, 130
   // steps on the paper, shows nothing more for ten times the time.

@@ -549,14 +549,14 @@ case("traj-depth-nan", "a press depth of nan", ["validate", "t.csv"], 65,
                 "0,15,40,-2,1,0,0,0\n1,15,40,nan,1,0,0,0\n"))
 case("traj-depth-through-ferrule", "a press depth that puts the ferrule into the paper",
      render(), 65,
-     "t.csv: line 4: the ferrule goes below the canvas (spine 0 root at z = -6.284 mm); z must "
+     "t.csv: line 4: the ferrule goes below the canvas (spine 0 root at z = -6.658 mm); z must "
      "stay >= 0 (depth_mm = 25 presses 'round' too deep)",
      all_of(brush(), trajectory(text="# bristle-trajectory/1\n" + DEPTH_HEADER + "\n" +
                                 "".join(",".join(str(v) for v in r) + "\n"
                                         for r in [[0, 15, 40, -2, *REST], [1, 15, 40, 25, *REST]]))))
 case("traj-depth-starts-pressed", "a depth trajectory that starts pressed into the paper",
      ["validate", "b.json", "t.csv"], 65,
-     "t.csv: line 3: the brush starts below the canvas (spine 0 joint 4 at z = -1.6 mm at rest, its lowest); "
+     "t.csv: line 3: the brush starts below the canvas (spine 1 joint 4 at z = -1.75 mm at rest, its lowest); "
      "start the trajectory with the hairs above z = 0 (a negative depth_mm, here 2)",
      all_of(brush(), trajectory(text="# bristle-trajectory/1\n" + DEPTH_HEADER + "\n"
                                 "0,15,40,2,1,0,0,0\n1,15,40,-3,1,0,0,0\n")))
@@ -1538,7 +1538,7 @@ case("fit-table-too-few-rows", "two rows past depth 0 for the round's three free
      all_of(brush(), table("depth_mm,width_mm,drag_mm\n0,0,0\n1,2,2\n2,3,3\n")))
 case("fit-table-too-deep", "a 40 mm press for a brush of 20 mm of hair", FIT, 65,
      "m.csv: line 5, column 1 (depth_mm): 40 mm is deeper than 'round' can press: its ferrule "
-     "reaches the paper 20.4 mm past first contact",
+     "reaches the paper 20 mm past first contact",
      all_of(brush(), table(GOOD_TABLE + "40,20,9,3\n")))
 case("fit-params-misspelt", "a `--params` file naming `stifness_scale`",
      FIT + ["--params", "p.json"], 65,

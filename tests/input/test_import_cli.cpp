@@ -223,7 +223,7 @@ TEST_CASE("import cli: the real recording's paint follows the pen", "[import][cl
 
 TEST_CASE("import cli: more pressure paints a wider stroke with the round", "[import][cli]") {
   // One straight SVG line, 40 mm along x, drawn at a constant pressure: 0.3,
-  // then 0.8 (the depth 0.4 x 20.4 mm x p: 2.4 mm, then 6.5 mm past first
+  // then 0.8 (the depth 0.4 x 20.0 mm x p: 2.4 mm, then 6.4 mm past first
   // contact).
   TempDir dir;
   const std::string svg = dir.write(

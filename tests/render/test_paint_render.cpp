@@ -566,7 +566,7 @@ class BreakingSolver : public SpineSolver {
     if (++solves_ == breaks_at_) throw std::runtime_error("the solver broke");
     return inner_->solve(problems, solutions, links);
   }
-  bool couplesSpines() const override { return inner_->couplesSpines(); }
+  bool couplesSpines(int spines) const override { return inner_->couplesSpines(spines); }
   bool wantsPredictedStart() const override { return inner_->wantsPredictedStart(); }
   void setWatch(SolveWatch* watch) override { inner_->setWatch(watch); }
   const char* name() const override { return inner_->name(); }
@@ -589,7 +589,7 @@ class CountingSolver : public SpineSolver {
     *iterations_ += s.iterations;
     return s;
   }
-  bool couplesSpines() const override { return inner_->couplesSpines(); }
+  bool couplesSpines(int spines) const override { return inner_->couplesSpines(spines); }
   bool wantsPredictedStart() const override { return inner_->wantsPredictedStart(); }
   void setWatch(SolveWatch* watch) override { inner_->setWatch(watch); }
   const char* name() const override { return inner_->name(); }

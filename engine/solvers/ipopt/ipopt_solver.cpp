@@ -570,7 +570,7 @@ class IpoptSolver : public SpineSolver {
 
   const char* name() const override { return "ipopt"; }
 
-  bool couplesSpines() const override { return true; }
+  bool couplesSpines(int) const override { return true; }
   bool wantsPredictedStart() const override { return true; }
 
   // Solvers never throw (engine/solvers/spine_solver.h): what throws in a solve (an

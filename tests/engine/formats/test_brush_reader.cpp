@@ -88,12 +88,14 @@ TEST_CASE("round.json parses with the values in the file", "[readers]") {
   REQUIRE(b.spines.size() == 7);
   for (const SpineSpec& s : b.spines) {
     REQUIRE(s.jointCount() == 4);
-    CHECK(s.segment_lengths_mm == std::vector<double>{6.0, 5.5, 5.0, 3.5});
+    // The centre spine (the first) ends 1 mm inside the outer spines' point.
+    const bool centre = &s == &b.spines.front();
+    CHECK(s.segment_lengths_mm == std::vector<double>{6.0, 5.5, 5.0, centre ? 2.5 : 3.5});
     CHECK(s.stiffness_nmm_per_rad == std::vector<double>{30.0, 12.0, 3.0, 0.8});
     CHECK(s.damping_nmm == std::vector<double>{0.008, 0.006, 0.005, 0.004});
     CHECK(s.rest_angles_rad.size() == 4);
     CHECK(s.width_mm.size() == 5);
-    CHECK(s.lengthMm() == Approx(20.0));
+    CHECK(s.lengthMm() == Approx(centre ? 19.0 : 20.0));
   }
   CHECK(b.spines[0].root_mm == Eigen::Vector3d(0, 0, 0));
   CHECK(b.spines[0].rest_angles_rad[0] == Eigen::Vector2d(0.03, 0.0));

@@ -99,9 +99,9 @@ TEST_CASE("a brush whose spines and surface differ in size tenfold is named", "[
   CHECK(brushScaleWarning(scaledRound(1, 1)).empty());
   // Spines in metres, the surface in millimetres.
   CHECK(brushScaleWarning(scaledRound(1, 0.001)) ==
-        "b.json: /spines span 0.02 mm but /surface/cage_vertices_mm spans 20.1 mm (1006 times "
+        "b.json: /spines span 0.02 mm but /surface/cage_vertices_mm spans 19.9 mm (996 times "
         "larger); both are in mm: were they written in different units?");
   CHECK(brushScaleWarning(scaledRound(0.001, 1)) ==
-        "b.json: /spines span 20 mm but /surface/cage_vertices_mm spans 0.0201 mm (994 times "
+        "b.json: /spines span 20 mm but /surface/cage_vertices_mm spans 0.0199 mm (1004 times "
         "smaller); both are in mm: were they written in different units?");
 }

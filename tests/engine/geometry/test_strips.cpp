@@ -296,7 +296,10 @@ TEST_CASE("at rest every strip lies on the segment field of its spines", "[strip
   const BrushState st = restState(round, pose);
   std::vector<BrushVertex> tris;
   buildStrips(round, l, st, &tris);
-  REQUIRE(l.samples() == 5);  // round: four equal-proportion segments per spine
+  // round: four segments per spine, the centre one's (6, 5.5, 5, 2.5 mm) in
+  // other proportions than the outer ones' (6, 5.5, 5, 3.5): the union of
+  // their breakpoints along the hair, 8 samples.
+  REQUIRE(l.samples() == 8);
   REQUIRE(tris.size() == 3 * static_cast<size_t>(2 * (l.samples() - 1) * l.count));
   // No bend at rest, whatever the handle pose: layout order.
   CHECK(stripBendDirection(l, st).norm() < kStripBendEpsMm);

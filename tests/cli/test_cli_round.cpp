@@ -1,0 +1,153 @@
+// The round's marks where its hair meets the paper on end (docs/fidelity.md,
+// "Artefacts of the marks"): a stroke that lifts off leaves no disc ahead of
+// its end, and the round pressed straight down leaves one blot with no speck
+// beside it. Rendered end to end by the bristle executable with each solver
+// and measured on the PNG (tests/support/mark_measure.h).
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "cli_runner.h"
+#include "tests/support/mark_measure.h"
+#include "tests/support/mark_png.h"
+
+using namespace bristle::testing;
+using namespace bristle::testsupport;
+
+namespace {
+
+// The SVG line of docs/input.md pulled by `bristle import` (upright, 40 mm/s,
+// pressed `depth_frac` of the hair, lifted where the line ends): it lands at
+// (10, 10) and lifts off at (40, 10) in canvas mm, on a canvas whose corner
+// is the origin.
+constexpr double kLiftXMm = 40, kLiftYMm = 10;
+
+// The mean ink of the half annulus kAheadFromMm..kAheadToMm ahead (x > the
+// lift-off point) of where the handle lifted: past the tapering end's last
+// pixels (its tip ends under the handle) and within the 2.5 mm disc the
+// centre spine laid when it stood on its own tip there.
+constexpr double kAheadFromMm = 0.6, kAheadToMm = 1.5;
+double roundInkAhead(const Coverage& img) {
+  double sum = 0;
+  int n = 0;
+  for (int r = 0; r < img.h; ++r)
+    for (int c = 0; c < img.w; ++c) {
+      const double x = img.x0_mm + (c + 0.5) / img.px_per_mm;
+      const double y = img.y0_mm + (img.h - r - 0.5) / img.px_per_mm;
+      const double d = std::hypot(x - kLiftXMm, y - kLiftYMm);
+      if (x <= kLiftXMm || d < kAheadFromMm || d > kAheadToMm) continue;
+      sum += img.at(c, r);
+      ++n;
+    }
+  return n > 0 ? sum / n : 0.0;
+}
+
+Coverage renderRoundLift(const std::string& solver, double depth_frac, const TempDir& dir) {
+  const std::string svg = dir.file("line.svg"), csv = dir.file("line.csv");
+  std::ofstream(svg) << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"60mm\" height=\"30mm\" "
+                        "viewBox=\"0 0 60 30\"><path d=\"M 10 15 L 40 15\"/></svg>\n";
+  const RunResult imp = runBristle("import -q '" + svg + "' -o '" + csv + "' --brush '" + kRound +
+                                   "' --max-depth-frac " + std::to_string(depth_frac));
+  INFO(imp.err);
+  REQUIRE(imp.code == 0);
+  const nlohmann::json scene = {
+      {"format", "bristle-scene/1"},
+      {"name", "lift-off"},
+      {"canvas", {{"size_mm", {60, 25}}, {"px_per_mm", 8}}},
+      {"solver", solver},
+      {"strokes",
+       {{{"brush", kRound}, {"trajectory", csv}, {"paint", {{"paints", {"#1a1e2e"}}, {"amount", 1.0}}}}}}};
+  const std::string scene_path = dir.file("lift.json"), png = dir.file("lift.png");
+  std::ofstream(scene_path) << scene.dump();
+  const RunResult r = runBristle("render -q '" + scene_path + "' -o '" + png + "'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  return loadCoveragePng(png);
+}
+
+// Principal axes of the inked pixels: the ratio of the long one to the short
+// one (sqrt of the covariance's eigenvalues), 1 for a disc, 2 for an ellipse
+// twice as long as it is wide.
+double roundAxisRatio(const Coverage& img, double threshold) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (int r = 0; r < img.h; ++r)
+    for (int c = 0; c < img.w; ++c) {
+      if (img.at(c, r) <= threshold) continue;
+      n += 1;
+      sx += c;
+      sy += r;
+      sxx += double(c) * c;
+      syy += double(r) * r;
+      sxy += double(c) * r;
+    }
+  if (n < 2) return 0;
+  const double a = sxx / n - sx * sx / n / n, b = syy / n - sy * sy / n / n,
+               cxy = sxy / n - sx * sy / n / n;
+  const double mid = (a + b) / 2, half = std::sqrt((a - b) * (a - b) / 4 + cxy * cxy);
+  return mid - half > 0 ? std::sqrt((mid + half) / (mid - half)) : 0;
+}
+
+}  // namespace
+
+TEST_CASE("marks: no disc after lift-off: a round pulled and lifted leaves nothing ahead of its end",
+          "[marks][round]") {
+  const std::string solver = GENERATE("slsqp", "ipopt");
+  INFO(solver);
+  TempDir dir;
+  // Pressed from 0.3 to 0.45 of the hair: whether a lifting tip lands ahead
+  // of the others turns on the press, so one depth alone could pass by luck.
+  const double depths[] = {0.3, 0.35, 0.4, 0.45};
+  double sum = 0, most = 0;
+  for (double f : depths) {
+    const Coverage img = renderRoundLift(solver, f, dir);
+    const double ahead = roundInkAhead(img);
+    INFO("pressed " << f << " of the hair: ink ahead of the lift-off " << ahead);
+    CHECK(inkedPixels(img) > 1000);  // the line itself was painted
+    sum += ahead;
+    most = std::max(most, ahead);
+  }
+  const double mean = sum / std::size(depths);
+  INFO("mean " << mean << ", most " << most);
+  // The disc the centre spine laid standing on its own tip averaged 0.12-0.17
+  // there at every depth with SLSQP (mean 0.15) and 0.16-0.19 at three of
+  // the four with Ipopt (mean 0.13); a clean end tapers under the handle and
+  // leaves 0. Asked: a mean of at most 0.03, a fifth of the disc's, and no
+  // depth over 0.1, under the smallest disc measured (Ipopt still leaves a
+  // 0.6 mm dot at 0.4 of the hair, 0.08: docs/fidelity.md).
+  constexpr double kMaxMeanInkAhead = 0.03, kMaxInkAhead = 0.1;
+  CHECK(mean <= kMaxMeanInkAhead);
+  CHECK(most <= kMaxInkAhead);
+}
+
+TEST_CASE("marks: the round pressed straight down leaves one blot with no speck", "[marks][round]") {
+  const std::string solver = GENERATE("slsqp", "ipopt");
+  INFO(solver);
+  TempDir dir;
+  const std::string png = dir.file("press.png"), stats = dir.file("press.json");
+  const RunResult r = runBristle("render -q --solver " + solver + " --brush '" + kRound +
+                                 "' --trajectory '" + sourcePath("scenes/trajectories/press-lift.csv") +
+                                 "' -o '" + png + "' --stats '" + stats + "'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(std::ifstream(stats)).at("failed_steps").get<int>() == 0);
+  const Coverage img = loadCoveragePng(png);
+  // Every inked component counts (no speck allowance): a satellite is one.
+  const BlotStats b = blotStats(img, 0.1, 1);
+  const double ratio = roundAxisRatio(img, 0.1);
+  INFO("components " << b.components << ", fill " << b.fill << ", axis ratio " << ratio);
+  CHECK(b.components == 1);
+  // Filled: the acceptance figure of "a straight press-and-lift leaves one
+  // filled blot".
+  CHECK(b.fill >= 0.85);
+  // Not a streak: the belly laid over to one side gives a blot about twice
+  // as long as wide; a round blot is 1. Both solvers' converged states lay it
+  // so (SLSQP's block solve 1.93, Ipopt 1.98, docs/fidelity.md), so this asks
+  // only that it stays under 2.2, a blot and not a streak.
+  constexpr double kMaxRatio = 2.2;
+  CHECK(ratio <= kMaxRatio);
+}
