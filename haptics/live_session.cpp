@@ -28,8 +28,14 @@ class SimThread {
  public:
   SimThread(const Brush& brush, const LiveOptions& options, ServoLoop* servo)
       : brush_(brush), options_(options), servo_(servo) {
-    SolverPair solvers =
-        makeSolverPair({options.solver, kDefaultSolverMaxIterations, {}}, brush);
+    // SLSQP sweeps the spines one at a time here: its block solve of the
+    // spines hair volume couples takes the round 8-13 times the CPU
+    // (docs/PERFORMANCE.md, "SLSQP's block solve"), and a live session must
+    // keep its sim rate (paper §5: 30-60 Hz) more than it must converge the
+    // belly's pushes within each frame.
+    SolverSettings settings{options.solver, kDefaultSolverMaxIterations, {}};
+    settings.slsqp_max_block_spines = 0;
+    SolverPair solvers = makeSolverPair(settings, brush);
     sim_ = std::make_unique<Simulation>(brush, options.sim, std::move(solvers.primary),
                                         std::move(solvers.fallback));
     WalkOptions walk;

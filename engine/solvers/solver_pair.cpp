@@ -18,6 +18,7 @@ SolverPair makeSolverPair(const SolverSettings& settings) {
   ipopt.extra_options = settings.ipopt_options;
   SlsqpSettings slsqp;
   slsqp.max_evaluations = settings.max_iterations;
+  slsqp.max_block_spines = settings.slsqp_max_block_spines;
   SolverPair pair{makeIpoptSolver(ipopt), makeSlsqpSolver(slsqp)};
   if (settings.kind == SolverKind::kSlsqp) std::swap(pair.primary, pair.fallback);
   return pair;

@@ -33,6 +33,11 @@ struct SolverSettings {
   int max_iterations = kDefaultSolverMaxIterations;
   // Further Ipopt options (IpoptSettings::extra_options), whichever is primary.
   std::vector<std::pair<std::string, std::string>> ipopt_options;
+  // SlsqpSettings::max_block_spines: the largest brush whose coupled spines
+  // SLSQP solves as one block. 0 sweeps one spine at a time, for a run that
+  // must keep a real-time rate rather than converge the hair volume
+  // (haptics/live_session.cpp).
+  int slsqp_max_block_spines = SlsqpSettings{}.max_block_spines;
 };
 
 struct SolverPair {

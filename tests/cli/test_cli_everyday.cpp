@@ -352,9 +352,10 @@ TEST_CASE("validate BRUSH TRAJ refuses the pair render refuses, with the same me
   CHECK(validate.code == 65);
   CHECK_THAT(render.err, StartsWith("bristle: low.csv: line 3: the brush starts below the canvas"));
   // It names the joint to raise the start past, the lowest: upright at 5 mm,
-  // the tip of the round's longest (centre) spine, 20 mm of hair below the
-  // ferrule, not the first joint found under the paper (joint 1 at -1 mm).
-  CHECK_THAT(render.err, Contains("(spine 0 joint 4 at z = -14.99 mm at rest, its lowest)"));
+  // the tip of an outer spine of the round, 19.8 mm of hair below the ferrule
+  // (its centre spine ends 1 mm inside the point), not the first joint found
+  // under the paper (joint 1 at -1 mm).
+  CHECK_THAT(render.err, Contains("(spine 1 joint 4 at z = -14.79 mm at rest, its lowest)"));
   CHECK(validate.err == render.err);
   // Each file alone is fine; only the pair is refused.
   CHECK(runShell(d, b + " validate round").code == 0);
