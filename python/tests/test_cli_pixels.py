@@ -59,9 +59,9 @@ def test_arrays_equal_to_the_csv_render_the_clis_pixels(tmp_path):
     t = bristle.Trajectory(col["t_s"], np.stack([col["x_mm"], col["y_mm"], col["z_mm"]], 1),
                            np.stack([col["qw"], col["qx"], col["qy"], col["qz"]], 1))
     cli = cli_render(tmp_path, ["--brush", "round", "--trajectory", str(csv),
-                                "--px-per-mm", "2", "--solver", "slsqp", "--load", "tip",
+                                "--px-per-mm", "2", "--load", "tip",
                                 "--paint", "burnt-umber,cadmium-red"])
-    img = bristle.render(bristle.Brush("round"), t, px_per_mm=2, solver="slsqp", load="tip",
+    img = bristle.render(bristle.Brush("round"), t, px_per_mm=2, load="tip",
                          paint="burnt-umber,cadmium-red")
     ok, said = same_pixels(tmp_path, cli, img)
     assert ok, said
@@ -78,9 +78,8 @@ def test_recordings_load_with_a_brush_and_render_the_clis_pixels(tmp_path):
         path = os.path.join(SOURCE_DIR, "scenes", "recordings", name)
         with pytest.warns(bristle.RecordingWarning, match=note):
             t = bristle.Trajectory.load(path, brush)
-        cli = cli_render(tmp_path, ["--brush", "round", "--trajectory", path, "--px-per-mm", "2",
-                                    "--solver", "slsqp"])
-        img = bristle.render(brush, t, px_per_mm=2, solver="slsqp")
+        cli = cli_render(tmp_path, ["--brush", "round", "--trajectory", path, "--px-per-mm", "2"])
+        img = bristle.render(brush, t, px_per_mm=2)
         ok, said = same_pixels(tmp_path, cli, img)
         assert ok, f"{name}: {said}"
 
@@ -103,7 +102,6 @@ def test_a_scene_renders_the_clis_pixels(tmp_path):
     scene = {
         "format": "bristle-scene/1", "name": "crossing",
         "canvas": {"size_mm": [40, 30], "px_per_mm": 3},
-        "solver": "slsqp",
         "strokes": [
             {"brush": brush, "trajectory": str(short), "paint": {"paints": ["ultramarine"]},
              "placement": {"offset_mm": [0, -5]}},  # y = 15, x 12 to 21

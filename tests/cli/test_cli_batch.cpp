@@ -55,7 +55,7 @@ json manifest(const TempDir& dir, int n) {
                     {"trajectory", traj}});
   }
   return {{"format", "bristle-batch/1"},
-          {"defaults", {{"options", {{"solver", "slsqp"}, {"px-per-mm", 4}}}}},
+          {"defaults", {{"options", {{"solver", "ipopt"}, {"px-per-mm", 4}}}}},
           {"jobs", jobs}};
 }
 
@@ -357,7 +357,7 @@ TEST_CASE("batch: a sheet job is keyed by every file the sheet reads", "[cli][ba
                       {"brushes", {kRound}},
                       {"trajectories", {"a.csv", "b.csv"}},
                       {"px_per_mm", 4},
-                      {"solver", "slsqp"}};
+                      {"solver", "ipopt"}};
   dir.write("tiny.json", sheet.dump());
   const json m = {{"format", "bristle-batch/1"},
                   {"jobs", {{{"id", "tiny"}, {"sheet", "tiny.json"}}}}};
@@ -511,7 +511,7 @@ TEST_CASE("batch: the demo's manifest resolves, and a second run renders nothing
   // each trajectory and a 1 x 1 sheet for each sheet.
   dir.write("dab.csv", dab(2));
   const json sheet = {{"format", "bristle-sheet/1"}, {"name", "quick"}, {"brushes", {kRound}},
-                      {"trajectories", {"dab.csv"}}, {"px_per_mm", 4}, {"solver", "slsqp"}};
+                      {"trajectories", {"dab.csv"}}, {"px_per_mm", 4}, {"solver", "ipopt"}};
   dir.write("quick-sheet.json", sheet.dump());
   std::set<std::string> shapes;
   json jobs = json::array();
@@ -561,7 +561,7 @@ TEST_CASE("render --batch-key: the PNG carries the key, and the pixels and --hel
           "[cli][batch]") {
   TempDir d;
   const std::string traj = d.write("dab.csv", dab(2));
-  const std::string options = " --px-per-mm 4 --solver slsqp -q -o '";
+  const std::string options = " --px-per-mm 4 --solver ipopt -q -o '";
   REQUIRE(runBristle("render --brush round --trajectory '" + traj + "'" + options +
                      d.file("k.png") + "' --batch-key 0123456789abcdef")
               .code == 0);
@@ -591,7 +591,7 @@ TEST_CASE("batch: a scene job renders, with and without the scene options a job 
   const json scene = {{"format", "bristle-scene/1"},
                       {"name", "one dab"},
                       {"canvas", {{"size_mm", {40, 40}}, {"px_per_mm", 4}}},
-                      {"solver", "slsqp"},
+                      {"solver", "ipopt"},
                       {"strokes",
                        {{{"brush", kRound},
                          {"trajectory", "dab.csv"},

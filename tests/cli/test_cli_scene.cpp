@@ -39,7 +39,7 @@ json crossingScene() {
             {"canvas", {{"size_mm", {80, kHeightMm}}, {"px_per_mm", kPxPerMm},
                         {"background", "#f5f1e6"}}},
             {"sim", {{"rate_hz", 60}, {"max_step_mm", 0.5}}},
-            {"solver", "slsqp"}};
+            {"solver", "ipopt"}};
   s["strokes"] = json::array();
   s["strokes"].push_back({{"brush", kRound}, {"trajectory", kPull},
                           {"paint", {{"paints", {"cadmium-red"}}}}});
@@ -294,20 +294,20 @@ TEST_CASE("a scene, a sheet and a render that name no paper colour share one pap
   const json scene = {{"format", "bristle-scene/1"},
                       {"name", "dab"},
                       {"canvas", {{"size_mm", {40, 40}}, {"px_per_mm", 2}}},
-                      {"solver", "slsqp"},
+                      {"solver", "ipopt"},
                       {"strokes",
                        {{{"brush", kRound},
                          {"trajectory", "dab.csv"},
                          {"paint", {{"paints", {"#1c2433"}}}}}}}};
   const json sheet = {{"format", "bristle-sheet/1"}, {"name", "dab"},
                       {"brushes", {kRound}},       {"trajectories", {"dab.csv"}},
-                      {"px_per_mm", 2},            {"solver", "slsqp"}};
+                      {"px_per_mm", 2},            {"solver", "ipopt"}};
   const std::string q = " -q -o '";
   REQUIRE(runBristle("render '" + dir.write("s.json", scene.dump()) + "'" + q +
                      dir.file("scene.png") + "'").code == 0);
   REQUIRE(runBristle("sheet '" + dir.write("sh.json", sheet.dump()) + "'" + q +
                      dir.file("sheet.png") + "'").code == 0);
-  REQUIRE(runBristle("render --solver slsqp --px-per-mm 2 --brush '" + kRound +
+  REQUIRE(runBristle("render --solver ipopt --px-per-mm 2 --brush '" + kRound +
                      "' --trajectory '" + dir.file("dab.csv") + "'" + q + dir.file("render.png") +
                      "'").code == 0);
   const std::array<std::uint8_t, 3> paper{0xf6, 0xf1, 0xe6};

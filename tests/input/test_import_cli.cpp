@@ -3,7 +3,9 @@
 // reaching the stroke, an SVG's strokes in their places, and bad input
 // refused with exit 65 and a message that names the place and the rule.
 // Renders are slow (seconds each): the recordings are short and the canvases
-// coarse (2-4 px/mm); SLSQP solves (several times faster than Ipopt).
+// coarse (2-4 px/mm). Each brush takes its faster solver, Ipopt the round
+// (SLSQP solves its coupled spines as one block; docs/PERFORMANCE.md,
+// "SLSQP's block solve") and SLSQP the flat, unless a test says why not.
 
 #include <sys/resource.h>
 
@@ -152,7 +154,7 @@ TEST_CASE("import cli: the real recording's paint follows the pen", "[import][cl
   const std::string csv = dir.file("rec.csv"), png = dir.file("rec.png");
   bristleOk("import '" + rec + "' -o '" + csv + "' -q");
   bristleOk("render -q --brush round --trajectory '" + csv + "' -o '" + png +
-            "' --px-per-mm 3 --solver slsqp --trace '" + dir.file("rec.jsonl") + "'");
+            "' --px-per-mm 3 --trace '" + dir.file("rec.jsonl") + "'");
   const Trajectory traj = loadTrajectory(csv);
   const Coverage img = loadCoveragePng(png);
   const std::vector<Point> ink = inkedPoints(img);
@@ -238,7 +240,7 @@ TEST_CASE("import cli: more pressure paints a wider stroke with the round", "[im
     bristleOk("import -q '" + svg + "' -o '" + csv + "' --pressure " +
               std::to_string(pressures[k]));
     bristleOk("render -q --brush round --trajectory '" + csv + "' -o '" + png +
-              "' --px-per-mm 4 --solver slsqp");
+              "' --px-per-mm 4");
     width_mm[k] = meanWidthMm(widthProfile(loadCoveragePng(png), kInkThreshold, Axis::kX));
   }
   INFO("width at pressure 0.3: " << width_mm[0] << " mm, at 0.8: " << width_mm[1] << " mm");
@@ -341,7 +343,8 @@ TEST_CASE("import cli: render --trajectory takes a recording directly", "[import
   // The same stroke: `compare --tolerance strict` (at most 2/255 anywhere,
   // none of the pixels over 1/255) rather than exact, because the CSV
   // rounds positions to 1e-6 mm and rotations to 1e-9 and the solver's path
-  // may move a pixel's shade by 1/255 (one pixel of 35,400 did).
+  // may move a pixel's shade by 1/255 (one pixel of 35,400 did). SLSQP: with
+  // Ipopt those roundings sent 30 pixels' solves another way (up to 218/255).
   bristleOk("compare '" + direct + "' '" + via + "' --tolerance strict");
   // And from standard input, by content alone.
   bristleOk("render -q --brush round --trajectory - -o '" + dir.file("stdin.png") +
@@ -428,7 +431,7 @@ TEST_CASE("import cli: a straight polyline of 1002 points imports and renders al
   // Rendered straight from the SVG: paint along y = 10 mm, at both ends.
   const std::string png = dir.file("x.png");
   bristleOk("render -q --brush round --trajectory '" + svg + "' -o '" + png +
-            "' --px-per-mm 2 --solver slsqp");
+            "' --px-per-mm 2");
   const std::vector<Point> ink = inkedPoints(loadCoveragePng(png));
   REQUIRE(!ink.empty());
   const double width = brushWidthMm(loadBrush(sourcePath("scenes/brushes/round.json")));
