@@ -117,7 +117,7 @@ Subcommand registerSheet(CLI::App& app) {
   sheet->footer(
       "Examples:\n"
       "  bristle sheet scenes/sheets/library.json -o library-sheet.png\n"
-      "  bristle sheet scenes/sheets/small.json -o small.png --px-per-mm 4 --solver slsqp\n"
+      "  bristle sheet scenes/sheets/small.json -o small-slsqp.png --solver slsqp\n"
       "Every cell is one brush along one trajectory on its own canvas, all at one scale,\n"
       "centred on its inked area; rows are brushes (their names), columns trajectories\n"
       "(their file stems). The sheet format is docs/sheet-format.md.");

@@ -3,6 +3,7 @@
 #include "engine/base/error.h"
 #include "engine/formats/trajectory_reader.h"
 #include "engine/geometry/first_contact.h"
+#include "input/pen_mapping.h"
 #include "input/svg_geometry.h"
 
 namespace bristle::input {
@@ -54,7 +55,11 @@ Trajectory loadTrajectoryOrRecording(const std::string& raw, const std::string& 
   resolveMaxDepth(&options, brush, brush_name);
   const Recording rec = readInput(text, path, options);
   if (warnings) warnings->insert(warnings->end(), rec.warnings.begin(), rec.warnings.end());
-  return toTrajectory(rec, options.mapping);
+  // Through the very text `bristle import` writes, its roundings included (1e-6
+  // mm, 1e-9 s and 1e-9 in the quaternion): rendering a recording and rendering
+  // its import then paint the same pixels. Without it, those last digits can tip
+  // a buckling hair to the other side (docs/input.md).
+  return parseTrajectory(trajectoryCsv(toTrajectory(rec, options.mapping), {}), path);
 }
 
 }  // namespace bristle::input

@@ -43,8 +43,9 @@ Recording readInput(const std::string& text, const std::string& path,
 
 // What `render --trajectory` reads: a bristle-trajectory/1 file as it is
 // (parseTrajectory), or a recording imported with the default mapping for
-// `brush` (its depths resolved later, as a depth_mm trajectory's are). The
-// recording's warnings are appended to *warnings.
+// `brush` (its depths resolved later, as a depth_mm trajectory's are), exactly
+// as the CSV `bristle import` writes would read back. The recording's warnings
+// are appended to *warnings.
 Trajectory loadTrajectoryOrRecording(const std::string& text, const std::string& path,
                                      const Brush& brush, const std::string& brush_name,
                                      std::vector<std::string>* warnings);

@@ -38,7 +38,7 @@ json smallSheet(const std::string& brushes_dir, const std::string& trajectories_
           {"trajectories",
            {trajectories_dir + "/straight-pull.csv", trajectories_dir + "/press-lift.csv"}},
           {"px_per_mm", 4},
-          {"solver", "slsqp"},
+          {"solver", "ipopt"},
           {"sim", {{"rate_hz", 60}, {"max_step_mm", 0.5}}}};
 }
 
@@ -126,7 +126,7 @@ TEST_CASE("a sheet cell is the stroke `bristle render` paints, pixel for pixel",
   // The same pair, paint, paper and settings through the single-stroke command.
   const RunResult r = runBristle(
       "render -q --brush '" + sourcePath("scenes/brushes/round.json") + "' --trajectory '" +
-      sourcePath("scenes/trajectories/press-lift.csv") + "' --solver slsqp --px-per-mm 4 " +
+      sourcePath("scenes/trajectories/press-lift.csv") + "' --solver ipopt --px-per-mm 4 " +
       "--max-step-mm 0.5 --min-rate-hz 60 -o '" + dir.file("r.png") + "'");
   INFO(r.err);
   REQUIRE(r.code == 0);
