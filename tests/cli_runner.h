@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -48,6 +49,20 @@ inline RunResult runBristle(const std::string& args) {
 
 inline std::string sourcePath(const std::string& rel) {
   return std::string(BRISTLE_SOURCE_DIR) + "/" + rel;
+}
+
+// A trajectory file's text up to its sample at t_max_s: its comments, header
+// and the samples at t_s <= t_max_s. A test whose solves are made to fail (a
+// starved iteration limit) renders a short piece: every failed step is
+// retried spine by spine, which is slow on a whole stroke.
+inline std::string trajectoryHead(const std::string& path, double t_max_s) {
+  std::istringstream in(readAll(path));
+  std::string line, head;
+  while (std::getline(in, line) &&
+         (line.empty() || !std::isdigit(static_cast<unsigned char>(line[0])) ||
+          std::stod(line) <= t_max_s))
+    head += line + "\n";
+  return head;
 }
 
 // The library's round brush, the one most end-to-end tests paint with.

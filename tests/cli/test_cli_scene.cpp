@@ -6,12 +6,10 @@
 
 #include <array>
 #include <catch2/catch.hpp>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "cli_runner.h"
@@ -247,14 +245,8 @@ TEST_CASE("render SCENE --solver-max-iterations limits every stroke's solves, an
   TempDir dir;
   json one = crossingScene();
   one["strokes"].erase(1);
-  // The pull's press and first 2.5 mm (its first 0.6 s): a starved solve fails
-  // every step and is retried spine by spine, and that is slow on the whole pull.
-  std::istringstream pull(readAll(kPull));
-  std::string line, head;
-  while (std::getline(pull, line) && (line.empty() || !std::isdigit(line[0]) ||
-                                      std::stod(line) <= 0.6))
-    head += line + "\n";
-  one["strokes"][0]["trajectory"] = dir.write("short.csv", head);
+  // The pull's press and first 2.5 mm (its first 0.6 s): trajectoryHead.
+  one["strokes"][0]["trajectory"] = dir.write("short.csv", trajectoryHead(kPull, 0.6));
   const std::string scene = writeScene(dir, "s.json", one);
   auto run = [&](const std::string& name, const std::string& extra) {
     const RunResult r = runBristle("render -q '" + scene + "' -o '" + dir.file(name + ".png") +

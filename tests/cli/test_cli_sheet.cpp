@@ -222,7 +222,9 @@ TEST_CASE("sheet --solver-max-iterations limits every solve, as render's does", 
   TempDir dir;
   json j = librarySmallSheet();
   j["brushes"] = {sourcePath("scenes/brushes/round.json")};
-  j["trajectories"] = {sourcePath("scenes/trajectories/straight-pull.csv")};
+  // The pull's press and first 2.5 mm: trajectoryHead.
+  j["trajectories"] = {dir.write(
+      "pull.csv", trajectoryHead(sourcePath("scenes/trajectories/straight-pull.csv"), 0.6))};
   const std::string sheet = writeJson(dir, "s.json", j);
   // The summary line's "N solver iterations".
   auto iterations = [](const std::string& err) {

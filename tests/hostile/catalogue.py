@@ -1354,13 +1354,13 @@ case("render-trace-disk-full", "`render -o o.png --trace o.jsonl` over an earlie
      "every file limited to 256 KB (as a full disk): the 0.6 MB trace fails after the PNG was "
      "written; the earlier PNG stays, no new file", ["render", "-q", "--brush", "b.json",
      "--trajectory", "t.csv", "-o", "o.png", "--trace", "o.jsonl", "--stats", "s.json",
-     "--solver", "slsqp"], 74,
+     "--solver", "ipopt"], 74,
      "o.jsonl: write failed: File too large", all_of(PRESS, old("o.png")), fsize=1 << 18)
 case("scene-trace-disk-full", "the same for a scene: `render s.json -o o.png --trace o.jsonl "
      "--stats s.json` over an earlier `o.png` and `st.json`, files limited to 256 KB",
      ["render", "-q", "s.json", "-o", "o.png", "--trace", "o.jsonl", "--stats", "st.json"], 74,
      "o.jsonl: write failed: File too large",
-     all_of(PRESS, scene(edit=lambda s: s.update(solver="slsqp")), old("o.png"), old("st.json")),
+     all_of(PRESS, scene(edit=lambda s: s.update(solver="ipopt")), old("o.png"), old("st.json")),
      fsize=1 << 18)
 TWO_PATHS = svg("l.svg", '<path d="M10 10 h5"/>\n'
                 '<path d="M10 30 c20 -20 40 20 60 0 s40 20 20 20 s-40 -20 -60 0"/>')
