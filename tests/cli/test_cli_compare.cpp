@@ -261,7 +261,7 @@ std::string dabTrajectory(bool excursion, bool second_dab = false) {
 TEST_CASE("compare --align canvas: one stroke on two canvas extents is identical where they overlap",
           "[cli][compare][align]") {
   TempDir dir;
-  const std::string render = "render -q --brush round --solver slsqp --trajectory ";
+  const std::string render = "render -q --brush round --trajectory ";
   const std::string narrow = dir.file("narrow.png"), wide = dir.file("wide.png");
   REQUIRE(runBristle(render + q(dir.write("n.csv", dabTrajectory(false))) + " -o " + q(narrow))
               .code == 0);
