@@ -692,7 +692,9 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
       if (flagged) {
         const float rim = scratch.flag[static_cast<size_t>(r) * fp.width + c];
         dep *= flagDeposit(rim, canvas.tooth(i), hair);
-        pick *= scrub(c, r, rim);
+        // Over dry paper there is nothing to take up (each pixel is touched
+        // once a step): the slide is not looked up.
+        if (canvas.wet(i).volume_mm3 > 0) pick *= scrub(c, r, rim);
       }
       touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), pick,
                          dep});
