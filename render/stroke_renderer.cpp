@@ -234,32 +234,26 @@ void planCapStamps(const Brush& brush, const BrushState& from, const BrushState&
 }
 
 // How the spines slid over the paper from one state to the next, for a
-// flagged brush's pickup (engine/paint/paint.h, HairSlide): each joint whose
-// bundle reaches within the contact band of the paper (Brush::bundleReachMm
-// around it) with its move in x and y over the step, joined to the joint
-// above it where that one reaches too. A joint held above the paper does not
-// carry the hair that touches, so its move does not count. Where no joint is
-// that low (the surface or the strips touch, not the bundles) every joint
-// counts.
-void spineSlide(const Brush& brush, const BrushState& from, const BrushState& to, double band_mm,
-                HairSlide* out) {
+// flagged brush's pickup (engine/paint/paint.h, HairSlide): each joint that
+// touches the paper (SpineState::contact: it bears the canvas's force,
+// Baxter & Lin 2004, eq. 5) with its move in x and y over the step, joined
+// to the joint above it where that one touches too. Hair wipes the paper
+// only where it is pressed onto it: the bundle of a joint that bears no load
+// lies on the paper without rubbing it, so no joint touching, no slide.
+void spineSlide(const BrushState& from, const BrushState& to, HairSlide* out) {
   out->pieces.clear();
-  for (bool all : {false, true}) {
-    for (size_t s = 0; s < brush.spines.size(); ++s) {
-      const SpineSpec& spec = brush.spines[s];
-      const std::vector<Eigen::Vector3d>& a = from.spines[s].joints_mm;
-      const std::vector<Eigen::Vector3d>& b = to.spines[s].joints_mm;
-      auto low = [&](size_t j) { return all || b[j].z() - spec.bundleReachMm(j) <= band_mm; };
-      for (size_t j = 1; j < b.size() && j < a.size(); ++j) {
-        if (!low(j)) continue;
-        const size_t i = low(j - 1) && j > 1 ? j - 1 : j;  // the root is in the ferrule
-        out->pieces.push_back({static_cast<float>(b[i].x()), static_cast<float>(b[i].y()),
-                               static_cast<float>(b[j].x()), static_cast<float>(b[j].y()),
-                               static_cast<float>((b[i] - a[i]).head<2>().norm()),
-                               static_cast<float>((b[j] - a[j]).head<2>().norm())});
-      }
+  for (size_t s = 0; s < to.spines.size() && s < from.spines.size(); ++s) {
+    const std::vector<Eigen::Vector3d>& a = from.spines[s].joints_mm;
+    const std::vector<Eigen::Vector3d>& b = to.spines[s].joints_mm;
+    const std::vector<bool>& touches = to.spines[s].contact;  // joints 1..n
+    for (size_t j = 1; j < b.size() && j < a.size() && j <= touches.size(); ++j) {
+      if (!touches[j - 1]) continue;
+      const size_t i = j > 1 && touches[j - 2] ? j - 1 : j;
+      out->pieces.push_back({static_cast<float>(b[i].x()), static_cast<float>(b[i].y()),
+                             static_cast<float>(b[j].x()), static_cast<float>(b[j].y()),
+                             static_cast<float>((b[i] - a[i]).head<2>().norm()),
+                             static_cast<float>((b[j] - a[j]).head<2>().norm())});
     }
-    if (!out->pieces.empty()) return;
   }
 }
 
@@ -320,7 +314,7 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
   view.contact_band_mm = options.contact_band_mm;
   // Flagged hair picks up by how far it slid (TransferParams::flag_scrub_mm).
   if (from && paint->flagMm() > 0) {
-    spineSlide(geometry.brush(), *from, state, options.contact_band_mm, &slide_);
+    spineSlide(*from, state, &slide_);
     view.slide = &slide_;
   }
   TransferParams params = options.transfer;

@@ -597,9 +597,7 @@ class FlagScrub {
             std::vector<float>* cache)
       : fp_(fp), grid_(grid), cache_(*cache) {
     const double exposure = std::max(params.exposure, 0.0);
-    if (fp.slide == nullptr || fp.slide->pieces.empty() || !(exposure > 0) ||
-        !(params.flag_scrub_mm > 0))
-      return;
+    if (fp.slide == nullptr || !(exposure > 0) || !(params.flag_scrub_mm > 0)) return;
     on_ = true;
     inv_ref_ = 1.0 / (params.flag_scrub_mm * exposure);
     cell_ = std::max(1, static_cast<int>(std::lround(kSlideCellMm * grid.px_per_mm)));

@@ -266,11 +266,12 @@ double paperTooth(const PaperSpec& paper, double x_mm, double y_mm);
 
 // How far the hair slid over the paper in one step, for flagged hair's
 // pickup (transfer(); docs/paint.md, "Flags scrub only as they slide"): the
-// pieces of the spines near the paper, each a segment from a to b in canvas
-// mm (x, y) with how far each end moved over the paper during the step (mm,
-// in x and y only: a joint that rises or sinks does not rub the paper). The
-// hair at a point of the footprint moves with the nearest piece, the spines
-// carrying the hair around them (Baxter & Lin 2004, §4).
+// pieces of the spines pressed onto the paper, each a segment from a to b in
+// canvas mm (x, y) with how far each end moved over the paper during the
+// step (mm, in x and y only: a joint that rises or sinks does not rub the
+// paper). The hair at a point of the footprint moves with the nearest
+// piece, the spines carrying the hair around them (Baxter & Lin 2004, §4);
+// with no piece nothing is pressed onto the paper, and nothing slides.
 struct HairSlide {
   struct Piece {
     float ax_mm, ay_mm, bx_mm, by_mm;
