@@ -548,7 +548,8 @@ TEST_CASE("Transfer: flagged hair scrubs wet paint up as it slides, not as it st
     return canvas;
   };
   const PaintCanvas wet = wetCanvas();
-  // slide_mm < 0: no slide given.
+  // slide_mm -1: no slide given; -2: a slide of no pieces (no joint presses
+  // the hair onto the paper).
   auto lift = [&](double flag_mm, double slide_mm, double exposure = 1) {
     Brush brush = fivesSpineBrush();
     brush.paint_flag_mm = flag_mm;
@@ -557,10 +558,11 @@ TEST_CASE("Transfer: flagged hair scrubs wet paint up as it slides, not as it st
     PaintCanvas canvas = wet;
     const Footprint fp(64, 40, 0.8f, 0.5f);
     HairSlide slide;
-    slide.pieces.push_back({0, 0, 10, 7, static_cast<float>(slide_mm),
-                            static_cast<float>(slide_mm)});
+    if (slide_mm >= 0)
+      slide.pieces.push_back({0, 0, 10, 7, static_cast<float>(slide_mm),
+                              static_cast<float>(slide_mm)});
     FootprintView view = fp.at(8, 8);
-    if (slide_mm >= 0) view.slide = &slide;
+    if (slide_mm != -1) view.slide = &slide;
     TransferParams params;
     params.exposure = exposure;
     transfer(view, paint, canvas, params);
@@ -571,6 +573,7 @@ TEST_CASE("Transfer: flagged hair scrubs wet paint up as it slides, not as it st
     const double before = wet.wet(wet.index(col, row)).volume_mm3;
     return (before - c.wet(c.index(col, row)).volume_mm3) / before;
   };
+  auto atRimOf = [&](const PaintCanvas& c) { return taken(c, 8 + 4, 8 + 20); };
   const double scrub = TransferParams{}.flag_scrub_mm;
   const PaintCanvas unknown = lift(kFlagMm, -1), still = lift(kFlagMm, 0),
                     drawn = lift(kFlagMm, scrub), slow = lift(kFlagMm, 0.5 * scrub);
@@ -595,14 +598,15 @@ TEST_CASE("Transfer: flagged hair scrubs wet paint up as it slides, not as it st
     // The take is linear in the scrubbed share (float sums: 1e-5).
     CHECK(taken(slow, 8 + 4, row) == Approx(0.5 * (stand + full)).epsilon(1e-5));
   }
+  // Hair that nothing presses onto the paper does not rub it: as standing.
+  CHECK(atRimOf(lift(kFlagMm, -2)) == Approx(atRimOf(still)).epsilon(1e-6));
   // A slide is a speed: over twice the contact time a slide of flag_scrub_mm
   // scrubs as half of it does over one step, half-way between standing and
   // full.
-  auto atRim = [&](const PaintCanvas& c) { return taken(c, 8 + 4, 8 + 20); };
-  const double l0 = atRim(lift(kFlagMm, 0, 2.0)), l1 = atRim(lift(kFlagMm, scrub, 2.0)),
-               l2 = atRim(lift(kFlagMm, 2 * scrub, 2.0));
+  const double l0 = atRimOf(lift(kFlagMm, 0, 2.0)), l1 = atRimOf(lift(kFlagMm, scrub, 2.0)),
+               l2 = atRimOf(lift(kFlagMm, 2 * scrub, 2.0));
   CHECK(l1 == Approx(0.5 * (l0 + l2)).epsilon(1e-5));
-  CHECK(l1 / l2 == Approx(atRim(slow) / atRim(drawn)).epsilon(1e-5));
+  CHECK(l1 / l2 == Approx(atRimOf(slow) / atRimOf(drawn)).epsilon(1e-5));
   // A brush without flags takes up in full wherever it touches, slide or not.
   CHECK(taken(lift(0, 0), 8, 8 + 20) == Approx(taken(lift(0, -1), 8, 8 + 20)).epsilon(1e-6));
 }
