@@ -233,6 +233,30 @@ void planCapStamps(const Brush& brush, const BrushState& from, const BrushState&
   }
 }
 
+// How the spines slid over the paper from one state to the next, for a
+// flagged brush's pickup (engine/paint/paint.h, HairSlide): each joint that
+// touches the paper (SpineState::contact: it bears the canvas's force,
+// Baxter & Lin 2004, eq. 5) with its move in x and y over the step, joined
+// to the joint above it where that one touches too. Hair wipes the paper
+// only where it is pressed onto it: the bundle of a joint that bears no load
+// lies on the paper without rubbing it, so no joint touching, no slide.
+void spineSlide(const BrushState& from, const BrushState& to, HairSlide* out) {
+  out->pieces.clear();
+  for (size_t s = 0; s < to.spines.size() && s < from.spines.size(); ++s) {
+    const std::vector<Eigen::Vector3d>& a = from.spines[s].joints_mm;
+    const std::vector<Eigen::Vector3d>& b = to.spines[s].joints_mm;
+    const std::vector<bool>& touches = to.spines[s].contact;  // joints 1..n
+    for (size_t j = 1; j < b.size() && j < a.size() && j <= touches.size(); ++j) {
+      if (!touches[j - 1]) continue;
+      const size_t i = j > 1 && touches[j - 2] ? j - 1 : j;
+      out->pieces.push_back({static_cast<float>(b[i].x()), static_cast<float>(b[i].y()),
+                             static_cast<float>(b[j].x()), static_cast<float>(b[j].y()),
+                             static_cast<float>((b[i] - a[i]).head<2>().norm()),
+                             static_cast<float>((b[j] - a[j]).head<2>().norm())});
+    }
+  }
+}
+
 }  // namespace
 
 bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& from,
@@ -288,6 +312,11 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
   view.height = image_.window.height_px;
   view.texels = image_.texels.data();
   view.contact_band_mm = options.contact_band_mm;
+  // Flagged hair picks up by how far it slid (TransferParams::flag_scrub_mm).
+  if (from && paint->flagMm() > 0) {
+    spineSlide(*from, state, &slide_);
+    view.slide = &slide_;
+  }
   TransferParams params = options.transfer;
   // The step's contact time: the first stamp (no step before it) has none.
   params.exposure = from ? std::max(state.t_s - from->t_s, 0.0) / kTransferReferenceStepS : 0.0;

@@ -124,6 +124,7 @@ class StrokeRenderer {
   double drawn_band_mm_ = 0;
   bool kept_ = false;  // the last renderTriangles kept the footprint before
   BrushState blended_;
+  HairSlide slide_;  // a flagged brush's slide over the paper this step
   std::vector<JointCaps> stamp_plan_;  // [stamp][spine][joint]
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "engine/geometry/bristle_strips.h"
@@ -437,6 +438,24 @@ bool PaintCanvas::blank() const {
   return true;
 }
 
+double HairSlide::at(double x_mm, double y_mm) const {
+  double best = std::numeric_limits<double>::infinity(), slide = 0;
+  for (const Piece& p : pieces) {
+    const double dx = p.bx_mm - p.ax_mm, dy = p.by_mm - p.ay_mm;
+    const double len2 = dx * dx + dy * dy;
+    const double t =
+        len2 > 0 ? std::clamp(((x_mm - p.ax_mm) * dx + (y_mm - p.ay_mm) * dy) / len2, 0.0, 1.0)
+                 : 0.0;
+    const double ex = p.ax_mm + t * dx - x_mm, ey = p.ay_mm + t * dy - y_mm;
+    const double d2 = ex * ex + ey * ey;
+    if (d2 < best) {
+      best = d2;
+      slide = p.slide_a_mm + t * (p.slide_b_mm - p.slide_a_mm);
+    }
+  }
+  return slide;
+}
+
 // ---------------------------------------------------------------- transfer
 
 double compoundFraction(double fraction, double exposure) {
@@ -451,8 +470,9 @@ namespace {
 constexpr int kTexels = BrushTexelMap::kTexels;
 
 // A pixel a texel of the brush touches in one step, and how hard: contact
-// sets the pickup, deposit (contact gated by dryness, scaled by the hair's
-// noise) the paint laid down.
+// (scaled, on a flagged rim, by how much of the paper the flags wipe:
+// FlagScrub) sets the pickup, deposit (contact gated by dryness, scaled by
+// the hair's noise) the paint laid down.
 struct Touch {
   std::uint32_t pixel;
   std::uint16_t texel;
@@ -469,6 +489,7 @@ struct TransferScratch {
   std::vector<std::array<float, 6>> in_optics;  // per texel: volume-weighted K and S picked up
   std::vector<float> flag;       // per footprint pixel: deposit factor of flagged ends (flagRim)
   std::vector<int> flag_sums;    // per footprint pixel: flagRim's column sums of touched pixels
+  std::vector<float> slide;      // per FlagScrub cell: the hair's slide there (mm), < 0 not yet
 
   void reset(size_t pixels) {
     touches.clear();
@@ -563,6 +584,49 @@ float flagDeposit(float g, float tooth, float hair) {
   return g * (kFlagFloor + (1 - kFlagFloor) * pass);
 }
 
+// The share of the full hair's pickup the flagged rim takes
+// (TransferParams::flag_scrub_mm): g + (1 - g) min(1, s / flag_scrub_mm), s
+// the hair's slide over the paper per reference step where it touches. The
+// spines' motion varies over millimetres, so the slide is looked up once per
+// square cell of about kSlideCellMm and kept for the step. Without a slide
+// (none known, or no contact time) the rim picks up in full.
+constexpr double kSlideCellMm = 0.25;
+class FlagScrub {
+ public:
+  FlagScrub(const FootprintView& fp, const CanvasGrid& grid, const TransferParams& params,
+            std::vector<float>* cache)
+      : fp_(fp), grid_(grid), cache_(*cache) {
+    const double exposure = std::max(params.exposure, 0.0);
+    if (fp.slide == nullptr || !(exposure > 0) || !(params.flag_scrub_mm > 0)) return;
+    on_ = true;
+    inv_ref_ = 1.0 / (params.flag_scrub_mm * exposure);
+    cell_ = std::max(1, static_cast<int>(std::lround(kSlideCellMm * grid.px_per_mm)));
+    cells_w_ = (fp.width + cell_ - 1) / cell_;
+    cache_.assign(static_cast<size_t>(cells_w_) * ((fp.height + cell_ - 1) / cell_), -1.0f);
+  }
+  // At footprint pixel (c, r), whose rim deposit factor is g.
+  float operator()(int c, int r, float g) {
+    if (!on_ || g >= 1) return 1.0f;
+    const int cc = c / cell_, cr = r / cell_;
+    float& s = cache_[static_cast<size_t>(cr) * cells_w_ + cc];
+    if (s < 0) {
+      // The cell's centre in canvas mm (engine/model/canvas.h: row 0 at the top).
+      const double col = fp_.col0 + (cc + 0.5) * cell_, row = fp_.row0 + (cr + 0.5) * cell_;
+      s = static_cast<float>(fp_.slide->at(grid_.x0_mm + col / grid_.px_per_mm,
+                                           grid_.y0_mm + (grid_.height_px - row) / grid_.px_per_mm));
+    }
+    return g + (1 - g) * static_cast<float>(std::min(1.0, s * inv_ref_));
+  }
+
+ private:
+  const FootprintView& fp_;
+  const CanvasGrid& grid_;
+  std::vector<float>& cache_;
+  bool on_ = false;
+  double inv_ref_ = 0;
+  int cell_ = 1, cells_w_ = 0;
+};
+
 // Stage 1 of transfer: who touches what, and how hard. Fills scratch.touches
 // and scratch.demand; returns the number of touching pixels.
 int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintCanvas& canvas,
@@ -581,6 +645,7 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
   const float dry_threshold = static_cast<float>(params.dry_threshold);
   const bool flagged =
       flagRim(fp, brush.flagMm(), g.px_per_mm, &scratch.flag, &scratch.flag_sums);
+  FlagScrub scrub(fp, g, params, &scratch.slide);
   int contact_px = 0;
   for (int r = 0; r < fp.height; ++r) {
     const int row = fp.row0 + r;
@@ -621,10 +686,15 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
       const float gate =
           std::clamp((canvas.tooth(i) - need) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
       float dep = contact * gate * (1 + streaks * (hair - 0.5f));
-      if (flagged)
-        dep *= flagDeposit(scratch.flag[static_cast<size_t>(r) * fp.width + c], canvas.tooth(i),
-                           hair);
-      touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), contact,
+      float pick = contact;
+      if (flagged) {
+        const float rim = scratch.flag[static_cast<size_t>(r) * fp.width + c];
+        dep *= flagDeposit(rim, canvas.tooth(i), hair);
+        // Over dry paper there is nothing to take up (each pixel is touched
+        // once a step): the slide is not looked up.
+        if (canvas.wet(i).volume_mm3 > 0) pick *= scrub(c, r, rim);
+      }
+      touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), pick,
                          dep});
       demand[t] += dep;
       ++contact_px;

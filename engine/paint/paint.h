@@ -264,6 +264,25 @@ class PaintCanvas {
 // canvas position gets the same tooth whatever the canvas window): in [0, 1].
 double paperTooth(const PaperSpec& paper, double x_mm, double y_mm);
 
+// How far the hair slid over the paper in one step, for flagged hair's
+// pickup (transfer(); docs/paint.md, "Flags scrub only as they slide"): the
+// pieces of the spines pressed onto the paper, each a segment from a to b in
+// canvas mm (x, y) with how far each end moved over the paper during the
+// step (mm, in x and y only: a joint that rises or sinks does not rub the
+// paper). The hair at a point of the footprint moves with the nearest
+// piece, the spines carrying the hair around them (Baxter & Lin 2004, §4);
+// with no piece nothing is pressed onto the paper, and nothing slides.
+struct HairSlide {
+  struct Piece {
+    float ax_mm, ay_mm, bx_mm, by_mm;
+    float slide_a_mm, slide_b_mm;
+  };
+  std::vector<Piece> pieces;
+  // The slide (mm) at canvas point (x, y): that of the piece nearest it in
+  // (x, y), interpolated along the piece; 0 without pieces.
+  double at(double x_mm, double y_mm) const;
+};
+
 // The footprint of one step as the paint model sees it: a window of the
 // canvas's pixels (col0, row0 = its top-left pixel in the canvas) with 4 floats
 // per pixel, u, v, depth_mm, coverage (render/gl/footprint_renderer.h).
@@ -275,6 +294,9 @@ struct FootprintView {
   // 0 at the band's top to contact_band_mm at the canvas, and brush geometry
   // that reaches the canvas presses fully.
   double contact_band_mm = 0.1;
+  // How the hair moved over the paper this step (HairSlide), for flagged
+  // hair's pickup; null when not known: the flags then pick up in full.
+  const HairSlide* slide = nullptr;
 };
 
 struct TransferParams {
@@ -315,6 +337,19 @@ struct TransferParams {
   // "Hair streaks").
   double hair_streaks = 0.8;
   double dry_threshold = 0.9;
+  // Flagged hair (BrushPaint::flagMm) takes up wet paint by the paper it
+  // wipes. Its flags are fine and few: standing on the paper they wet only
+  // the share of it they cover, the share g they lay on (the rim's deposit
+  // factor); drawn across it, each flag wipes the gap beside it as it slides
+  // by the gap's width. So where the footprint tells how the hair slid
+  // (FootprintView::slide), the rim's pickup is the full hair's times
+  // g + (1 - g) min(1, s / flag_scrub_mm), s the slide per reference step
+  // (a speed, so that cutting a step in two changes nothing). 0.1 mm, a
+  // badger hair's thickness, is the gap between its flags: a flag drawn at
+  // 20 mm/s or faster, a softening stroke, wipes all of the paper under the
+  // rim, while one lifting straight off it does not scrub it (docs/paint.md,
+  // "Flags scrub only as they slide").
+  double flag_scrub_mm = 0.1;
   // Paint flows within each column of the brush texture (one lateral position of
   // the bundle) towards texels that lost paint, the belly feeding the tip by
   // capillarity: this fraction of each texel's difference from the column mean

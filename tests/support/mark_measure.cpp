@@ -53,6 +53,34 @@ long long twiceArea(const std::vector<Point>& poly) {
   return a < 0 ? -a : a;
 }
 
+// BlotStats' median_ink and pale_share of a blot's pixels and hull (in
+// pixel corners, counter-clockwise): pixel centres are tested in doubled
+// coordinates, so exactly.
+void paleShare(const Coverage& img, const std::vector<std::pair<int, int>>& blot,
+               const std::vector<Point>& hull, BlotStats* out) {
+  std::vector<float> ink;
+  ink.reserve(blot.size());
+  for (const auto& [c, r] : blot) ink.push_back(img.at(c, r));
+  std::nth_element(ink.begin(), ink.begin() + ink.size() / 2, ink.end());
+  out->median_ink = ink[ink.size() / 2];
+  if (hull.size() < 3) return;
+  long inside = 0, pale = 0;
+  for (int r = 0; r < img.h; ++r)
+    for (int c = 0; c < img.w; ++c) {
+      const Point p{2LL * c + 1, 2LL * r + 1};
+      bool in = true;
+      for (size_t k = 0; k < hull.size() && in; ++k) {
+        const Point a{2 * hull[k].x, 2 * hull[k].y};
+        const Point b{2 * hull[(k + 1) % hull.size()].x, 2 * hull[(k + 1) % hull.size()].y};
+        in = cross(a, b, p) >= 0;
+      }
+      if (!in) continue;
+      ++inside;
+      if (img.at(c, r) < 0.5 * out->median_ink) ++pale;
+    }
+  if (inside > 0) out->pale_share = double(pale) / double(inside);
+}
+
 }  // namespace
 
 Coverage coverageFromRgba8(int w, int h, const std::uint8_t* rgba, double px_per_mm) {
@@ -189,7 +217,9 @@ BlotStats blotStats(const Coverage& img, double threshold, int min_component_px)
       corners.push_back({row_hi[size_t(r)] + 1LL, y});
     }
   }
-  out.largest_hull_area_px = 0.5 * double(twiceArea(convexHull(corners)));
+  const std::vector<Point> hull = convexHull(corners);
+  out.largest_hull_area_px = 0.5 * double(twiceArea(hull));
+  paleShare(img, largest, hull, &out);
   if (out.largest_hull_area_px > 0)
     out.fill = double(out.largest_area_px) / out.largest_hull_area_px;
   const double px2 = img.px_per_mm * img.px_per_mm;

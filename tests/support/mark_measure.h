@@ -80,6 +80,11 @@ struct BlotStats {
   double fill = 0;             // largest_area_px / largest_hull_area_px (0 without ink)
   double largest_area_mm2 = 0;
   double largest_hull_area_mm2 = 0;
+  // How evenly the largest blot is inked: the median ink of its pixels, and
+  // the share of the pixels whose centres lie in its hull that have less
+  // than half that ink (pale rings and gaps inside a blot; 0 for an even one).
+  double median_ink = 0;
+  double pale_share = 0;
 };
 BlotStats blotStats(const Coverage& img, double threshold = 0.1, int min_component_px = 4);
 

@@ -64,6 +64,36 @@ TEST_CASE("mark_measure: a filled disc is one blot of fill ~1", "[mark]") {
   CHECK(b.largest_area_mm2 == Approx(b.largest_area_px / 64.0));
 }
 
+TEST_CASE("mark_measure: a blot's pale share is the part of its hull under half its median ink",
+          "[mark]") {
+  // A disc of radius 40 px at ink 0.8 with a pale ring (ink 0.3, under half
+  // of 0.8) from 20 to 25 px: the median is 0.8 (the ring is 14 % of the
+  // disc), and the hull is the disc, so the pale share is the ring's area
+  // over the disc's, (25^2 - 20^2) / 40^2 = 0.1406.
+  constexpr double R = 40, r0 = 20, r1 = 25, cx = 100, cy = 100;
+  auto blot = [&](bool ring) {
+    Coverage img(200, 200);
+    for (int r = 0; r < 200; ++r)
+      for (int c = 0; c < 200; ++c) {
+        const double d = std::hypot(c + 0.5 - cx, r + 0.5 - cy);
+        if (d <= R) img.at(c, r) = ring && d >= r0 && d <= r1 ? 0.3f : 0.8f;
+      }
+    return blotStats(img);
+  };
+  const BlotStats even = blot(false), ringed = blot(true);
+  CHECK(even.median_ink == Approx(0.8));
+  CHECK(ringed.median_ink == Approx(0.8));
+  // The even disc's hull (of pixel corners) reaches up to 0.71 px past the
+  // inked pixels' centres: the uninked centres inside it are at most
+  // pi ((R + 0.71)^2 - R^2) over pi (R - 0.71)^2 of it, 3.7 %.
+  CHECK(even.pale_share <= 0.037);
+  // Both blots have the same pixels, so the same hull: the ring adds its
+  // own pixels. Tolerance: each of the three circles moves by <= 0.71 px
+  // with the pixels: the ring's area by 2 pi 22.5 x 0.71 of its 707 px^2
+  // (14 %), the hull's by 2 pi 40 x 0.71 of 5027 (3.5 %): 0.1406 (1 +- 0.18).
+  CHECK(ringed.pale_share - even.pale_share == Approx(0.1406).epsilon(0.18));
+}
+
 TEST_CASE("mark_measure: a six-pointed star fills two thirds of its hull", "[mark]") {
   // Two equilateral triangles of circumradius R: the star's area is sqrt(3) R^2,
   // its hull the regular hexagon of area 3 sqrt(3) / 2 R^2, so fill = 2/3.

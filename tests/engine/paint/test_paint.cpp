@@ -530,6 +530,87 @@ TEST_CASE("Transfer: flagged hair lays a thinner film at the footprint's rim",
   CHECK(press(0, strand).wetVolumeMm3() > 0);
 }
 
+TEST_CASE("Transfer: flagged hair scrubs wet paint up as it slides, not as it stands",
+          "[paint][transfer]") {
+  // A wet film laid by a loaded brush without flags; then a clean brush
+  // pressed inside it for one reference step, told how far its hair slid over
+  // the paper (FootprintView::slide). Only the flagged rim's pickup depends on
+  // it (TransferParams::flag_scrub_mm).
+  constexpr double kFlagMm = 1.0;
+  auto wetCanvas = [] {
+    Brush brush = fivesSpineBrush();
+    BrushPaint paint(brush);
+    paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+    PaintCanvas canvas(grid(80, 56), PaperSpec{}, MixModel::kKubelkaMunk);
+    const Footprint wide(72, 48, 0.8f, 0.5f);
+    for (int step = 0; step < 30; ++step)
+      transfer(wide.at(4, 4), paint, canvas, TransferParams{});
+    return canvas;
+  };
+  const PaintCanvas wet = wetCanvas();
+  // slide_mm -1: no slide given; -2: a slide of no pieces (no joint presses
+  // the hair onto the paper).
+  auto lift = [&](double flag_mm, double slide_mm, double exposure = 1) {
+    Brush brush = fivesSpineBrush();
+    brush.paint_flag_mm = flag_mm;
+    BrushPaint paint(brush);
+    paint.clean();
+    PaintCanvas canvas = wet;
+    const Footprint fp(64, 40, 0.8f, 0.5f);
+    HairSlide slide;
+    if (slide_mm >= 0)
+      slide.pieces.push_back({0, 0, 10, 7, static_cast<float>(slide_mm),
+                              static_cast<float>(slide_mm)});
+    FootprintView view = fp.at(8, 8);
+    if (slide_mm != -1) view.slide = &slide;
+    TransferParams params;
+    params.exposure = exposure;
+    transfer(view, paint, canvas, params);
+    return canvas;
+  };
+  // The share of a pixel's wet film taken up.
+  auto taken = [&](const PaintCanvas& c, int col, int row) {
+    const double before = wet.wet(wet.index(col, row)).volume_mm3;
+    return (before - c.wet(c.index(col, row)).volume_mm3) / before;
+  };
+  auto atRimOf = [&](const PaintCanvas& c) { return taken(c, 8 + 4, 8 + 20); };
+  const double scrub = TransferParams{}.flag_scrub_mm;
+  const PaintCanvas unknown = lift(kFlagMm, -1), still = lift(kFlagMm, 0),
+                    drawn = lift(kFlagMm, scrub), slow = lift(kFlagMm, 0.5 * scrub);
+  // Deep inside (g = 1) the hair takes up the same whatever its slide: the
+  // pickup rate of a full hair (0.2 of the film per reference step).
+  for (const PaintCanvas* c : {&still, &drawn, &slow})
+    CHECK(taken(*c, 8 + 32, 8 + 20) == Approx(taken(unknown, 8 + 32, 8 + 20)).epsilon(1e-6));
+  CHECK(taken(unknown, 8 + 32, 8 + 20) == Approx(0.2).epsilon(1e-3));
+  for (int row = 8 + 10; row < 8 + 30; ++row) {
+    INFO("row " << row);
+    // On the outermost column the flags lay almost nothing (g 0.01):
+    // standing, they take almost nothing up either; drawn at flag_scrub_mm a
+    // step or faster, as much as a full hair, as when the slide is not known.
+    CHECK(taken(still, 8, row) < 0.05 * taken(drawn, 8, row));
+    CHECK(taken(drawn, 8, row) == Approx(taken(unknown, 8, row)).epsilon(1e-6));
+    CHECK(taken(drawn, 8, row) > 0.1);
+    // Half-way through the rim (0 < g < 1), standing takes a share between,
+    // and at half the scrub speed, half-way from there to the full take.
+    const double full = taken(drawn, 8 + 4, row), stand = taken(still, 8 + 4, row);
+    CHECK(stand > 0.05 * full);
+    CHECK(stand < 0.8 * full);
+    // The take is linear in the scrubbed share (float sums: 1e-5).
+    CHECK(taken(slow, 8 + 4, row) == Approx(0.5 * (stand + full)).epsilon(1e-5));
+  }
+  // Hair that nothing presses onto the paper does not rub it: as standing.
+  CHECK(atRimOf(lift(kFlagMm, -2)) == Approx(atRimOf(still)).epsilon(1e-6));
+  // A slide is a speed: over twice the contact time a slide of flag_scrub_mm
+  // scrubs as half of it does over one step, half-way between standing and
+  // full.
+  const double l0 = atRimOf(lift(kFlagMm, 0, 2.0)), l1 = atRimOf(lift(kFlagMm, scrub, 2.0)),
+               l2 = atRimOf(lift(kFlagMm, 2 * scrub, 2.0));
+  CHECK(l1 == Approx(0.5 * (l0 + l2)).epsilon(1e-5));
+  CHECK(l1 / l2 == Approx(atRimOf(slow) / atRimOf(drawn)).epsilon(1e-5));
+  // A brush without flags takes up in full wherever it touches, slide or not.
+  CHECK(taken(lift(0, 0), 8, 8 + 20) == Approx(taken(lift(0, -1), 8, 8 + 20)).epsilon(1e-6));
+}
+
 TEST_CASE("Transfer: rates are per unit of contact time", "[paint][transfer]") {
   // A fraction per reference step compounds: two half steps take what one
   // whole step takes, exactly (up to rounding, 1e-15).
