@@ -145,11 +145,7 @@ def round_brush():
              sp, 0.45, 0.35, 0.3)
     belly = [0.9, 1.3, 1.1, 0.6, 0.25]
     b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
-    # Pressed straight down, the squashed hair spreads out from the handle's
-    # axis (incompressibility, docs/dynamics.md "A squashed bundle spreads")
-    # and leaves a round blot round the handle, not the belly laid over to
-    # one side (docs/fidelity.md, "The round's press blot").
-    b["volume"] = dict(volume(0.45), spread_n_per_mm=20)
+    b["volume"] = volume(0.45)
     b["paint"] = {"capacity": 1.0}
     return b
 
