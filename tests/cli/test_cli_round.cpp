@@ -70,6 +70,21 @@ Coverage renderRoundLift(const std::string& solver, double depth_frac, const Tem
   return loadCoveragePng(png);
 }
 
+// The brush pressed straight down 8 mm past first contact, held and lifted
+// (press-lift.csv, the handle at x-y 30, 30) with `solver`: its mark, every
+// step solved.
+Coverage renderRoundPress(const std::string& brush, const std::string& solver,
+                          const TempDir& dir) {
+  const std::string png = dir.file("press.png"), stats = dir.file("press.json");
+  const RunResult r = runBristle("render -q --solver " + solver + " --brush '" + brush +
+                                 "' --trajectory '" + sourcePath("scenes/trajectories/press-lift.csv") +
+                                 "' -o '" + png + "' --stats '" + stats + "'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(std::ifstream(stats)).at("failed_steps").get<int>() == 0);
+  return loadCoveragePng(png);
+}
+
 }  // namespace
 
 TEST_CASE("marks: no disc after lift-off: a round pulled and lifted leaves nothing ahead of its end",
@@ -106,14 +121,7 @@ TEST_CASE("marks: the round pressed straight down leaves one blot with no speck"
   const std::string solver = GENERATE("slsqp", "ipopt");
   INFO(solver);
   TempDir dir;
-  const std::string png = dir.file("press.png"), stats = dir.file("press.json");
-  const RunResult r = runBristle("render -q --solver " + solver + " --brush '" + kRound +
-                                 "' --trajectory '" + sourcePath("scenes/trajectories/press-lift.csv") +
-                                 "' -o '" + png + "' --stats '" + stats + "'");
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  CHECK(nlohmann::json::parse(std::ifstream(stats)).at("failed_steps").get<int>() == 0);
-  const Coverage img = loadCoveragePng(png);
+  const Coverage img = renderRoundPress(kRound, solver, dir);
   // Every inked component counts (no speck allowance): a satellite is one.
   const BlotStats b = blotStats(img, 0.1, 1);
   const double ratio = principalAxisRatio(img, 0.1);
@@ -145,14 +153,7 @@ TEST_CASE("marks: a round whose squashed hair spreads leaves a round blot round 
   brush["volume"]["spread_n_per_mm"] = 20;
   const std::string brush_path = dir.file("spreading-round.json");
   std::ofstream(brush_path) << brush.dump();
-  const std::string png = dir.file("press.png"), stats = dir.file("press.json");
-  const RunResult r = runBristle("render -q --solver ipopt --brush '" + brush_path +
-                                 "' --trajectory '" + sourcePath("scenes/trajectories/press-lift.csv") +
-                                 "' -o '" + png + "' --stats '" + stats + "'");
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  CHECK(nlohmann::json::parse(std::ifstream(stats)).at("failed_steps").get<int>() == 0);
-  const Coverage img = loadCoveragePng(png);
+  const Coverage img = renderRoundPress(brush_path, "ipopt", dir);
   const BlotStats b = blotStats(img, 0.1, 1);
   const double ratio = principalAxisRatio(img, 0.1);
   double cx = 0, cy = 0;
