@@ -53,8 +53,41 @@ Simulation::Simulation(const Brush& brush, const SimOptions& options,
       options_(options),
       solver_(std::move(solver)),
       fallback_(std::move(fallback)),
-      volume_pairs_(brush.volume.present() ? volumePairs(brush) : std::vector<VolumePair>{}) {
+      volume_pairs_(brush.volume.present() ? volumePairs(brush) : std::vector<VolumePair>{}),
+      rest_hair_mm_(restHairLengthMm(brush)) {
   for (const SpineSpec& spec : brush.spines) rest_rot_.push_back(restRotations(spec));
+  for (size_t i = 0; i < brush.spines.size(); ++i) {
+    const SpineSpec& spec = brush.spines[i];
+    SpineFk fk;
+    const std::vector<double> zero(2 * spec.jointCount(), 0.0);
+    spineForwardKinematics(spec, Pose{}, rest_rot_[i].data(), zero.data(), 0, &fk);
+    std::vector<double> r;
+    for (const Eigen::Vector3d& x : fk.x) r.push_back(x.head<2>().norm());
+    rest_radius_mm_.push_back(r);
+  }
+}
+
+double restHairLengthMm(const Brush& brush) {
+  double deepest = 0;
+  SpineFk fk;
+  for (const SpineSpec& spec : brush.spines) {
+    const std::vector<Eigen::Matrix3d> r = restRotations(spec);
+    const std::vector<double> zero(2 * spec.jointCount(), 0.0);
+    spineForwardKinematics(spec, Pose{}, r.data(), zero.data(), 0, &fk);
+    for (const Eigen::Vector3d& x : fk.x) deepest = std::max(deepest, -x.z());
+  }
+  return deepest;
+}
+
+double bundleSquash(double rest_length_mm, const Pose& handle) {
+  // The hair hangs along the brush frame's -z; below the ferrule the paper
+  // lies at H = z / cos(the axis's angle from straight down).
+  const double down = -(handle.rotation * Eigen::Vector3d(0, 0, -1)).z();
+  if (down <= 0 || rest_length_mm <= 0) return 1;
+  const double height = handle.position_mm.z() / down;
+  if (height >= rest_length_mm) return 1;
+  if (height * kMaxSquash <= rest_length_mm) return kMaxSquash;
+  return rest_length_mm / height;
 }
 
 std::vector<VolumePair> volumePairs(const Brush& brush) {
@@ -104,7 +137,11 @@ Simulation::VolumeLimits Simulation::volumeLimits(const VolumePair& vp, int j) c
   const VolumeSpec& v = brush_.volume;
   const double widest = *std::max_element(vp.rest_mm.begin(), vp.rest_mm.end());
   const double rest = vp.rest_mm[j - 1];
-  return {v.min_separation * rest, v.max_separation * (rest + v.tip_spread * (widest - rest))};
+  // A squashed bundle that spreads (addAxisSpread) holds together over
+  // spacings grown as its section: cohesion's limit grows by the same sqrt(s).
+  const double grown = v.spread_n_per_mm > 0 ? std::sqrt(squash_) : 1.0;
+  return {v.min_separation * rest,
+          grown * v.max_separation * (rest + v.tip_spread * (widest - rest))};
 }
 
 namespace {
@@ -141,8 +178,32 @@ void Simulation::setVolumeContacts(int s, const std::vector<SpineSolution>& tria
       const Eigen::Vector3d held =
           hold ? heldPushDirection(volume_start_[s][j] - volume_start_[other][j])
                : Eigen::Vector3d::Zero();
-      p.volume.push_back({j, theirs[j], lim.min_mm, lim.max_mm, held});
+      p.volume.push_back({j, theirs[j], lim.min_mm, lim.max_mm, held, 0.0});
     }
+  }
+  if (brush_.volume.spread_n_per_mm > 0 && squash_ > 1)
+    addAxisSpread(s, hold ? volume_start_[s] : jointsAt(s, trial[s]));
+}
+
+// Incompressibility (docs/dynamics.md, "A squashed bundle spreads"): squashed
+// by s (bundleSquash), the bundle's section across the handle's axis must grow
+// s times, so each joint j of spine s keeps at least sqrt(s) times its rest
+// distance from the axis. The push is a VolumeContact against the axis's point
+// level with the joint where the solve starts (`start`), along the direction
+// from it to the joint there, held for the step as the pairs' pushes are
+// (VolumeLink). A joint on the axis at rest has no direction to spread in.
+void Simulation::addAxisSpread(int s, const std::vector<Eigen::Vector3d>& start) {
+  SpineProblem& p = problems_[s];
+  const Eigen::Vector3d axis = p.handle.rotation * Eigen::Vector3d::UnitZ();
+  const double grow = std::sqrt(squash_);
+  for (int j = 1; j < static_cast<int>(start.size()); ++j) {
+    const Eigen::Vector3d on_axis =
+        p.handle.position_mm + axis * axis.dot(start[j] - p.handle.position_mm);
+    const Eigen::Vector3d across = start[j] - on_axis;
+    const double r = across.norm(), rest = rest_radius_mm_[s][j];
+    if (r <= kPushDirMinMm || rest <= kPushDirMinMm) continue;
+    p.volume.push_back({j, on_axis, grow * rest, 0.0, Eigen::Vector3d(across / r),
+                        brush_.volume.spread_n_per_mm});
   }
 }
 
@@ -445,6 +506,7 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   std::vector<std::vector<bool>> sliding(ns);
 
   for (int s = 0; s < ns; ++s) buildProblem(s, handle);
+  squash_ = bundleSquash(rest_hair_mm_, handle);
   const std::vector<int> which = startSpines(handle, &trial, &sliding);
   const bool settled = !which.empty() && settledAt(handle, which);
   if (settled) {

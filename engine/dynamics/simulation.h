@@ -172,6 +172,19 @@ struct VolumePair {
 };
 std::vector<VolumePair> volumePairs(const Brush& brush);
 
+// Incompressibility (docs/dynamics.md, "A squashed bundle spreads"): hair of
+// rest length L held with the ferrule at a height H < L above the paper,
+// measured along the handle's axis, has its volume squashed into H, so its
+// section across the axis must grow by s = L / H and each joint's distance
+// from the axis by sqrt(s). Returns s, 1 where the hair is not squashed
+// (H >= L, or a handle that does not point the hair at the paper), at most
+// kMaxSquash.
+inline constexpr double kMaxSquash = 16;
+double bundleSquash(double rest_length_mm, const Pose& handle);
+// The length of the brush's hair along its axis at rest: how far below the
+// ferrule its lowest joint hangs.
+double restHairLengthMm(const Brush& brush);
+
 // How far a spine's hair near the paper moved across it between two sets of
 // its joint positions (n + 1 each, root first): the largest x-y move of a
 // joint j >= 1 that is, in either set, within the contact band plus its
@@ -305,6 +318,13 @@ class Simulation : private SolveWatch {
     double min_mm, max_mm;
   };
   VolumeLimits volumeLimits(const VolumePair& pair, int joint) const;
+  double rest_hair_mm_ = 0;  // restHairLengthMm
+  double squash_ = 1;        // bundleSquash of the step being solved
+  // Per spine, each point's distance from the brush's axis at rest (root first).
+  std::vector<std::vector<double>> rest_radius_mm_;
+  // The squashed bundle's spread on spine s, its joints at `start` where the
+  // solve starts, added to its volume contacts.
+  void addAxisSpread(int s, const std::vector<Eigen::Vector3d>& start);
   // The joints of spine s with the angles of `sol` (x_0 .. x_n).
   std::vector<Eigen::Vector3d> jointsAt(int s, const SpineSolution& sol);
   void setVolumeContacts(int s, const std::vector<SpineSolution>& trial,

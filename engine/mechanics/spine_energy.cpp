@@ -229,8 +229,9 @@ void addVolumeTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
   // like k v beyond the width w; the cohesion part pulls back alike.
   for (const VolumeContact& c : p.volume) {
     VolumePart parts[2];
-    const int np = volumeParts(fk->x[c.joint] - c.other_mm, c.push_dir, c.min_mm, c.max_mm,
-                               p.volume_stiffness_n_per_mm, p.cohesion_n_per_mm, parts);
+    const double k = c.stiffness_n_per_mm > 0 ? c.stiffness_n_per_mm : p.volume_stiffness_n_per_mm;
+    const int np = volumeParts(fk->x[c.joint] - c.other_mm, c.push_dir, c.min_mm, c.max_mm, k,
+                               p.cohesion_n_per_mm, parts);
     const int nvj = 2 * c.joint;  // only joints before it move x_j
     for (int i = 0; i < np; ++i) {
       const VolumePart& pt = parts[i];

@@ -58,6 +58,9 @@ struct VolumeContact {
   double min_mm = 0;
   double max_mm = 0;
   Eigen::Vector3d push_dir = Eigen::Vector3d::Zero();
+  // The push's stiffness; 0 takes the problem's volume_stiffness_n_per_mm.
+  // A squashed bundle's spread (VolumeSpec::spread_n_per_mm) has its own.
+  double stiffness_n_per_mm = 0;
 };
 
 // Smoothing width of the volume barrier (mm): within it the push grows from

@@ -125,6 +125,13 @@ struct VolumeSpec {
   // 1: the widest everywhere, so converging tips may spread as wide as the
   // belly; 0: each joint's own, so the tips keep their point.
   double tip_spread = 1;
+  // Incompressibility (docs/dynamics.md, "A squashed bundle spreads"): with the
+  // ferrule nearer the paper than the hair is long, the bundle's volume must
+  // fit in a shorter height, so its section across the handle's axis grows by
+  // the squash s = rest length / height, and each joint's distance from the
+  // axis by sqrt(s). A joint nearer the axis than that is pushed out with this
+  // stiffness, and cohesion's limit grows by sqrt(s). 0 = off.
+  double spread_n_per_mm = 0;
   bool present() const { return min_separation > 0; }
 };
 

@@ -1,7 +1,7 @@
 // The round's marks where its hair meets the paper on end (docs/fidelity.md,
 // "Artefacts of the marks"): a stroke that lifts off leaves no disc ahead of
 // its end, and the round pressed straight down leaves one blot with no speck
-// beside it. Rendered end to end by the bristle executable with each solver
+// beside it (round, round the handle, when its squashed hair spreads). Rendered end to end by the bristle executable with each solver
 // and measured on the PNG (tests/support/mark_measure.h).
 
 #include <catch2/catch.hpp>
@@ -70,26 +70,19 @@ Coverage renderRoundLift(const std::string& solver, double depth_frac, const Tem
   return loadCoveragePng(png);
 }
 
-// Principal axes of the inked pixels: the ratio of the long one to the short
-// one (sqrt of the covariance's eigenvalues), 1 for a disc, 2 for an ellipse
-// twice as long as it is wide.
-double roundAxisRatio(const Coverage& img, double threshold) {
-  double n = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
-  for (int r = 0; r < img.h; ++r)
-    for (int c = 0; c < img.w; ++c) {
-      if (img.at(c, r) <= threshold) continue;
-      n += 1;
-      sx += c;
-      sy += r;
-      sxx += double(c) * c;
-      syy += double(r) * r;
-      sxy += double(c) * r;
-    }
-  if (n < 2) return 0;
-  const double a = sxx / n - sx * sx / n / n, b = syy / n - sy * sy / n / n,
-               cxy = sxy / n - sx * sy / n / n;
-  const double mid = (a + b) / 2, half = std::sqrt((a - b) * (a - b) / 4 + cxy * cxy);
-  return mid - half > 0 ? std::sqrt((mid + half) / (mid - half)) : 0;
+// The brush pressed straight down 8 mm past first contact, held and lifted
+// (press-lift.csv, the handle at x-y 30, 30) with `solver`: its mark, every
+// step solved.
+Coverage renderRoundPress(const std::string& brush, const std::string& solver,
+                          const TempDir& dir) {
+  const std::string png = dir.file("press.png"), stats = dir.file("press.json");
+  const RunResult r = runBristle("render -q --solver " + solver + " --brush '" + brush +
+                                 "' --trajectory '" + sourcePath("scenes/trajectories/press-lift.csv") +
+                                 "' -o '" + png + "' --stats '" + stats + "'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(std::ifstream(stats)).at("failed_steps").get<int>() == 0);
+  return loadCoveragePng(png);
 }
 
 }  // namespace
@@ -128,17 +121,10 @@ TEST_CASE("marks: the round pressed straight down leaves one blot with no speck"
   const std::string solver = GENERATE("slsqp", "ipopt");
   INFO(solver);
   TempDir dir;
-  const std::string png = dir.file("press.png"), stats = dir.file("press.json");
-  const RunResult r = runBristle("render -q --solver " + solver + " --brush '" + kRound +
-                                 "' --trajectory '" + sourcePath("scenes/trajectories/press-lift.csv") +
-                                 "' -o '" + png + "' --stats '" + stats + "'");
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  CHECK(nlohmann::json::parse(std::ifstream(stats)).at("failed_steps").get<int>() == 0);
-  const Coverage img = loadCoveragePng(png);
+  const Coverage img = renderRoundPress(kRound, solver, dir);
   // Every inked component counts (no speck allowance): a satellite is one.
   const BlotStats b = blotStats(img, 0.1, 1);
-  const double ratio = roundAxisRatio(img, 0.1);
+  const double ratio = principalAxisRatio(img, 0.1);
   INFO("components " << b.components << ", fill " << b.fill << ", axis ratio " << ratio);
   CHECK(b.components == 1);
   // Filled: the acceptance figure of "a straight press-and-lift leaves one
@@ -150,4 +136,34 @@ TEST_CASE("marks: the round pressed straight down leaves one blot with no speck"
   // only that it stays under 2.2, a blot and not a streak.
   constexpr double kMaxRatio = 2.2;
   CHECK(ratio <= kMaxRatio);
+}
+
+TEST_CASE("marks: a round whose squashed hair spreads leaves a round blot round the handle",
+          "[marks][round]") {
+  // The library's round with volume.spread_n_per_mm 20 (docs/dynamics.md, "A
+  // squashed bundle spreads"), pressed straight down 8 mm past first contact
+  // with Ipopt. Without the rule the belly buckles over to one side: axes
+  // 1.98, the ink's centroid 4.2 mm from the handle; with it 1.10 and 0.9 mm
+  // (SLSQP 1.06 and 0.4 mm, 12 s, not run here). Asked: axes at most 1.3 (a
+  // blot a painter calls round; the laid-over one fails by far), the centroid
+  // within 1.5 mm of the handle's x-y (press-lift.csv: 30, 30), a sixth of
+  // the blot's 9 mm, one component, filled as the blot above.
+  TempDir dir;
+  nlohmann::json brush = nlohmann::json::parse(std::ifstream(kRound));
+  brush["volume"]["spread_n_per_mm"] = 20;
+  const std::string brush_path = dir.file("spreading-round.json");
+  std::ofstream(brush_path) << brush.dump();
+  const Coverage img = renderRoundPress(brush_path, "ipopt", dir);
+  const BlotStats b = blotStats(img, 0.1, 1);
+  const double ratio = principalAxisRatio(img, 0.1);
+  double cx = 0, cy = 0;
+  REQUIRE(inkCentroidMm(img, 0.1, &cx, &cy));
+  constexpr double kMaxRatio = 1.3, kMaxOffsetMm = 1.5, kHandleXMm = 30, kHandleYMm = 30;
+  const double offset = std::hypot(cx - kHandleXMm, cy - kHandleYMm);
+  INFO("components " << b.components << ", fill " << b.fill << ", axis ratio " << ratio
+       << ", ink centroid " << offset << " mm from the handle");
+  CHECK(b.components == 1);
+  CHECK(b.fill >= 0.85);
+  CHECK(ratio <= kMaxRatio);
+  CHECK(offset <= kMaxOffsetMm);
 }

@@ -1577,6 +1577,12 @@ case("render-preset-unknown", "`render --preset` a name no preset has",
      64, "--preset: poster not in {default,thumbnail} (see bristle --help)",
      all_of(brush(), trajectory()))
 
+case("brush-spread-negative", "a brush whose squashed hair spreads with a negative stiffness",
+     ["validate", "b.json"], 65,
+     "b.json: /volume/spread_n_per_mm = -1: must be in [0, 1000] N/mm (0: a squashed bundle "
+     "does not spread)",
+     brush(edit=lambda b: b.update(volume={"min_separation": 0.8, "spread_n_per_mm": -1})))
+
 CASES_END = None  # the cases are appended above this line
 
 if __name__ == "__main__":

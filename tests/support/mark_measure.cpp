@@ -406,4 +406,39 @@ double inkRunMm(const std::vector<double>& along, double px_per_mm, double share
   return (last + 1 - first) / px_per_mm;
 }
 
+double principalAxisRatio(const Coverage& img, double threshold) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (int r = 0; r < img.h; ++r)
+    for (int c = 0; c < img.w; ++c) {
+      if (img.at(c, r) <= threshold) continue;
+      n += 1;
+      sx += c;
+      sy += r;
+      sxx += double(c) * c;
+      syy += double(r) * r;
+      sxy += double(c) * r;
+    }
+  if (n < 2) return 0;
+  const double a = sxx / n - sx * sx / n / n, b = syy / n - sy * sy / n / n,
+               cxy = sxy / n - sx * sy / n / n;
+  const double mid = (a + b) / 2, half = std::sqrt((a - b) * (a - b) / 4 + cxy * cxy);
+  return mid - half > 0 ? std::sqrt((mid + half) / (mid - half)) : 0;
+}
+
+bool inkCentroidMm(const Coverage& img, double threshold, double* x_mm, double* y_mm) {
+  double m = 0, mx = 0, my = 0;
+  for (int r = 0; r < img.h; ++r)
+    for (int c = 0; c < img.w; ++c) {
+      const double v = img.at(c, r);
+      if (v <= threshold) continue;
+      m += v;
+      mx += v * (img.x0_mm + (c + 0.5) / img.px_per_mm);
+      my += v * (img.y0_mm + (img.h - r - 0.5) / img.px_per_mm);
+    }
+  if (!(m > 0)) return false;
+  *x_mm = mx / m;
+  *y_mm = my / m;
+  return true;
+}
+
 }  // namespace bristle::testsupport

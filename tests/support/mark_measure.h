@@ -160,4 +160,15 @@ long inkedPixels(const Coverage& img, double threshold = 0.1);
 // Canvas x (mm) of the rear-most and front-most inked column edges; false without ink.
 bool inkXRangeMm(const Coverage& img, double threshold, double* min_x_mm, double* max_x_mm);
 
+// Principal axes of the inked pixels (each counted once, whatever its ink):
+// the ratio of the long one to the short one, the square root of the ratio of
+// their covariance's eigenvalues. 1 for a disc, 2 for an ellipse twice as long
+// as it is wide; 0 with fewer than two inked pixels or all in a line.
+double principalAxisRatio(const Coverage& img, double threshold = 0.1);
+
+// The centroid of the inked pixels' ink (canvas mm, each pixel weighted by its
+// ink): where a blot sits, to set against where the handle pressed it.
+// False without ink.
+bool inkCentroidMm(const Coverage& img, double threshold, double* x_mm, double* y_mm);
+
 }  // namespace bristle::testsupport

@@ -94,6 +94,42 @@ TEST_CASE("mark_measure: a blot's pale share is the part of its hull under half 
   CHECK(ringed.pale_share - even.pale_share == Approx(0.1406).epsilon(0.18));
 }
 
+TEST_CASE("mark_measure: a blot's principal axes and its ink's centroid", "[mark]") {
+  // An ellipse with semi-axes a and b turned by 30 degrees, centred at pixel
+  // (cx, cy): its pixels' covariance has eigenvalues a^2 / 4 and b^2 / 4 (those
+  // of a filled ellipse), so the ratio is a / b. Pixelisation at a = 40 px
+  // moves it by a few thousandths; 0.02 allows that.
+  constexpr double a = 40, cx = 90.5, cy = 110.25, ppm = 8;
+  constexpr double kAxisTol = 0.02;
+  for (const double b : {40.0, 20.0}) {
+    const double t = std::numbers::pi / 6;
+    const Coverage img = paint(200, 200, [&](double x, double y) {
+      const double u = (x - cx) * std::cos(t) + (y - cy) * std::sin(t);
+      const double v = -(x - cx) * std::sin(t) + (y - cy) * std::cos(t);
+      return (u / a) * (u / a) + (v / b) * (v / b) <= 1;
+    }, ppm);
+    INFO("b = " << b);
+    CHECK(principalAxisRatio(img) == Approx(a / b).margin(kAxisTol));
+    // The centroid in canvas mm (row 0 at the top, x0 = y0 = 0): within a
+    // tenth of a pixel of the centre, which the ellipse's symmetry puts there
+    // but for the pixels its edge cuts.
+    double x = 0, y = 0;
+    REQUIRE(inkCentroidMm(img, 0.1, &x, &y));
+    CHECK(x == Approx(cx / ppm).margin(0.1 / ppm));
+    CHECK(y == Approx((200 - cy) / ppm).margin(0.1 / ppm));
+  }
+  // Ink weighs: a pixel of ink 1 and one of 0.5 two pixels to its right sit
+  // at a third of the way between them.
+  Coverage two(10, 10, 1);
+  two.at(2, 5) = 1.0f;
+  two.at(4, 5) = 0.5f;
+  double x = 0, y = 0;
+  REQUIRE(inkCentroidMm(two, 0.1, &x, &y));
+  CHECK(x == Approx(2.5 + 2.0 / 3));
+  CHECK(y == Approx(4.5));
+  CHECK_FALSE(inkCentroidMm(Coverage(10, 10, 1), 0.1, &x, &y));
+}
+
 TEST_CASE("mark_measure: a six-pointed star fills two thirds of its hull", "[mark]") {
   // Two equilateral triangles of circumradius R: the star's area is sqrt(3) R^2,
   // its hull the regular hexagon of area 3 sqrt(3) / 2 R^2, so fill = 2/3.

@@ -688,6 +688,15 @@ TEST_CASE("hair volume: read, and refused where it would be meaningless", "[read
   CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"max_separation", 1.3},
                                           {"tip_spread", 1.5}}),
                     "/volume/tip_spread", "[0, 1]");
+  // The squashed bundle's spread (docs/dynamics.md, "A squashed bundle
+  // spreads"): off unless given, a stiffness in [0, 1000] N/mm.
+  CHECK(cohesive.volume.spread_n_per_mm == 0);
+  doc["volume"]["spread_n_per_mm"] = 40;
+  CHECK(parseBrush(doc.dump(), "brush.json").volume.spread_n_per_mm == 40);
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spread_n_per_mm", -1}}),
+                    "/volume/spread_n_per_mm", "[0, 1000]");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spread_n_per_mm", 1e4}}),
+                    "/volume/spread_n_per_mm", "[0, 1000]");
   CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spacing", 1}}),
                     "/volume/spacing", "unknown key");
 }

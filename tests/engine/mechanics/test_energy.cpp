@@ -119,6 +119,9 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
       p.volume[2].push_dir = Eigen::Vector3d(0.0, 0.6, 0.8);
       p.volume[3].push_dir = Eigen::Vector3d(1.0, 2.0, -2.0) / 3.0;
     }
+    // A squashed bundle's spread (Simulation::addAxisSpread): a push out from
+    // the handle's axis, held across it, with a stiffness of its own.
+    p.volume.push_back({2, Eigen::Vector3d(9.0, 21.5, 1.0), 4.0, 0, Eigen::Vector3d(0.8, 0.6, 0.0), 30});
   }
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> angle(-0.9, 0.9);

@@ -812,6 +812,68 @@ TEST_CASE("ipopt: no option file is read, not even ./ipopt.opt", "[solvers][ipop
   CHECK_FALSE(leaked);
 }
 
+TEST_CASE("a squashed spine spreads from the axis as far as the volume rule asks, less the "
+          "push's give", "[solvers][ipopt][slsqp][volume]") {
+  // A straight one-segment spine r0 from the handle's axis, squashed by
+  // s = 2.25 (the ferrule 4 mm above the paper on 9 mm of hair): the
+  // incompressible bundle asks each joint's distance from the axis to grow by
+  // sqrt(s) = 1.5 (Simulation::addAxisSpread, docs/dynamics.md "A squashed
+  // bundle spreads"), a push from the axis's point level with the joint. In
+  // the air the spine turns out by alpha about its root; the balance of its
+  // spring (eq. 2, beta = alpha) and the push (psi of spine_energy.cpp),
+  //   K alpha = k psi'(v) L cos(alpha),  v = target - (r0 + L sin(alpha)),
+  // has one root, found by bisection: both solvers must land on it.
+  constexpr double r0 = 1.0, L = 5.0, K = 3.0, k = 50.0;
+  const double squash = bundleSquash(9.0, poseAt(0, 0, 4));
+  REQUIRE(squash == Approx(2.25));
+  const double target = r0 * std::sqrt(squash);
+  auto psiPrime = [](double v) {
+    constexpr double w = kVolumeSmoothMm;
+    return v <= w ? v * v / (2 * w) : w / 2 + v - w;
+  };
+  auto balance = [&](double a) {
+    return K * a - k * psiPrime(target - (r0 + L * std::sin(a))) * L * std::cos(a);
+  };
+  double lo = 0, hi = std::asin((target - r0) / L);  // the push is spent at hi
+  for (int i = 0; i < 200; ++i) (balance(0.5 * (lo + hi)) < 0 ? lo : hi) = 0.5 * (lo + hi);
+  const double expected = r0 + L * std::sin(0.5 * (lo + hi));
+  SpineSpec spec = makeSpine({L}, {K}, 0.0, Eigen::Vector3d(r0, 0, 0));
+  SpineProblem p;
+  p.spine = &spec;
+  p.handle = poseAt(0, 0, 50);  // the squash is given; the spine stays in the air
+  p.friction_n.assign(1, 0.0);
+  p.anchor_xy_mm.assign(1, Eigen::Vector2d::Zero());
+  p.prev_q.assign(2, 0.0);
+  p.volume_stiffness_n_per_mm = 5;  // the pairs' push, which the spread does not take
+  p.volume = {{1, Eigen::Vector3d(0, 0, 50 - L), target, 0.0, Eigen::Vector3d::UnitX(), k}};
+  for (const char* name : {"ipopt", "slsqp"}) {
+    std::unique_ptr<SpineSolver> solver =
+        std::string(name) == "ipopt" ? makeIpoptSolver() : makeSlsqpSolver();
+    SpineSolution sol;
+    sol.q.assign(2, 0.0);
+    const SpineProblem* pp = &p;
+    SpineSolution* ps = &sol;
+    REQUIRE(solver->solve({&pp, 1}, {&ps, 1}).usable());
+    const double from_axis = jointsMm(p, sol)[1].head<2>().norm();
+    INFO(name << ": " << from_axis << " mm from the axis, closed form " << expected
+              << ", target " << target);
+    CHECK(std::fabs(from_axis - expected) < kSolverAgreeMm);
+    // The push's give: within a hundredth of a millimetre of the rule's radius.
+    CHECK(from_axis > target - 0.01);
+  }
+  // The squash itself: the rest length over the ferrule's height along the
+  // handle's axis (tilted 60 degrees, 2 mm up is 4 mm along it), 1 clear of
+  // the paper or with the hair pointing up, kMaxSquash at the paper.
+  Pose tilted = poseAt(0, 0, 2);
+  tilted.rotation = Eigen::AngleAxisd(std::numbers::pi / 3, Eigen::Vector3d::UnitY());
+  CHECK(bundleSquash(9.0, tilted) == Approx(9.0 / 4));
+  CHECK(bundleSquash(9.0, poseAt(0, 0, 9.5)) == 1);
+  Pose up = poseAt(0, 0, 2);
+  up.rotation = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY());
+  CHECK(bundleSquash(9.0, up) == 1);
+  CHECK(bundleSquash(9.0, poseAt(0, 0, 0)) == kMaxSquash);
+}
+
 TEST_CASE("hair volume solved as one NLP: each spine is optimal against the other",
           "[solvers][ipopt][slsqp][volume]") {
   // Two spines splayed apart at rest, in the air, held by cohesion at their tips
