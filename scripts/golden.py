@@ -299,7 +299,8 @@ def main(argv=None):
                     help="folder for renders, differences and index.html")
     ap.add_argument("--jobs", type=int, default=2, help="renders at a time (default 2)")
     ap.add_argument("--force", action="store_true", help="update: store every selected golden")
-    args = ap.parse_args(argv)
+    # Intermixed: `update --force NAME...` as well as `update NAME... --force`.
+    args = ap.parse_intermixed_args(argv)
     if args.jobs < 1:
         die(64, "--jobs must be at least 1")
     if args.force and args.mode != "update":

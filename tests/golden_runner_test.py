@@ -5,7 +5,7 @@ On a copy of one golden in a temporary folder: the untouched copy passes; a
 copy with a 4 x 4 block of pixels off by 40/255 in red fails, names the
 golden and the broken limit, and writes the new, reference and difference
 images and the HTML report; `update` stores the new render and the suite
-passes again; a golden of another size fails naming both sizes; a missing
+passes again, and `update --force NAME` stores a passing one; a golden of another size fails naming both sizes; a missing
 golden fails; a broken manifest exits 65 naming the field. Usage: golden_runner_test.py BRISTLE_EXECUTABLE
 """
 
@@ -156,6 +156,10 @@ def main():
         code, out = run("update", *common)
         expect(code == 0 and "stored" not in out.replace("goldens stored", ""),
                "update leaves passing goldens alone", out)
+        # --force before the names, as scripts/update-goldens' help shows it.
+        code, out = run("update", "--force", GOLDEN, *common)
+        expect(code == 0 and f"stored  {GOLDEN}" in out,
+               "update --force NAME stores that golden though it passes", out)
 
         # A golden of another size (one column cropped) fails and says so.
         w, h, rows = read_png_rgb8(golden_png)
