@@ -584,12 +584,14 @@ float flagDeposit(float g, float tooth, float hair) {
   return g * (kFlagFloor + (1 - kFlagFloor) * pass);
 }
 
-// The share of the full hair's pickup the flagged rim takes
-// (TransferParams::flag_scrub_mm): g + (1 - g) min(1, s / flag_scrub_mm), s
-// the hair's slide over the paper per reference step where it touches. The
-// spines' motion varies over millimetres, so the slide is looked up once per
-// square cell of about kSlideCellMm and kept for the step. Without a slide
-// (none known, or no contact time) the rim picks up in full.
+// How the flagged hair's slide over the paper sets its transfer: the share
+// min(1, s / flag_scrub_mm) of the paper its flags wipe, s the hair's slide
+// per reference step where it touches (TransferParams::flag_scrub_mm). The
+// rim picks up g + (1 - g) of it (pickup), and the flagged brush's hair lays
+// flag_still_deposit + (1 - flag_still_deposit) of it (lay). The spines'
+// motion varies over millimetres, so the slide is looked up once per square
+// cell of about kSlideCellMm and kept for the step. Without a slide (none
+// known, or no contact time) both are in full.
 constexpr double kSlideCellMm = 0.25;
 class FlagScrub {
  public:
@@ -599,14 +601,28 @@ class FlagScrub {
     const double exposure = std::max(params.exposure, 0.0);
     if (fp.slide == nullptr || !(exposure > 0) || !(params.flag_scrub_mm > 0)) return;
     on_ = true;
+    still_ = static_cast<float>(std::clamp(params.flag_still_deposit, 0.0, 1.0));
     inv_ref_ = 1.0 / (params.flag_scrub_mm * exposure);
     cell_ = std::max(1, static_cast<int>(std::lround(kSlideCellMm * grid.px_per_mm)));
     cells_w_ = (fp.width + cell_ - 1) / cell_;
     cache_.assign(static_cast<size_t>(cells_w_) * ((fp.height + cell_ - 1) / cell_), -1.0f);
   }
-  // At footprint pixel (c, r), whose rim deposit factor is g.
-  float operator()(int c, int r, float g) {
+  // The pickup's share at footprint pixel (c, r), whose rim deposit factor is g.
+  float pickup(int c, int r, float g) {
     if (!on_ || g >= 1) return 1.0f;
+    return g + (1 - g) * wiped(c, r);
+  }
+  // The deposit's share at footprint pixel (c, r), whose rim deposit factor
+  // is g: the dense hair's share g of it lays by its slide; the few flags
+  // further out already lay only the share of the paper their contact wets
+  // (flagDeposit), as flags standing do.
+  float lay(int c, int r, float g) {
+    if (!on_ || still_ >= 1 || g <= 0) return 1.0f;
+    return 1 - g * (1 - still_) * (1 - wiped(c, r));
+  }
+
+ private:
+  float wiped(int c, int r) {
     const int cc = c / cell_, cr = r / cell_;
     float& s = cache_[static_cast<size_t>(cr) * cells_w_ + cc];
     if (s < 0) {
@@ -615,14 +631,13 @@ class FlagScrub {
       s = static_cast<float>(fp_.slide->at(grid_.x0_mm + col / grid_.px_per_mm,
                                            grid_.y0_mm + (grid_.height_px - row) / grid_.px_per_mm));
     }
-    return g + (1 - g) * static_cast<float>(std::min(1.0, s * inv_ref_));
+    return static_cast<float>(std::min(1.0, s * inv_ref_));
   }
-
- private:
   const FootprintView& fp_;
   const CanvasGrid& grid_;
   std::vector<float>& cache_;
   bool on_ = false;
+  float still_ = 1;
   double inv_ref_ = 0;
   int cell_ = 1, cells_w_ = 0;
 };
@@ -689,10 +704,10 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
       float pick = contact;
       if (flagged) {
         const float rim = scratch.flag[static_cast<size_t>(r) * fp.width + c];
-        dep *= flagDeposit(rim, canvas.tooth(i), hair);
+        dep *= flagDeposit(rim, canvas.tooth(i), hair) * scrub.lay(c, r, rim);
         // Over dry paper there is nothing to take up (each pixel is touched
-        // once a step): the slide is not looked up.
-        if (canvas.wet(i).volume_mm3 > 0) pick *= scrub(c, r, rim);
+        // once a step).
+        if (canvas.wet(i).volume_mm3 > 0) pick *= scrub.pickup(c, r, rim);
       }
       touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), pick,
                          dep});

@@ -350,6 +350,21 @@ struct TransferParams {
   // rim, while one lifting straight off it does not scrub it (docs/paint.md,
   // "Flags scrub only as they slide").
   double flag_scrub_mm = 0.1;
+  // Flagged hair lays paint as it slides, too: its split ends hold the paint
+  // in their splits by capillarity, and the paper draws it out of them as
+  // they pass over it (the film drawn from a meniscus grows with the speed,
+  // as in dip coating), while a flag standing on the paper gives only what
+  // wets its contact. So where the footprint tells how the hair slid, a
+  // flagged brush's deposit is the rate's
+  // flag_still_deposit + (1 - flag_still_deposit) min(1, s / flag_scrub_mm):
+  // in full at 20 mm/s or faster, per mm slid below it, and this share
+  // standing. Under a still dome the film then settles at this share of the
+  // deposit-pickup balance, not at all of it: a softener landing on the
+  // paper leaves no blot, and its mark fades in. On the flagged rim it
+  // applies to the dense hair's share g only (the rest, a few flags, already
+  // lays only what its contact wets). 1: deposit whatever the slide
+  // (docs/paint.md, "Flags lay as they slide").
+  double flag_still_deposit = 0.25;
   // Paint flows within each column of the brush texture (one lateral position of
   // the bundle) towards texels that lost paint, the belly feeding the tip by
   // capillarity: this fraction of each texel's difference from the column mean

@@ -611,6 +611,77 @@ TEST_CASE("Transfer: flagged hair scrubs wet paint up as it slides, not as it st
   CHECK(taken(lift(0, 0), 8, 8 + 20) == Approx(taken(lift(0, -1), 8, 8 + 20)).epsilon(1e-6));
 }
 
+TEST_CASE("Transfer: flagged hair lays as it slides, a share of it standing",
+          "[paint][transfer]") {
+  // A loaded brush pressed on dry paper, told how far its hair slid over the
+  // paper each reference step (FootprintView::slide): flagged hair lays its
+  // paint as the paper draws it out of the flags' splits, a share
+  // (TransferParams::flag_still_deposit) of it standing (docs/paint.md,
+  // "Flags lay as they slide").
+  constexpr double kFlagMm = 1.0;
+  const TransferParams defaults;
+  const double scrub = defaults.flag_scrub_mm, still = defaults.flag_still_deposit;
+  REQUIRE(still < 1);
+  // slide_mm < 0: no slide given.
+  auto press = [&](double flag_mm, double slide_mm, int steps, double exposure = 1) {
+    Brush brush = fivesSpineBrush();
+    brush.paint_flag_mm = flag_mm;
+    BrushPaint paint(brush);
+    paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+    PaintCanvas canvas(grid(80, 56), PaperSpec{}, MixModel::kKubelkaMunk);
+    const Footprint fp(64, 40, 0.8f, 0.5f);
+    HairSlide slide;
+    slide.pieces.push_back({0, 0, 10, 7, static_cast<float>(slide_mm),
+                            static_cast<float>(slide_mm)});
+    FootprintView view = fp.at(8, 8);
+    if (slide_mm >= 0) view.slide = &slide;
+    TransferParams params;
+    params.exposure = exposure;
+    for (int step = 0; step < steps; ++step) transfer(view, paint, canvas, params);
+    return canvas;
+  };
+  auto film = [](const PaintCanvas& c, int col, int row) {
+    return c.wet(c.index(col, row)).volume_mm3 / c.pixelAreaMm2();
+  };
+  // One step on dry paper: the film is what was laid (float sums: 1e-5).
+  constexpr double kFloat = 1e-5;
+  const PaintCanvas drawn = press(kFlagMm, scrub, 1), unknown = press(kFlagMm, -1, 1),
+                    standing = press(kFlagMm, 0, 1), slow = press(kFlagMm, 0.5 * scrub, 1);
+  for (int row = 8 + 12; row < 8 + 30; row += 4) {
+    INFO("row " << row);
+    // Deep inside (g = 1): drawn at flag_scrub_mm a reference step or faster
+    // it lays as when the slide is not known; standing, the share `still`;
+    // at half the speed, half-way between (the deposit is linear in it).
+    const double full = film(drawn, 8 + 32, row);
+    CHECK(full > 0);
+    CHECK(full == Approx(film(unknown, 8 + 32, row)).epsilon(kFloat));
+    CHECK(film(standing, 8 + 32, row) == Approx(still * full).epsilon(kFloat));
+    CHECK(film(slow, 8 + 32, row) == Approx(0.5 * (1 + still) * full).epsilon(kFloat));
+    // On the flagged rim the few flags lay only what their contact wets
+    // whatever their slide: on the outermost column (g 0.01) standing lays
+    // within 1 % of drawn, and half-way in (0 < g < 1) a share between.
+    CHECK(film(standing, 8, row) >= 0.99 * film(drawn, 8, row));
+    const double mid_full = film(drawn, 8 + 4, row), mid_stand = film(standing, 8 + 4, row);
+    CHECK(mid_stand > still * mid_full);
+    CHECK(mid_stand < mid_full);
+  }
+  // The slide is a speed: over two reference steps, a slide of twice
+  // flag_scrub_mm lays in full, one of flag_scrub_mm half-way.
+  const double two_full = film(press(kFlagMm, 2 * scrub, 1, 2.0), 8 + 32, 8 + 20);
+  CHECK(film(press(kFlagMm, scrub, 1, 2.0), 8 + 32, 8 + 20) ==
+        Approx(0.5 * (1 + still) * two_full).epsilon(kFloat));
+  // Held there, deposit and pickup settle: standing, the film settles at the
+  // share `still` of the balance a sliding brush reaches (deposit_rate /
+  // pickup_rate of a full load's film). 60 steps: within 0.1 % of it (0.8^60).
+  constexpr int kSettle = 60;
+  const double settled = film(press(kFlagMm, scrub, kSettle), 8 + 32, 8 + 20),
+               settled_still = film(press(kFlagMm, 0, kSettle), 8 + 32, 8 + 20);
+  CHECK(settled_still == Approx(still * settled).epsilon(2e-3));
+  // A brush without flags lays the same, slide or not.
+  CHECK(film(press(0, 0, 1), 8 + 32, 8 + 20) ==
+        Approx(film(press(0, -1, 1), 8 + 32, 8 + 20)).epsilon(kFloat));
+}
+
 TEST_CASE("Transfer: rates are per unit of contact time", "[paint][transfer]") {
   // A fraction per reference step compounds: two half steps take what one
   // whole step takes, exactly (up to rounding, 1e-15).
