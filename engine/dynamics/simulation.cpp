@@ -62,8 +62,14 @@ Simulation::Simulation(const Brush& brush, const SimOptions& options,
     const std::vector<double> zero(2 * spec.jointCount(), 0.0);
     spineForwardKinematics(spec, Pose{}, rest_rot_[i].data(), zero.data(), 0, &fk);
     std::vector<double> r;
-    for (const Eigen::Vector3d& x : fk.x) r.push_back(x.head<2>().norm());
+    std::vector<Eigen::Vector3d> dir;
+    for (const Eigen::Vector3d& x : fk.x) {
+      r.push_back(x.head<2>().norm());
+      dir.push_back(r.back() > 0 ? Eigen::Vector3d(x.x() / r.back(), x.y() / r.back(), 0)
+                                 : Eigen::Vector3d::Zero());
+    }
     rest_radius_mm_.push_back(r);
+    rest_dir_.push_back(dir);
   }
 }
 
@@ -79,12 +85,18 @@ double restHairLengthMm(const Brush& brush) {
   return deepest;
 }
 
-double bundleSquash(double rest_length_mm, const Pose& handle) {
+Eigen::Vector2d axisOnPaper(const Pose& handle) {
+  const Eigen::Vector3d down = handle.rotation * Eigen::Vector3d(0, 0, -1);
+  if (down.z() >= 0) return handle.position_mm.head<2>();
+  return (handle.position_mm + down * (handle.position_mm.z() / -down.z())).head<2>();
+}
+
+double bundleSquash(double rest_length_mm, const Pose& handle, double travel_mm) {
   // The hair hangs along the brush frame's -z; below the ferrule the paper
   // lies at H = z / cos(the axis's angle from straight down).
   const double down = -(handle.rotation * Eigen::Vector3d(0, 0, -1)).z();
   if (down <= 0 || rest_length_mm <= 0) return 1;
-  const double height = handle.position_mm.z() / down;
+  const double height = handle.position_mm.z() / down + kTrailRoomPerMm * travel_mm;
   if (height >= rest_length_mm) return 1;
   if (height * kMaxSquash <= rest_length_mm) return kMaxSquash;
   return rest_length_mm / height;
@@ -188,21 +200,24 @@ void Simulation::setVolumeContacts(int s, const std::vector<SpineSolution>& tria
 // Incompressibility (docs/dynamics.md, "A squashed bundle spreads"): squashed
 // by s (bundleSquash), the bundle's section across the handle's axis must grow
 // s times, so each joint j of spine s keeps at least sqrt(s) times its rest
-// distance from the axis. The push is a VolumeContact against the axis's point
-// level with the joint where the solve starts (`start`), along the direction
-// from it to the joint there, held for the step as the pairs' pushes are
-// (VolumeLink). A joint on the axis at rest has no direction to spread in.
+// distance from the axis, measured along its rest direction from the axis
+// (turned with the handle): a bundle laid over to one side carries the near
+// spines' joints across the axis, against their own outward, so it is not the
+// spread the rule asks for. The push is a VolumeContact against the axis's
+// point level with the joint where the solve starts (`start`). A spine rooted
+// on the axis is the bundle's core, with no outward of its own: the others'
+// volume pushes move it.
 void Simulation::addAxisSpread(int s, const std::vector<Eigen::Vector3d>& start) {
+  if (rest_radius_mm_[s][0] <= kPushDirMinMm) return;
   SpineProblem& p = problems_[s];
   const Eigen::Vector3d axis = p.handle.rotation * Eigen::Vector3d::UnitZ();
   const double grow = std::sqrt(squash_);
   for (int j = 1; j < static_cast<int>(start.size()); ++j) {
+    const double rest = rest_radius_mm_[s][j];
+    if (rest <= kPushDirMinMm) continue;
     const Eigen::Vector3d on_axis =
         p.handle.position_mm + axis * axis.dot(start[j] - p.handle.position_mm);
-    const Eigen::Vector3d across = start[j] - on_axis;
-    const double r = across.norm(), rest = rest_radius_mm_[s][j];
-    if (r <= kPushDirMinMm || rest <= kPushDirMinMm) continue;
-    p.volume.push_back({j, on_axis, grow * rest, 0.0, Eigen::Vector3d(across / r),
+    p.volume.push_back({j, on_axis, grow * rest, 0.0, p.handle.rotation * rest_dir_[s][j],
                         brush_.volume.spread_n_per_mm});
   }
 }
@@ -217,6 +232,7 @@ void Simulation::reset(const Pose& handle, double t_s) {
   state_ = BrushState{};
   state_.t_s = t_s;
   state_.handle = handle;
+  state_.touch_xy_mm = axisOnPaper(handle);
   const size_t ns = brush_.spines.size();
   state_.spines.resize(ns);
   problems_.assign(ns, SpineProblem{});
@@ -506,7 +522,11 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   std::vector<std::vector<bool>> sliding(ns);
 
   for (int s = 0; s < ns; ++s) buildProblem(s, handle);
-  squash_ = bundleSquash(rest_hair_mm_, handle);
+  // The hair lands where the axis meets the paper as it first comes down to
+  // it; a handle that travels on from there drags it out from under the
+  // ferrule and lays it along the paper (bundleSquash's travel).
+  if (bundleSquash(rest_hair_mm_, handle) <= 1) state_.touch_xy_mm = axisOnPaper(handle);
+  squash_ = bundleSquash(rest_hair_mm_, handle, (axisOnPaper(handle) - state_.touch_xy_mm).norm());
   const std::vector<int> which = startSpines(handle, &trial, &sliding);
   const bool settled = !which.empty() && settledAt(handle, which);
   if (settled) {

@@ -102,6 +102,10 @@ struct BrushState {
   HandleMove moved = HandleMove::Zero();
   std::vector<SpineState> spines;
   Eigen::Vector3d force_n = Eigen::Vector3d::Zero();  // canvas force on the brush
+  // Where the handle's axis met the paper when the hair last came down to it
+  // (bundleSquash first above 1): a handle travelling on from there lays the
+  // hair along the paper (docs/dynamics.md, "A squashed bundle spreads").
+  Eigen::Vector2d touch_xy_mm = Eigen::Vector2d::Zero();
   bool anyContact() const;
 };
 
@@ -176,11 +180,22 @@ std::vector<VolumePair> volumePairs(const Brush& brush);
 // rest length L held with the ferrule at a height H < L above the paper,
 // measured along the handle's axis, has its volume squashed into H, so its
 // section across the axis must grow by s = L / H and each joint's distance
-// from the axis by sqrt(s). Returns s, 1 where the hair is not squashed
-// (H >= L, or a handle that does not point the hair at the paper), at most
+// from the axis by sqrt(s). A handle that has travelled `travel_mm` across the
+// paper since its hair came down to it has dragged the squashed hair out from
+// under the ferrule and laid it along the paper behind: the hair's room is
+// H + kTrailRoomPerMm * travel. Returns s, 1 where the hair is not squashed
+// (room >= L, or a handle that does not point the hair at the paper), at most
 // kMaxSquash.
 inline constexpr double kMaxSquash = 16;
-double bundleSquash(double rest_length_mm, const Pose& handle);
+// How fast a pull gives the squashed hair room, per mm of travel. Fitted
+// (docs/dynamics.md, "A squashed bundle spreads"): at 1 the round's
+// pressed-in pull at 30 % of its hair widened as it set off, its width's CV
+// 0.19 over the middle 60 % of the stroke; at 3, 0.014.
+inline constexpr double kTrailRoomPerMm = 3;
+double bundleSquash(double rest_length_mm, const Pose& handle, double travel_mm = 0);
+// Where the handle's axis meets the paper (z = 0); the handle's x-y when the
+// axis does not point down at it.
+Eigen::Vector2d axisOnPaper(const Pose& handle);
 // The length of the brush's hair along its axis at rest: how far below the
 // ferrule its lowest joint hangs.
 double restHairLengthMm(const Brush& brush);
@@ -322,6 +337,7 @@ class Simulation : private SolveWatch {
   double squash_ = 1;        // bundleSquash of the step being solved
   // Per spine, each point's distance from the brush's axis at rest (root first).
   std::vector<std::vector<double>> rest_radius_mm_;
+  std::vector<std::vector<Eigen::Vector3d>> rest_dir_;  // unit x-y from the axis at rest
   // The squashed bundle's spread on spine s, its joints at `start` where the
   // solve starts, added to its volume contacts.
   void addAxisSpread(int s, const std::vector<Eigen::Vector3d>& start);

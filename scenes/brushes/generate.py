@@ -145,7 +145,11 @@ def round_brush():
              sp, 0.45, 0.35, 0.3)
     belly = [0.9, 1.3, 1.1, 0.6, 0.25]
     b["surface"] = tube_cage(sp, 10, lambda k: belly[k], lambda k: belly[k])
-    b["volume"] = volume(0.45)
+    # Hair is nearly incompressible: pressed straight down, the squashed belly
+    # spreads round the handle instead of laying over to one side
+    # (docs/dynamics.md, "A squashed bundle spreads"; 40 N/mm, docs/fidelity.md,
+    # "The round's press blot").
+    b["volume"] = dict(volume(0.45), spread_n_per_mm=40)
     b["paint"] = {"capacity": 1.0}
     return b
 
