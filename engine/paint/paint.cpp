@@ -479,6 +479,14 @@ struct Touch {
   float contact, deposit;
 };
 
+// Working space of convexFootprint, kept from step to step.
+struct FlagHullScratch {
+  std::vector<int> label;          // per footprint pixel: its touching piece, -1 untouched
+  std::vector<int> stack;          // the flood fill's pixels to visit
+  std::vector<int> lo, hi;         // per footprint row: the piece's extreme columns
+  std::vector<Eigen::Vector2d> pts, hull;
+};
+
 // Per-step working arrays, reused from step to step (the engine runs on one
 // thread per canvas), so a step allocates nothing once warm.
 struct TransferScratch {
@@ -488,7 +496,9 @@ struct TransferScratch {
   std::vector<double> in_sum;    // per texel: paint picked up (mm^3)
   std::vector<std::array<float, 6>> in_optics;  // per texel: volume-weighted K and S picked up
   std::vector<float> flag;       // per footprint pixel: deposit factor of flagged ends (flagRim)
-  std::vector<int> flag_sums;    // per footprint pixel: flagRim's column sums of touched pixels
+  std::vector<int> flag_sums;    // per footprint pixel: flagRim's column sums of hull pixels
+  std::vector<std::uint8_t> flag_mask;  // flagRim's hull of the footprint (convexFootprint)
+  FlagHullScratch flag_hull;     // convexFootprint's working space
   std::vector<float> slide;      // per FlagScrub cell: the hair's slide there (mm), < 0 not yet
 
   void reset(size_t pixels) {
@@ -513,41 +523,140 @@ std::array<float, kTexels> texelDryness(const BrushPaint& brush, const TransferP
   return dryness;
 }
 
+// Marks in `m` (row length mw, offset by `pad`) every pixel whose centre lies
+// in the convex hull of `pts` (pixel centres, in ascending rows): Andrew's
+// monotone chain taken down the rows and back up, then each row filled
+// between where the hull's edges cross it.
+void fillHull(const std::vector<Eigen::Vector2d>& pts, int mw, int pad,
+              std::vector<Eigen::Vector2d>* hull, std::vector<std::uint8_t>* m) {
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d>& H = *hull;
+  H.assign(2 * pts.size() + 1, Eigen::Vector2d::Zero());
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(H[k - 2], H[k - 1], pts[i]) <= 0) --k;
+    H[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(H[k - 2], H[k - 1], pts[i]) <= 0) --k;
+    H[k++] = pts[i];
+  }
+  H.resize(k > 1 ? k - 1 : 1);
+  for (int r = static_cast<int>(pts.front().y()); r <= static_cast<int>(pts.back().y()); ++r) {
+    double x0 = std::numeric_limits<double>::max(), x1 = -x0;
+    for (size_t i = 0; i < H.size(); ++i) {
+      const Eigen::Vector2d& a = H[i];
+      const Eigen::Vector2d& b = H[(i + 1) % H.size()];
+      if ((a.y() - r) * (b.y() - r) > 0) continue;  // the edge does not cross row r
+      if (a.y() == b.y()) {
+        x0 = std::min({x0, a.x(), b.x()});
+        x1 = std::max({x1, a.x(), b.x()});
+        continue;
+      }
+      const double x = a.x() + (r - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
+      x0 = std::min(x0, x);
+      x1 = std::max(x1, x);
+    }
+    const int c1 = static_cast<int>(std::floor(x1 + 1e-9));
+    for (int c = static_cast<int>(std::ceil(x0 - 1e-9)); c <= c1; ++c)
+      (*m)[static_cast<size_t>(r + pad) * mw + c + pad] = 1;
+  }
+}
+
+// The footprint with each touching piece (8-connected touched pixels)
+// replaced by its convex hull, as a mask padded by `pad` on every side (row
+// length fp.width + 2 pad). Each row's extreme pixels of a piece are its
+// hull's only candidates.
+void convexFootprint(const FootprintView& fp, int pad, std::vector<std::uint8_t>* mask,
+                     FlagHullScratch* s) {
+  const int w = fp.width, h = fp.height, mw = w + 2 * pad;
+  mask->assign(static_cast<size_t>(mw) * (h + 2 * pad), 0);
+  s->label.assign(static_cast<size_t>(w) * h, -1);
+  s->lo.assign(static_cast<size_t>(h), w);
+  s->hi.assign(static_cast<size_t>(h), -1);
+  auto touched = [&](int i) {
+    const float* px = fp.texels + static_cast<size_t>(i) * 4;
+    return px[3] > 0 && px[2] > 0;
+  };
+  int pieces = 0;
+  for (int seed = 0; seed < w * h; ++seed) {
+    if (s->label[static_cast<size_t>(seed)] >= 0 || !touched(seed)) continue;
+    s->label[static_cast<size_t>(seed)] = pieces;
+    s->stack.assign(1, seed);
+    int r0 = h, r1 = -1;
+    while (!s->stack.empty()) {
+      const int i = s->stack.back(), r = i / w, c = i % w;
+      s->stack.pop_back();
+      r0 = std::min(r0, r);
+      r1 = std::max(r1, r);
+      s->lo[static_cast<size_t>(r)] = std::min(s->lo[static_cast<size_t>(r)], c);
+      s->hi[static_cast<size_t>(r)] = std::max(s->hi[static_cast<size_t>(r)], c);
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr, cc = c + dc, j = rr * w + cc;
+          if (rr < 0 || rr >= h || cc < 0 || cc >= w || s->label[static_cast<size_t>(j)] >= 0 ||
+              !touched(j))
+            continue;
+          s->label[static_cast<size_t>(j)] = pieces;
+          s->stack.push_back(j);
+        }
+    }
+    s->pts.clear();
+    for (int r = r0; r <= r1; ++r) {
+      int& lo = s->lo[static_cast<size_t>(r)];
+      int& hi = s->hi[static_cast<size_t>(r)];
+      if (hi < 0) continue;
+      s->pts.emplace_back(lo, r);
+      if (hi != lo) s->pts.emplace_back(hi, r);
+      lo = w;
+      hi = -1;
+    }
+    fillHull(s->pts, mw, pad, &s->hull, mask);
+    ++pieces;
+  }
+}
+
 // Flagged hair ends (Brush::paint_flag_mm, docs/brush-format.md): a soft
 // hair's split ends splay past the body of the hair and are all that reaches
 // the paper at the rim of the footprint. Each flag is a few fibres finer than
 // the hair, holding and laying a thinner film, while it wicks wet paint up as
 // well as the hair does. So near the footprint's outline the deposit falls
 // off and pickup does not: there the wet film settles thinner, and the mark's
-// edge is a ramp about flag_mm wide, not a step. How deep a pixel lies in the
-// footprint is the share f of touched pixels in the square of half-side
-// flag_mm around it (outside the window counts as untouched): 1/2 on a
-// straight outline, rising linearly to 1 at flag_mm inside it, and
-// g = smoothstep((f - 1/2) / (1/2)). A gap between bundles a few pixels wide
-// lowers f a little, where a distance to the nearest untouched pixel would
-// make a rim of it; a lone hair or one bundle's tip narrower than flag_mm
-// never reaches f = 1/2 and lays nothing: it is all flags. Returns false,
-// leaving *out alone, for a brush without flags. `sums` is working space.
+// edge is a ramp about flag_mm wide, not a step. The rim is the head's
+// outline, not its bundles': the spines' tubes stand for a dense mass of
+// hair that fills the notches and gaps the model leaves between them, and a
+// head's contact with the plane (a dome's cap, swept along the step) is
+// convex, so the outline of each touching piece is its convex hull
+// (convexFootprint; docs/paint.md, "The rim is the head's outline"). How
+// deep a pixel lies is the share f of the hulls in the square of half-side
+// flag_mm around it: 1/2 on a straight outline, rising linearly to 1 at
+// flag_mm inside it, and g = smoothstep((f - 1/2) / (1/2)). A lone hair or
+// one bundle's tip narrower than flag_mm, touching apart from the rest, is
+// a piece of its own, never reaches f = 1/2 and lays nothing: it is all
+// flags. Returns false, leaving *out alone, for a brush without flags.
+// `mask`, `hull` and `sums` are working space.
 bool flagRim(const FootprintView& fp, double flag_mm, double px_per_mm, std::vector<float>* out,
-             std::vector<int>* sums) {
+             std::vector<std::uint8_t>* mask, FlagHullScratch* hull, std::vector<int>* sums) {
   const int w = fp.width, h = fp.height;
   if (!(flag_mm > 0) || w == 0 || h == 0) return false;
   const int half = std::max(1, static_cast<int>(std::lround(flag_mm * px_per_mm)));
+  convexFootprint(fp, half, mask, hull);
+  const int mw = w + 2 * half;
   std::vector<float>& g = *out;
   g.resize(static_cast<size_t>(w) * h);
-  std::vector<int>& cols = *sums;  // per pixel: touched pixels in its column's window
+  std::vector<int>& cols = *sums;  // per pixel: hull pixels in its column's window
   cols.resize(static_cast<size_t>(w) * h);
   for (int c = 0; c < w; ++c) {
-    auto touched = [&](int r) {
-      if (r < 0 || r >= h) return 0;
-      const float* px = fp.texels + (static_cast<size_t>(r) * w + c) * 4;
-      return px[3] > 0 && px[2] > 0 ? 1 : 0;
-    };
+    // Footprint row r is mask row r + half: its window is mask rows r .. r + 2 half.
+    const std::uint8_t* col = mask->data() + c + half;
+    auto inside = [&](int mr) { return static_cast<int>(col[static_cast<size_t>(mr) * mw]); };
     int sum = 0;
-    for (int r = -half; r <= half; ++r) sum += touched(r);
+    for (int mr = 0; mr <= 2 * half; ++mr) sum += inside(mr);
     for (int r = 0; r < h; ++r) {
       cols[static_cast<size_t>(r) * w + c] = sum;
-      sum += touched(r + half + 1) - touched(r - half);
+      if (r + 1 < h) sum += inside(r + 2 * half + 1) - inside(r);
     }
   }
   const float inv_area = 1.0f / static_cast<float>((2 * half + 1) * (2 * half + 1));
@@ -659,7 +768,8 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
   const float streaks = static_cast<float>(std::clamp(params.hair_streaks, 0.0, 2.0));
   const float dry_threshold = static_cast<float>(params.dry_threshold);
   const bool flagged =
-      flagRim(fp, brush.flagMm(), g.px_per_mm, &scratch.flag, &scratch.flag_sums);
+      flagRim(fp, brush.flagMm(), g.px_per_mm, &scratch.flag, &scratch.flag_mask,
+              &scratch.flag_hull, &scratch.flag_sums);
   FlagScrub scrub(fp, g, params, &scratch.slide);
   int contact_px = 0;
   for (int r = 0; r < fp.height; ++r) {

@@ -781,6 +781,25 @@ double inkedQuantile(const Coverage& img, int c0, int c1, double q) {
   return ink[k];
 }
 
+// A golden's badger stroke (golden/golden.json): scenes/trajectories'
+// `trajectory` in burnt umber (a glaze), SLSQP, 8 px/mm, the brush raised by
+// `lift_mm` as its golden holds it. Returns the mark's coverage.
+struct GoldenStroke {
+  const char* trajectory;
+  const char* lift_mm;
+};
+Coverage renderBadgerGolden(const GoldenStroke& k, const TempDir& dir) {
+  const std::string png = dir.file(std::string(k.trajectory) + ".png");
+  const RunResult run = runBristle(
+      "render -q --solver slsqp --paint burnt-umber --offset-mm 0 0 " + std::string(k.lift_mm) +
+      " --brush '" + sourcePath("scenes/brushes/badger.json") + "' --trajectory '" +
+      sourcePath("scenes/trajectories/" + std::string(k.trajectory) + ".csv") + "' -o '" + png +
+      "'");
+  INFO(k.trajectory << ": " << run.err);
+  REQUIRE(run.code == 0);
+  return loadCoveragePng(png);
+}
+
 }  // namespace
 
 TEST_CASE("marks: a loaded badger lays its pull to the end, as the round does",
@@ -832,20 +851,10 @@ TEST_CASE("marks: the badger's mark fades in where it lands and out where it sto
   // settled darker than the drawn body's: a blot where it landed
   // (docs/paint.md, "Flags lay as they slide").
   TempDir dir;
-  struct Stroke {
-    const char* trajectory;
-    const char* lift_mm;
-  };
-  for (const Stroke& k : {Stroke{"tilted-drag", "3"}, Stroke{"straight-pull", "3.1"}}) {
-    const std::string png = dir.file(std::string(k.trajectory) + ".png");
-    const RunResult run = runBristle(
-        "render -q --solver slsqp --paint burnt-umber --offset-mm 0 0 " + std::string(k.lift_mm) +
-        " --brush '" + sourcePath("scenes/brushes/badger.json") + "' --trajectory '" +
-        sourcePath("scenes/trajectories/" + std::string(k.trajectory) + ".csv") + "' -o '" + png +
-        "'");
-    INFO(k.trajectory << ": " << run.err);
-    REQUIRE(run.code == 0);
-    const Coverage img = loadCoveragePng(png);
+  for (const GoldenStroke& k :
+       {GoldenStroke{"tilted-drag", "3"}, GoldenStroke{"straight-pull", "3.1"}}) {
+    INFO(k.trajectory);
+    const Coverage img = renderBadgerGolden(k, dir);
     const WidthProfile p = widthProfile(img);
     REQUIRE_FALSE(p.empty());
     const SpanRange all = middleRange(p, 0.0, 1.0), body = middleRange(p, 0.3, 0.7);
@@ -866,6 +875,63 @@ TEST_CASE("marks: the badger's mark fades in where it lands and out where it sto
     // body's, a visibly lighter end (0.29 against 0.53, 0.25 against 0.61).
     constexpr double kFadeOut = 0.75;
     CHECK(end <= kFadeOut * middle);
+  }
+}
+
+namespace {
+
+// The deepest interior dip of a stroke's cross-profile, as a share of the
+// profile's median: the profile is the mean ink of each row over the middle
+// 60 % of a pull along +x, trimmed to the rows at 10 % of its peak or more
+// (the edges' ramps left out); a dip is how far a row lies below the lower of
+// the highest rows on either side of it. A stroke laid as one film has none
+// beyond its grain; one laid as parallel tubes, a pale line between each two.
+double deepestCrossDip(const Coverage& img) {
+  const WidthProfile p = widthProfile(img);
+  REQUIRE_FALSE(p.empty());
+  const SpanRange mid = middleRange(p);
+  std::vector<double> prof = crossProfile(img, Axis::kX, mid.lo, mid.hi);
+  const double peak = *std::max_element(prof.begin(), prof.end());
+  auto inked = [&](double v) { return v >= 0.1 * peak; };
+  const auto first = std::find_if(prof.begin(), prof.end(), inked);
+  const auto last = std::find_if(prof.rbegin(), prof.rend(), inked);
+  prof = std::vector<double>(first, last.base());
+  std::vector<double> left(prof.size()), right(prof.size());
+  for (size_t i = 0; i < prof.size(); ++i) left[i] = std::max(i ? left[i - 1] : 0.0, prof[i]);
+  for (size_t i = prof.size(); i-- > 0;)
+    right[i] = std::max(i + 1 < prof.size() ? right[i + 1] : 0.0, prof[i]);
+  double dip = 0;
+  for (size_t i = 1; i + 1 < prof.size(); ++i)
+    dip = std::max(dip, std::min(left[i - 1], right[i + 1]) - prof[i]);
+  std::vector<double> sorted = prof;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  return dip / sorted[sorted.size() / 2];
+}
+
+}  // namespace
+
+TEST_CASE("marks: the badger's pull is one soft film, not a bundle of tubes", "[marks][badger]") {
+  // The goldens' straight pull and tilted drag (burnt umber, a glaze; SLSQP,
+  // 8 px/mm). A softener's hair is fine and dense: its mark is one haze,
+  // darker nowhere in particular across it. With the flagged rim measured
+  // on each bundle's outline, every bundle's trailing tip laid little and
+  // scrubbed what it slid over, a pale line beside each: the mark read as
+  // four or five tubes side by side (docs/paint.md, "The rim is the head's
+  // outline").
+  TempDir dir;
+  for (const GoldenStroke& k :
+       {GoldenStroke{"straight-pull", "3.1"}, GoldenStroke{"tilted-drag", "3"}}) {
+    const double dip = deepestCrossDip(renderBadgerGolden(k, dir));
+    INFO(k.trajectory << ": deepest dip across the body " << dip << " of its median");
+    // Measured 0.48 (straight pull) and 0.39 (tilted drag); 0.66 and 0.92
+    // with the rim on every bundle's outline. With no flags at all the same
+    // pulls measure 0.33 and 0.09: the rest is the hair's own streaks and
+    // the bundles' outlines where they land (docs/fidelity.md, "The badger
+    // softener"); the round's pull, 0.02. Asked: 0.6, a quarter above the
+    // worst measured now, so that the rim moving by a pixel cannot cross it,
+    // and under the tubes' 0.66.
+    constexpr double kMaxDip = 0.6;
+    CHECK(dip <= kMaxDip);
   }
 }
 
