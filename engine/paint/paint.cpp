@@ -1,9 +1,12 @@
 #include "engine/paint/paint.h"
 
+#include <libqhull_r/qhull_ra.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 
 #include "engine/geometry/bristle_strips.h"
 #include "engine/geometry/brush_geometry.h"
@@ -484,7 +487,8 @@ struct FlagHullScratch {
   std::vector<int> label;          // per footprint pixel: its touching piece, -1 untouched
   std::vector<int> stack;          // the flood fill's pixels to visit
   std::vector<int> lo, hi;         // per footprint row: the piece's extreme columns
-  std::vector<Eigen::Vector2d> pts, hull;
+  std::vector<Eigen::Vector2d> pts;
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> hull;  // its edges
 };
 
 // Per-step working arrays, reused from step to step (the engine runs on one
@@ -523,32 +527,54 @@ std::array<float, kTexels> texelDryness(const BrushPaint& brush, const TransferP
   return dryness;
 }
 
+// The edges of the convex hull of `pts` (pixel centres, in ascending rows),
+// by qhull. Collinear points (one pixel, a row, a one-pixel line) have no
+// two-dimensional hull, which qhull reports as an error: their hull is the
+// segment between the first and the last, the extremes along their line.
+void hullEdges(const std::vector<Eigen::Vector2d>& pts,
+               std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>* edges) {
+  edges->clear();
+  const Eigen::Vector2d d = pts.back() - pts.front();
+  bool flat = true;
+  for (const Eigen::Vector2d& p : pts) {
+    const Eigen::Vector2d e = p - pts.front();
+    if (d.x() * e.y() - d.y() * e.x() != 0) flat = false;  // integer centres: exact
+  }
+  if (flat) {
+    edges->emplace_back(pts.front(), pts.back());
+    return;
+  }
+  std::vector<coordT> coords;
+  for (const Eigen::Vector2d& p : pts) coords.insert(coords.end(), {p.x(), p.y()});
+  qhT qh_storage;
+  qhT* qh = &qh_storage;
+  qh_zero(qh, stderr);
+  char flags[] = "qhull";
+  if (qh_new_qhull(qh, 2, static_cast<int>(pts.size()), coords.data(), False, flags, nullptr,
+                   stderr) == 0) {
+    facetT* facet;
+    FORALLfacets {
+      const vertexT* a = static_cast<vertexT*>(SETfirst_(facet->vertices));
+      const vertexT* b = static_cast<vertexT*>(SETsecond_(facet->vertices));
+      edges->emplace_back(Eigen::Vector2d(a->point[0], a->point[1]),
+                          Eigen::Vector2d(b->point[0], b->point[1]));
+    }
+  }
+  qh_freeqhull(qh, !qh_ALL);
+  int curlong, totlong;
+  qh_memfreeshort(qh, &curlong, &totlong);
+}
+
 // Marks in `m` (row length mw, offset by `pad`) every pixel whose centre lies
-// in the convex hull of `pts` (pixel centres, in ascending rows): Andrew's
-// monotone chain taken down the rows and back up, then each row filled
-// between where the hull's edges cross it.
+// in the convex hull of `pts` (pixel centres, in ascending rows): each row
+// filled between where the hull's edges cross it.
 void fillHull(const std::vector<Eigen::Vector2d>& pts, int mw, int pad,
-              std::vector<Eigen::Vector2d>* hull, std::vector<std::uint8_t>* m) {
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Eigen::Vector2d>& H = *hull;
-  H.assign(2 * pts.size() + 1, Eigen::Vector2d::Zero());
-  size_t k = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && cross(H[k - 2], H[k - 1], pts[i]) <= 0) --k;
-    H[k++] = pts[i];
-  }
-  for (size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross(H[k - 2], H[k - 1], pts[i]) <= 0) --k;
-    H[k++] = pts[i];
-  }
-  H.resize(k > 1 ? k - 1 : 1);
+              std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>* hull,
+              std::vector<std::uint8_t>* m) {
+  hullEdges(pts, hull);
   for (int r = static_cast<int>(pts.front().y()); r <= static_cast<int>(pts.back().y()); ++r) {
     double x0 = std::numeric_limits<double>::max(), x1 = -x0;
-    for (size_t i = 0; i < H.size(); ++i) {
-      const Eigen::Vector2d& a = H[i];
-      const Eigen::Vector2d& b = H[(i + 1) % H.size()];
+    for (const auto& [a, b] : *hull) {
       if ((a.y() - r) * (b.y() - r) > 0) continue;  // the edge does not cross row r
       if (a.y() == b.y()) {
         x0 = std::min({x0, a.x(), b.x()});
