@@ -132,7 +132,7 @@ TEST_CASE("steady planned steps are merged, reported once and counted", "[dynami
 
 // The figures `bristle render --brush round --trajectory press-lift.csv
 // --stats` reports for this stroke at the defaults (Ipopt, SLSQP as the
-// fallback, 8 px/mm): 401 planned steps, 31 of them redone in halves, each
+// fallback, 8 px/mm): 401 planned steps, 37 of them redone in halves, each
 // of those given up at the first Ipopt iterate that showed the jump. The
 // walk counts them, whichever command runs it; the iterations include the
 // tries given up.
@@ -141,10 +141,10 @@ TEST_CASE("the walk counts what a render of the stroke reports", "[dynamics][ste
   const Trajectory traj = loadTrajectory(kSource + "/scenes/trajectories/press-lift.csv");
   const Walked w = walkOf(brush, traj, WalkOptions{});
   CHECK(w.steps == 401);
-  CHECK(w.stats.steps == 431);
-  CHECK(w.stats.jump_split_steps == 31);
-  CHECK(w.stats.jump_stopped_steps == 31);
-  CHECK(w.stats.iterations == 3687);
+  CHECK(w.stats.steps == 437);
+  CHECK(w.stats.jump_split_steps == 37);
+  CHECK(w.stats.jump_stopped_steps == 37);
+  CHECK(w.stats.iterations == 5175);
 }
 
 // A live session steps towards each stylus pose by the plan's root bound: no
