@@ -925,9 +925,10 @@ TEST_CASE("marks: the badger's pull is one soft film, not a bundle of tubes", "[
     INFO(k.trajectory << ": deepest dip across the body " << dip << " of its median");
     // Measured 0.48 (straight pull) and 0.39 (tilted drag); 0.66 and 0.92
     // with the rim on every bundle's outline. With no flags at all the same
-    // pulls measure 0.33 and 0.09: the rest is the hair's own streaks and
-    // the bundles' outlines where they land (docs/fidelity.md, "The badger
-    // softener"); the round's pull, 0.02. Asked: 0.6, a quarter above the
+    // pulls measure 0.33 and 0.09: the rest is each row's film settling to
+    // the deposit of the last texel over it, rationed by how many pixels that
+    // texel feeds (docs/fidelity.md, "Why the lanes: a joint's cap is one
+    // texel"); the round's pull, 0.02. Asked: 0.6, a quarter above the
     // worst measured now, so that the rim moving by a pixel cannot cross it,
     // and under the tubes' 0.66.
     constexpr double kMaxDip = 0.6;
