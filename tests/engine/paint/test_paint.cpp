@@ -482,6 +482,23 @@ TEST_CASE("Transfer: a single hair follows the grain that a bundle bridges",
   CHECK(strip_px > 3 * bundle_px);
 }
 
+namespace {
+
+// The wet canvas under footprint `f` (placed at pixel 8, 8 of an 80 x 56
+// canvas) after `steps` steps of a loaded five-spine brush with flags of
+// flag_mm pressed in one place: deposit and pickup settle the film.
+PaintCanvas pressedInPlace(const Footprint& f, double flag_mm, int steps) {
+  Brush brush = fivesSpineBrush();
+  brush.paint_flag_mm = flag_mm;
+  BrushPaint paint(brush);
+  paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+  PaintCanvas canvas(grid(80, 56), PaperSpec{}, MixModel::kKubelkaMunk);
+  for (int step = 0; step < steps; ++step) transfer(f.at(8, 8), paint, canvas, TransferParams{});
+  return canvas;
+}
+
+}  // namespace
+
 TEST_CASE("Transfer: flagged hair lays a thinner film at the footprint's rim",
           "[paint][transfer]") {
   // The same brush with and without 1 mm flags (8 px at 8 px/mm) pressed in
@@ -490,13 +507,7 @@ TEST_CASE("Transfer: flagged hair lays a thinner film at the footprint's rim",
   constexpr int kSteps = 60;
   const Footprint fp(64, 40, 0.8f, 0.5f);
   auto press = [&](double flag_mm, const Footprint& f) {
-    Brush brush = fivesSpineBrush();
-    brush.paint_flag_mm = flag_mm;
-    BrushPaint paint(brush);
-    paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
-    PaintCanvas canvas(grid(80, 56), PaperSpec{}, MixModel::kKubelkaMunk);
-    for (int step = 0; step < kSteps; ++step) transfer(f.at(8, 8), paint, canvas, TransferParams{});
-    return canvas;
+    return pressedInPlace(f, flag_mm, kSteps);
   };
   const PaintCanvas plain = press(0, fp), flagged = press(kFlagMm, fp);
   auto film = [](const PaintCanvas& c, int col, int row) {
@@ -548,15 +559,7 @@ TEST_CASE("Transfer: the flagged rim is the head's outline, not the notches betw
   for (int r = 0; r < 40; ++r)
     for (int c = 40; c < 64; ++c)
       if (c < 48 || c >= 50) apart.texels[static_cast<size_t>(r * 64 + c) * 4 + 3] = 0;
-  auto press = [&](const Footprint& f) {
-    Brush brush = fivesSpineBrush();
-    brush.paint_flag_mm = kFlagMm;
-    BrushPaint paint(brush);
-    paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
-    PaintCanvas canvas(grid(80, 56), PaperSpec{}, MixModel::kKubelkaMunk);
-    for (int step = 0; step < kSteps; ++step) transfer(f.at(8, 8), paint, canvas, TransferParams{});
-    return canvas;
-  };
+  auto press = [&](const Footprint& f) { return pressedInPlace(f, kFlagMm, kSteps); };
   const PaintCanvas w = press(whole), n = press(notched), a = press(apart);
   auto film = [](const PaintCanvas& c, int col, int row) {
     return c.wet(c.index(col, row)).volume_mm3 / c.pixelAreaMm2();
