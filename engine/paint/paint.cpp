@@ -492,7 +492,9 @@ struct FlagHullScratch {
 };
 
 // Per-step working arrays, reused from step to step (the engine runs on one
-// thread per canvas), so a step allocates nothing once warm.
+// thread per canvas), so a step allocates nothing once warm, save qhull's own
+// working memory for a flagged brush's rim (hullEdges): under 2 % of a
+// badger render's time under perf.
 struct TransferScratch {
   std::vector<Touch> touches;
   std::vector<double> demand;    // per texel: the sum of its touches' deposit weights
