@@ -9,6 +9,10 @@
 Each golden of golden/golden.json is a stroke (brush + trajectory + render
 options) or a scene, its PNG golden/<name>.png and a tolerance preset of
 `bristle compare` (exact, strict, loose). Renders run --jobs at a time.
+--rendered-by MANIFEST --rendered DIR: a scene golden that a job of the batch
+manifest MANIFEST renders with the same command (its id the golden's name, the
+same scene, no options) is compared as that batch wrote it, DIR/<name>.png,
+instead of rendered again.
 Exit codes: 0 pass, 1 a golden failed, 64 usage, 65 bad manifest, 66 missing input.
 """
 
@@ -121,8 +125,33 @@ def tail(text):
     return "\n".join(text.strip().splitlines()[-STDERR_TAIL_LINES:])
 
 
-def check_one(bristle, g, work):
-    """Renders one golden into work/new and compares it with its PNG."""
+def batch_renders(manifest_path, goldens):
+    """{golden name: its PNG relative to the batch's --out} for every scene
+    golden that a job of the batch manifest renders with the golden's own
+    command: `bristle batch` runs a scene job as `bristle render SCENE -o OUT`
+    (docs/batch.md), so a job whose id is the golden's name, whose scene is the
+    golden's and which adds no options, neither its own nor the manifest's
+    defaults, makes the golden's pixels."""
+    try:
+        with open(manifest_path, encoding="utf-8") as f:
+            doc = json.load(f)
+        jobs = doc["jobs"]
+        defaults = doc.get("defaults", {}).get("options")
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
+        die(66, f"{manifest_path}: cannot read its jobs: {e}")
+    if defaults:
+        return {}
+    base = os.path.dirname(os.path.abspath(manifest_path))
+    scenes = {g["name"]: g["scene"] for g in goldens if "scene" in g}
+    return {j["id"]: j.get("output", j["id"] + ".png") for j in jobs
+            if isinstance(j, dict) and j.get("id") in scenes and not j.get("options")
+            and isinstance(j.get("scene"), str)
+            and os.path.normpath(os.path.join(base, j["scene"])) == scenes[j["id"]]}
+
+
+def check_one(bristle, g, work, rendered=None):
+    """Renders one golden into work/new (or takes the PNG rendered, as a batch
+    rendered it) and compares it with its PNG."""
     new_png = os.path.join(work, "new", g["name"] + ".png")
     diff_png = os.path.join(work, "diff", g["name"] + ".png")
     for stale in (new_png, diff_png):
@@ -133,11 +162,22 @@ def check_one(bristle, g, work):
     cmd = render_command(bristle, g, new_png)
     result["command"] = shlex.join(cmd)
     started = time.monotonic()
-    r = subprocess.run(cmd, capture_output=True, text=True, env=bristle_env())
+    if rendered:
+        # The batch's own render of the same command, copied so that the report
+        # shows it beside the golden.
+        result["command"] += f"  (as the batch rendered it: {rendered})"
+        if not os.path.exists(rendered):
+            result.update(status="error", render_s=0.0,
+                          reason=f"the batch did not render {rendered}")
+            return result
+        shutil.copyfile(rendered, new_png)
+    else:
+        r = subprocess.run(cmd, capture_output=True, text=True, env=bristle_env())
+        if r.returncode != 0:
+            result.update(status="error", render_s=time.monotonic() - started,
+                          reason=f"render exit {r.returncode}: {tail(r.stderr)}")
+            return result
     result["render_s"] = time.monotonic() - started
-    if r.returncode != 0:
-        result.update(status="error", reason=f"render exit {r.returncode}: {tail(r.stderr)}")
-        return result
     if not os.path.exists(g["png"]):
         result.update(status="missing", reason=f"no golden image {g['png']}")
         return result
@@ -193,12 +233,17 @@ def longest_first(goldens, work):
     return sorted(goldens, key=lambda g: -last.get(g["name"], 1e6 if "scene" in g else 1e5))
 
 
-def run_all(bristle, goldens, work, jobs, log=print):
+def run_all(bristle, goldens, work, jobs, log=print, reuse=None):
+    """reuse: (folder, {name: PNG in it}) of the goldens a batch already rendered."""
     for sub in ("new", "diff"):
         os.makedirs(os.path.join(work, sub), exist_ok=True)
+    folder, pngs = reuse or ("", {})
     results = []
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-        futures = [pool.submit(check_one, bristle, g, work) for g in longest_first(goldens, work)]
+        futures = [pool.submit(check_one, bristle, g, work,
+                               os.path.join(folder, pngs[g["name"]]) if g["name"] in pngs
+                               else None)
+                   for g in longest_first(goldens, work)]
         for f in concurrent.futures.as_completed(futures):
             r = f.result()
             results.append(r)
@@ -299,6 +344,9 @@ def main(argv=None):
                     help="folder for renders, differences and index.html")
     ap.add_argument("--jobs", type=int, default=2, help="renders at a time (default 2)")
     ap.add_argument("--force", action="store_true", help="update: store every selected golden")
+    ap.add_argument("--rendered-by", metavar="MANIFEST",
+                    help="run: a batch manifest whose scene jobs already rendered goldens")
+    ap.add_argument("--rendered", metavar="DIR", help="run: the folder that batch wrote to")
     # Intermixed: `update --force NAME...` as well as `update NAME... --force`.
     args = ap.parse_intermixed_args(argv)
     if args.jobs < 1:
@@ -311,10 +359,17 @@ def main(argv=None):
         goldens = select(load_manifest(args.manifest), args.names)
     except ManifestError as e:
         die(65, str(e))
+    if bool(args.rendered_by) != bool(args.rendered):
+        die(64, "--rendered-by and --rendered go together")
+    if args.rendered and args.mode != "run":
+        die(64, "--rendered belongs to run: update renders every golden it stores")
+    reuse = None
+    if args.rendered:
+        reuse = (os.path.abspath(args.rendered), batch_renders(args.rendered_by, goldens))
     work = os.path.abspath(args.report)
 
     started = time.monotonic()
-    results = run_all(args.bristle, goldens, work, args.jobs)
+    results = run_all(args.bristle, goldens, work, args.jobs, reuse=reuse)
     elapsed = time.monotonic() - started
     bad = [r for r in results if r["status"] != "pass"]
 

@@ -6,7 +6,10 @@ copy with a 4 x 4 block of pixels off by 40/255 in red fails, names the
 golden and the broken limit, and writes the new, reference and difference
 images and the HTML report; `update` stores the new render and the suite
 passes again, and `update --force NAME` stores a passing one; a golden of another size fails naming both sizes; a missing
-golden fails; a broken manifest exits 65 naming the field. Usage: golden_runner_test.py BRISTLE_EXECUTABLE
+golden fails; a broken manifest exits 65 naming the field. A scene golden
+taken as a batch rendered it (--rendered-by, --rendered) passes as rendered,
+fails perturbed, is an error when the batch left no PNG, and is rendered again
+when the batch's job adds an option. Usage: golden_runner_test.py BRISTLE_EXECUTABLE
 """
 
 import json
@@ -96,6 +99,57 @@ def expect(condition, what, output=""):
         print(f"FAILED: {what}\n{output}", file=sys.stderr)
 
 
+def check_batch_rendered(bristle, tmp):
+    """A scene golden compared as a batch manifest's job rendered it. Nothing is
+    rendered: the scene is only named (the painting's path), and the batch's PNG
+    is a copy of a stroke golden."""
+    scene = os.path.join(ROOT, "scenes", "paintings", "petals.json")
+    gdir = os.path.join(tmp, "scene-golden")
+    out = os.path.join(tmp, "batch-out")
+    os.makedirs(gdir)
+    os.makedirs(out)
+    manifest = os.path.join(gdir, "golden.json")
+    json.dump({"format": "bristle-golden/1",
+               "goldens": [{"name": "petals", "scene": scene, "tolerance": "strict"}]},
+              open(manifest, "w"))
+    shutil.copyfile(os.path.join(ROOT, "golden", GOLDEN + ".png"),
+                    os.path.join(gdir, "petals.png"))
+    batch = os.path.join(tmp, "paintings.json")
+
+    def write_batch(job):
+        json.dump({"format": "bristle-batch/1", "jobs": [job]}, open(batch, "w"))
+
+    write_batch({"id": "petals", "scene": scene})
+    rendered = os.path.join(out, "petals.png")
+    shutil.copyfile(os.path.join(ROOT, "golden", GOLDEN + ".png"), rendered)
+    # /bin/false as bristle: a golden rendered again would fail with "render exit 1".
+    common = ["--manifest", manifest, "--report", os.path.join(tmp, "report2"),
+              "--rendered-by", batch, "--rendered", out]
+    code, out_text = run("run", "--bristle", "/bin/false", *common)
+    expect(code == 1 and "render exit" not in out_text,
+           "a batch's PNG is compared, not rendered again (compare needs bristle)", out_text)
+    code, out_text = run("run", "--bristle", bristle, *common)
+    expect(code == 0 and "all 1 goldens pass" in out_text,
+           "the batch's own render of the golden passes", out_text)
+    w, h, rows = read_png_rgb8(rendered)
+    rows[h // 2][3 * (w // 2)] ^= 0x80
+    write_png_rgb8(rendered, w, h, rows)
+    code, out_text = run("run", "--bristle", bristle, *common)
+    expect(code == 1 and "FAIL    petals" in out_text, "a perturbed batch render fails", out_text)
+    os.remove(rendered)
+    code, out_text = run("run", "--bristle", bristle, *common)
+    expect(code == 1 and "the batch did not render" in out_text,
+           "a golden the batch left no PNG for is an error", out_text)
+    write_batch({"id": "petals", "scene": scene, "options": {"impasto": True}})
+    code, out_text = run("run", "--bristle", "/bin/false", *common)
+    expect(code == 1 and "render exit 1" in out_text,
+           "a job with options of its own is not the golden's command: rendered again",
+           out_text)
+    code, out_text = run("run", "--bristle", bristle, "--manifest", manifest,
+                         "--rendered", out)
+    expect(code == 64 and "go together" in out_text, "--rendered alone is refused", out_text)
+
+
 def main():
     bristle = os.path.abspath(sys.argv[1])
     manifest_src = json.load(open(os.path.join(ROOT, "golden", "golden.json")))
@@ -180,6 +234,8 @@ def main():
         json.dump({"format": "bristle-golden/1", "goldens": [entry]}, open(manifest, "w"))
         code, out = run("run", "no-such-golden", *common)
         expect(code == 64 and "no-such-golden" in out, "an unknown name is refused", out)
+
+        check_batch_rendered(bristle, tmp)
 
     if failures:
         print(f"{len(failures)} checks failed", file=sys.stderr)

@@ -28,11 +28,17 @@ sets its own resolution, and its jobs run as shipped.
   run_shipped.py --list                   the cases, ';'-separated (for CMake)
   run_shipped.py --covered                each file and the case that runs it
   run_shipped.py --bristle BIN CASE...    runs them (exit 1 if any fails)
+  run_shipped.py --bristle BIN --keep DIR batch/STEM
+                                          a batch writes to DIR (emptied first) and
+                                          leaves its PNGs there: the golden test
+                                          compares the paintings' as they are
+                                          (scripts/golden.py --rendered)
 """
 
 import argparse
 import json
 import os
+import shutil
 import struct
 import subprocess
 import sys
@@ -111,8 +117,11 @@ def reduced_manifest(src, tmp):
     return copy
 
 
-def check_batch(bristle, src, tmp):
+def check_batch(bristle, src, tmp, keep=None):
     out = tmp / "out"
+    if keep is not None:
+        shutil.rmtree(keep, ignore_errors=True)
+        out = keep
     code, stdout, err = run(bristle, ["batch", str(reduced_manifest(src, tmp)), "--out", str(out),
                                       "--jobs", "2", "--json"], tmp)
     records = [json.loads(line) for line in stdout.splitlines() if line.strip()]
@@ -195,6 +204,7 @@ def main():
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--covered", action="store_true")
     ap.add_argument("--bristle")
+    ap.add_argument("--keep", type=Path, help="a batch's output folder, kept")
     ap.add_argument("cases", nargs="*")
     a = ap.parse_args()
     if a.list:
@@ -212,7 +222,10 @@ def main():
         src = SRC / KINDS[kind] / f"{stem}.json"
         with tempfile.TemporaryDirectory(prefix="bristle-shipped-") as tmp:
             try:
-                problems = checks[kind](bristle, src, Path(tmp))
+                if a.keep is not None and kind != "batch":
+                    raise ValueError("--keep is for a batch case")
+                extra = {"keep": a.keep.resolve()} if a.keep is not None else {}
+                problems = checks[kind](bristle, src, Path(tmp), **extra)
             except (OSError, ValueError, KeyError) as e:
                 problems = [f"{type(e).__name__}: {e}"]
         for p in problems:
