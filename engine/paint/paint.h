@@ -398,12 +398,12 @@ struct TransferParams {
   // (deposit_rate / pickup_rate) is the same at any pressure: a light touch
   // that lingers still settles the paper, but hair sweeping past under a
   // vanishing load (a softener's tips springing back as it lifts) leaves the
-  // film nearly as it found it. 0.01 N/mm^2 is under what a round, a flat or
-  // a calligraphy brush presses with through a stroke's body (the round's
-  // spines: 0.0125 N/mm^2 at the 5th percentile along straight-pull.csv), so
-  // their bodies transfer in full; the badger's soft dome presses 0.002 -
-  // 0.004 N/mm^2 (docs/paint.md, "Pressed hair gives and takes, resting hair
-  // barely").
+  // film nearly as it found it. 0.01 N/mm^2 is under what a round or a flat
+  // presses with through a stroke's body (their spines along
+  // straight-pull.csv: 0.0125 and 0.013 N/mm^2 at the 5th percentile), so
+  // their bodies transfer in full, and about a calligraphy brush's median
+  // (0.0095); the badger's soft dome presses 0.001 - 0.004 N/mm^2
+  // (docs/paint.md, "Pressed hair gives and takes, resting hair barely").
   double press_full_n_per_mm2 = 0.01;
   double press_floor = 0.1;
   // Paint flows within each column of the brush texture (one lateral position of
