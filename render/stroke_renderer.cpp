@@ -257,6 +257,35 @@ void spineSlide(const BrushState& from, const BrushState& to, HairSlide* out) {
   }
 }
 
+// How hard the spines pressed the paper at a state, for the transfer rate
+// (engine/paint/paint.h, HairPress): the pieces of spineSlide, each carrying
+// its spine's contact pressure, the canvas's force on its joints (eq. 5's
+// multipliers) over the hair it lays on the paper. The hair between joints
+// lies along the paper and shares their load (as bundlePlacement has it), so
+// the load is the spine's; its hair on the paper is, for each joint that
+// touches, the segment leading to it, as wide as its bundle there.
+void spinePress(const Brush& brush, const BrushState& state, HairPress* out) {
+  out->pieces.clear();
+  for (size_t s = 0; s < state.spines.size() && s < brush.spines.size(); ++s) {
+    const SpineSpec& spec = brush.spines[s];
+    const SpineState& spine = state.spines[s];
+    const std::vector<Eigen::Vector3d>& x = spine.joints_mm;
+    double load_n = 0, area_mm2 = 0;
+    for (double f : spine.solution.normal_force_n) load_n += f;
+    for (size_t j = 1; j < x.size() && j <= spine.contact.size(); ++j)
+      if (spine.contact[j - 1] && j < spec.width_mm.size() && j <= spec.segment_lengths_mm.size())
+        area_mm2 += spec.width_mm[j] * spec.segment_lengths_mm[j - 1];
+    const float press = area_mm2 > 0 ? static_cast<float>(load_n / area_mm2) : 0.0f;
+    for (size_t j = 1; j < x.size() && j <= spine.contact.size(); ++j) {
+      if (!spine.contact[j - 1]) continue;
+      const size_t i = j > 1 && spine.contact[j - 2] ? j - 1 : j;
+      out->pieces.push_back({static_cast<float>(x[i].x()), static_cast<float>(x[i].y()),
+                             static_cast<float>(x[j].x()), static_cast<float>(x[j].y()), press,
+                             press});
+    }
+  }
+}
+
 }  // namespace
 
 bool StrokeRenderer::sweptFootprint(BrushGeometry& geometry, const BrushState& from,
@@ -317,6 +346,9 @@ void StrokeRenderer::paintStep(BrushGeometry& geometry, const BrushState* from,
     spineSlide(*from, state, &slide_);
     view.slide = &slide_;
   }
+  // Every brush transfers as hard as it presses (TransferParams::press_full_n_per_mm2).
+  spinePress(geometry.brush(), state, &press_);
+  view.press = &press_;
   TransferParams params = options.transfer;
   // The step's contact time: the first stamp (no step before it) has none.
   params.exposure = from ? std::max(state.t_s - from->t_s, 0.0) / kTransferReferenceStepS : 0.0;

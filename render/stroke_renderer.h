@@ -125,6 +125,7 @@ class StrokeRenderer {
   bool kept_ = false;  // the last renderTriangles kept the footprint before
   BrushState blended_;
   HairSlide slide_;  // a flagged brush's slide over the paper this step
+  HairPress press_;  // how hard the hair pressed the paper this step
   std::vector<JointCaps> stamp_plan_;  // [stamp][spine][joint]
 };
 

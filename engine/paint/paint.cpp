@@ -441,8 +441,15 @@ bool PaintCanvas::blank() const {
   return true;
 }
 
-double HairSlide::at(double x_mm, double y_mm) const {
-  double best = std::numeric_limits<double>::infinity(), slide = 0;
+namespace {
+
+// The value at canvas point (x, y) of the piece nearest it in (x, y),
+// interpolated along the piece between its ends' values `a` and `b`
+// (pointers to members of Piece); 0 without pieces.
+template <class Piece>
+double nearestPieceValue(const std::vector<Piece>& pieces, double x_mm, double y_mm,
+                         float Piece::*a, float Piece::*b) {
+  double best = std::numeric_limits<double>::infinity(), value = 0;
   for (const Piece& p : pieces) {
     const double dx = p.bx_mm - p.ax_mm, dy = p.by_mm - p.ay_mm;
     const double len2 = dx * dx + dy * dy;
@@ -453,10 +460,20 @@ double HairSlide::at(double x_mm, double y_mm) const {
     const double d2 = ex * ex + ey * ey;
     if (d2 < best) {
       best = d2;
-      slide = p.slide_a_mm + t * (p.slide_b_mm - p.slide_a_mm);
+      value = p.*a + t * (p.*b - p.*a);
     }
   }
-  return slide;
+  return value;
+}
+
+}  // namespace
+
+double HairSlide::at(double x_mm, double y_mm) const {
+  return nearestPieceValue(pieces, x_mm, y_mm, &Piece::slide_a_mm, &Piece::slide_b_mm);
+}
+
+double HairPress::at(double x_mm, double y_mm) const {
+  return nearestPieceValue(pieces, x_mm, y_mm, &Piece::press_a, &Piece::press_b);
 }
 
 // ---------------------------------------------------------------- transfer
@@ -506,6 +523,7 @@ struct TransferScratch {
   std::vector<std::uint8_t> flag_mask;  // flagRim's hull of the footprint (convexFootprint)
   FlagHullScratch flag_hull;     // convexFootprint's working space
   std::vector<float> slide;      // per FlagScrub cell: the hair's slide there (mm), < 0 not yet
+  std::vector<float> press;      // per PressShare cell: the transfer's share there, < 0 not yet
 
   void reset(size_t pixels) {
     touches.clear();
@@ -779,6 +797,50 @@ class FlagScrub {
   int cell_ = 1, cells_w_ = 0;
 };
 
+// The share of the transfer rates the hair's pressure gives at each pixel
+// of the footprint (TransferParams::press_full_n_per_mm2): press_floor plus
+// the rest in proportion to the pressure, up to all of it. The spines' load
+// varies over millimetres, so the pressure is looked up once per square
+// cell of about kSlideCellMm and kept for the step. Without a pressure
+// known, in full.
+class PressShare {
+ public:
+  PressShare(const FootprintView& fp, const CanvasGrid& grid, const TransferParams& params,
+             std::vector<float>* cache)
+      : fp_(fp), grid_(grid), cache_(*cache) {
+    if (fp.press == nullptr || !(params.press_full_n_per_mm2 > 0)) return;
+    on_ = true;
+    floor_ = static_cast<float>(std::clamp(params.press_floor, 0.0, 1.0));
+    inv_full_ = 1.0 / params.press_full_n_per_mm2;
+    cell_ = std::max(1, static_cast<int>(std::lround(kSlideCellMm * grid.px_per_mm)));
+    cells_w_ = (fp.width + cell_ - 1) / cell_;
+    cache_.assign(static_cast<size_t>(cells_w_) * ((fp.height + cell_ - 1) / cell_), -1.0f);
+  }
+  // The share at footprint pixel (c, r).
+  float at(int c, int r) {
+    if (!on_) return 1.0f;
+    const int cc = c / cell_, cr = r / cell_;
+    float& share = cache_[static_cast<size_t>(cr) * cells_w_ + cc];
+    if (share < 0) {
+      // The cell's centre in canvas mm (engine/model/canvas.h: row 0 at the top).
+      const double col = fp_.col0 + (cc + 0.5) * cell_, row = fp_.row0 + (cr + 0.5) * cell_;
+      const double p = fp_.press->at(grid_.x0_mm + col / grid_.px_per_mm,
+                                     grid_.y0_mm + (grid_.height_px - row) / grid_.px_per_mm);
+      share = floor_ + (1 - floor_) * static_cast<float>(std::clamp(p * inv_full_, 0.0, 1.0));
+    }
+    return share;
+  }
+
+ private:
+  const FootprintView& fp_;
+  const CanvasGrid& grid_;
+  std::vector<float>& cache_;
+  bool on_ = false;
+  float floor_ = 1;
+  double inv_full_ = 0;
+  int cell_ = 1, cells_w_ = 0;
+};
+
 // Stage 1 of transfer: who touches what, and how hard. Fills scratch.touches
 // and scratch.demand; returns the number of touching pixels.
 int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintCanvas& canvas,
@@ -799,6 +861,7 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
       flagRim(fp, brush.flagMm(), g.px_per_mm, &scratch.flag, &scratch.flag_mask,
               &scratch.flag_hull, &scratch.flag_sums);
   FlagScrub scrub(fp, g, params, &scratch.slide);
+  PressShare press(fp, g, params, &scratch.press);
   int contact_px = 0;
   for (int r = 0; r < fp.height; ++r) {
     const int row = fp.row0 + r;
@@ -840,6 +903,10 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
           std::clamp((canvas.tooth(i) - need) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
       float dep = contact * gate * (1 + streaks * (hair - 0.5f));
       float pick = contact;
+      // Pressed hair gives and takes paint, resting hair barely (PressShare).
+      const float pressed = press.at(c, r);
+      dep *= pressed;
+      pick *= pressed;
       if (flagged) {
         const float rim = scratch.flag[static_cast<size_t>(r) * fp.width + c];
         dep *= flagDeposit(rim, canvas.tooth(i), hair) * scrub.lay(c, r, rim);

@@ -283,6 +283,25 @@ struct HairSlide {
   double at(double x_mm, double y_mm) const;
 };
 
+// How hard the hair presses the paper in one step, for the transfer rate
+// (TransferParams::press_full_n_per_mm2; docs/paint.md, "Pressed hair gives
+// and takes, resting hair barely"): the same pieces as HairSlide's (the
+// spines' joints that bear the canvas's force, eq. 5, and the segments
+// between two that do), each end carrying the contact pressure (N/mm^2) of
+// its spine, the load it bears over the hair it lays on the paper. The hair
+// at a point of the footprint presses as the nearest piece does; with no
+// piece nothing bears a load, and nothing presses.
+struct HairPress {
+  struct Piece {
+    float ax_mm, ay_mm, bx_mm, by_mm;
+    float press_a, press_b;  // N/mm^2
+  };
+  std::vector<Piece> pieces;
+  // The pressure (N/mm^2) at canvas point (x, y): that of the piece nearest
+  // it in (x, y), interpolated along the piece; 0 without pieces.
+  double at(double x_mm, double y_mm) const;
+};
+
 // The footprint of one step as the paint model sees it: a window of the
 // canvas's pixels (col0, row0 = its top-left pixel in the canvas) with 4 floats
 // per pixel, u, v, depth_mm, coverage (render/gl/footprint_renderer.h).
@@ -297,6 +316,9 @@ struct FootprintView {
   // How the hair moved over the paper this step (HairSlide), for flagged
   // hair's pickup; null when not known: the flags then pick up in full.
   const HairSlide* slide = nullptr;
+  // How hard the hair pressed the paper this step (HairPress), for the
+  // transfer rate of every brush; null when not known: it transfers in full.
+  const HairPress* press = nullptr;
 };
 
 struct TransferParams {
@@ -365,6 +387,25 @@ struct TransferParams {
   // lays only what its contact wets). 1: deposit whatever the slide
   // (docs/paint.md, "Flags lay as they slide").
   double flag_still_deposit = 0.25;
+  // Paint moves between hair and paper as the hair presses on it (dAb's and
+  // the paper's transfer, §4.2.1, is by contact; this is how hard): a
+  // pressed bundle squeezes paint out of its hair onto the paper and wets
+  // the paper's film into its hair, while hair resting on the paper under
+  // no load only brushes it. Where the footprint tells how hard the hair
+  // presses (FootprintView::press), both deposit and pickup run at
+  // press_floor + (1 - press_floor) min(1, P / press_full_n_per_mm2) of
+  // their rates, P the contact pressure there. The film's balance
+  // (deposit_rate / pickup_rate) is the same at any pressure: a light touch
+  // that lingers still settles the paper, but hair sweeping past under a
+  // vanishing load (a softener's tips springing back as it lifts) leaves the
+  // film nearly as it found it. 0.01 N/mm^2 is under what a round or a flat
+  // presses with through a stroke's body (their spines along
+  // straight-pull.csv: 0.0125 and 0.013 N/mm^2 at the 5th percentile), so
+  // their bodies transfer in full, and about a calligraphy brush's median
+  // (0.0095); the badger's soft dome presses 0.001 - 0.004 N/mm^2
+  // (docs/paint.md, "Pressed hair gives and takes, resting hair barely").
+  double press_full_n_per_mm2 = 0.01;
+  double press_floor = 0.1;
   // Paint flows within each column of the brush texture (one lateral position of
   // the bundle) towards texels that lost paint, the belly feeding the tip by
   // capillarity: this fraction of each texel's difference from the column mean

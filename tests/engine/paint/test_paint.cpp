@@ -583,6 +583,55 @@ TEST_CASE("Transfer: the flagged rim is the head's outline, not the notches betw
   }
 }
 
+TEST_CASE("Transfer: hair gives and takes paint as hard as it presses", "[paint][transfer]") {
+  // One reference step of a brush without flags, told how hard its hair
+  // presses the paper (FootprintView::press): a loaded brush on clean paper
+  // (deposit), a clean brush on a wet film (pickup). Pressed as hard as
+  // press_full_n_per_mm2 or harder, the hair transfers as it does with no
+  // pressure known; under no load (or no piece bearing one), press_floor of
+  // that; in between, in proportion.
+  const TransferParams params;
+  const double full = params.press_full_n_per_mm2, floor = params.press_floor;
+  const Footprint fp(64, 40, 0.8f, 0.5f);
+  PaintCanvas wet(grid(80, 56), PaperSpec{}, MixModel::kKubelkaMunk);
+  {
+    BrushPaint paint(fivesSpineBrush());
+    paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+    for (int step = 0; step < 30; ++step) transfer(fp.at(8, 8), paint, wet, params);
+  }
+  // pressure < 0: none known; -2: no pieces.
+  auto step = [&](double pressure, bool pickup) {
+    BrushPaint paint(fivesSpineBrush());
+    if (pickup)
+      paint.clean();
+    else
+      paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+    PaintCanvas canvas =
+        pickup ? wet : PaintCanvas(grid(80, 56), PaperSpec{}, MixModel::kKubelkaMunk);
+    HairPress press;
+    if (pressure >= 0)
+      press.pieces.push_back({0, 0, 10, 7, static_cast<float>(pressure),
+                              static_cast<float>(pressure)});
+    FootprintView view = fp.at(8, 8);
+    if (pressure != -1) view.press = &press;
+    const TransferStats st = transfer(view, paint, canvas, params);
+    return pickup ? st.picked_up_mm3 : st.deposited_mm3;
+  };
+  // Float sums over ~2500 pixels: 1e-5 of the total.
+  constexpr double kRounding = 1e-5;
+  for (bool pickup : {false, true}) {
+    INFO((pickup ? "pickup" : "deposit"));
+    const double free = step(-1, pickup);
+    REQUIRE(free > 0);
+    CHECK(step(full, pickup) == Approx(free).epsilon(kRounding));
+    CHECK(step(3 * full, pickup) == Approx(free).epsilon(kRounding));
+    CHECK(step(0, pickup) == Approx(floor * free).epsilon(kRounding));
+    CHECK(step(-2, pickup) == Approx(floor * free).epsilon(kRounding));
+    CHECK(step(0.5 * full, pickup) ==
+          Approx((floor + 0.5 * (1 - floor)) * free).epsilon(kRounding));
+  }
+}
+
 TEST_CASE("Transfer: flagged hair scrubs wet paint up as it slides, not as it stands",
           "[paint][transfer]") {
   // A wet film laid by a loaded brush without flags; then a clean brush
