@@ -201,26 +201,7 @@ struct SpineTube {
   std::vector<Eigen::Vector3d> sides;  // per point: across the hair, towards the brush's -x
   std::vector<Eigen::Vector3d> ring;   // (n + 1) x (F + 1)
   std::vector<BrushVertex> grid;       // one cap's or the tube's vertices (scratch)
-  Eigen::Vector3d brush_y = Eigen::Vector3d::UnitY();  // the brush frame's y, in the world
 };
-
-// The brush's hair across its face (the brush frame's y) at rest: from y0_mm
-// to y0_mm + span_mm, over every spine's bundle at its thickest.
-struct FaceSpan {
-  double y0_mm = 0, span_mm = 1;
-};
-
-FaceSpan faceSpan(const Brush& brush) {
-  double lo = 1e300, hi = -1e300;
-  for (const SpineSpec& s : brush.spines) {
-    double half = 0;
-    for (size_t j = 0; j < s.width_mm.size(); ++j) half = std::max(half, 0.5 * s.thicknessMm(j));
-    lo = std::min(lo, s.root_mm.y() - half);
-    hi = std::max(hi, s.root_mm.y() + half);
-  }
-  if (!(hi > lo)) return FaceSpan{};
-  return FaceSpan{lo, hi - lo};
-}
 
 // Appends triangle (a, b, c) if it reaches down to below_mm (reachesDown).
 void pushTriangle(const BrushVertex& a, const BrushVertex& b, const BrushVertex& c,
@@ -273,7 +254,6 @@ const DressingDirections& dressingDirections() {
 void placeTubeRings(const SpineSpec& spec, const SpineState& spine, const Pose& handle,
                     SpineTube* tube) {
   const Eigen::Vector3d brush_x = handle.rotation * Eigen::Vector3d::UnitX();
-  tube->brush_y = handle.rotation * Eigen::Vector3d::UnitY();
   const int n = spec.jointCount();
   tube->ring.assign((n + 1) * (F + 1), Eigen::Vector3d::Zero());
   tube->sides.assign(n + 1, Eigen::Vector3d::Zero());
@@ -326,41 +306,16 @@ float acrossU(const SpineSpec& spec, const SpineTube& tube, size_t s, size_t ns,
   return static_cast<float>((s + std::clamp(0.5 + d / width, 0.0, 1.0)) / ns);
 }
 
-// Where a point p of spine s's half solid at joint j lies along the hair, as
-// the texture's v. A joint's half solid stands for the bundle's hair around
-// the joint, a span of the hair 1/n long (the hair's ends, half that, at the
-// tip), and where it meets the paper it is the hair's cross-section that
-// does, not one place along the hair: a domed brush pressed on its tips
-// touches with the ends of hairs spread over x and y. Its u already follows
-// x (acrossU); v follows y, the point's place across the bundle's face
-// (clamped to its edge hairs, as acrossU's), placed on the brush's face span
-// and laid over the joint's span of v. So a cap a few mm across draws on the
-// texels of a few mm of cross-section, each standing for the hair it covers,
-// rather than on one texel row shared by every spine at its x
-// (docs/paint.md, "Which texel touches a pixel").
-float capV(const SpineSpec& spec, const SpineTube& tube, const FaceSpan& face, int j,
-           const Eigen::Vector3d& p) {
-  const BundleSection& q = tube.section[j];
-  const int n = spec.jointCount();
-  const double towards_y = q.e2.dot(tube.brush_y) < 0 ? -1.0 : 1.0;
-  const double half = 0.5 * spec.thicknessMm(j);
-  const double dy = std::clamp(towards_y * (p - tube.centre[j]).dot(q.e2), -half, half);
-  const double f = std::clamp((spec.root_mm.y() + dy - face.y0_mm) / face.span_mm, 0.0, 1.0);
-  const double lo = (j - 0.5) / n, hi = std::min(1.0, (j + 0.5) / n);
-  return static_cast<float>(lo + f * (hi - lo));
-}
-
 // Rounds the bundle off at every joint with the lower half of an ellipsoid of
 // the same section (BundleSection): a joint that touches the canvas (a hair
 // tip poking straight down, say) always shows, however steeply its segments
 // rise. Its u runs across the bundle as the tube's does (acrossU), so that
 // the hairs at the tip keep their place across the brush: a flat's pressed
 // tips carry both paints of a double load, and each hair its own streak
-// (engine/paint/paint.h, hairNoise). Its v runs across the bundle's face
-// over the joint's span of the hair (capV).
+// (engine/paint/paint.h, hairNoise).
 void appendJointCaps(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns,
-                     const FaceSpan& face, const std::vector<char>* due,
-                     std::vector<BrushVertex>* triangles, double below_mm) {
+                     const std::vector<char>* due, std::vector<BrushVertex>* triangles,
+                     double below_mm) {
   const int n = spec.jointCount();
   const DressingDirections& dirs = dressingDirections();
   for (int j = 1; j <= n; ++j) {
@@ -393,7 +348,7 @@ void appendJointCaps(const SpineSpec& spec, SpineTube& tube, size_t s, size_t ns
       const Eigen::Vector3d p = c + q.radius(d) * Eigen::Vector3d(flat.x(), flat.y(), d.z());
       return BrushVertex{static_cast<float>(p.x()), static_cast<float>(p.y()),
                          static_cast<float>(p.z()), acrossU(spec, tube, s, ns, j, p),
-                         capV(spec, tube, face, j, p)};
+                         static_cast<float>(double(j) / n)};
     };
     // Each vertex once (a triangle list uses most of them six times).
     constexpr int kLon = 2 * F + 1;
@@ -438,13 +393,12 @@ void buildSpineGeometry(const Brush& brush, const BrushState& state,
                         std::vector<BrushVertex>* triangles, double below_mm,
                         const JointCaps* caps) {
   const size_t ns = brush.spines.size();
-  const FaceSpan face = faceSpan(brush);
   SpineTube tube;
   for (size_t s = 0; s < ns; ++s) {
     const SpineSpec& spec = brush.spines[s];
     const std::vector<char>* due = caps ? &(*caps)[s] : nullptr;
     placeTubeRings(spec, state.spines[s], state.handle, &tube);
-    appendJointCaps(spec, tube, s, ns, face, due, triangles, below_mm);
+    appendJointCaps(spec, tube, s, ns, due, triangles, below_mm);
     appendTube(spec, tube, s, ns, triangles, below_mm);
   }
 }

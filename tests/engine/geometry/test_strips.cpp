@@ -8,7 +8,6 @@
 #include <cmath>
 #include <numbers>
 #include <random>
-#include <set>
 
 #include "engine/formats/brush_reader.h"
 #include "engine/formats/trajectory_reader.h"
@@ -16,7 +15,6 @@
 #include "engine/geometry/spine_bundles.h"
 #include "engine/solvers/spine_solver.h"
 #include "engine/model/trajectory.h"
-#include "engine/paint/paint.h"
 #include "engine/dynamics/stepper.h"
 #include "test_helpers.h"
 
@@ -660,56 +658,6 @@ TEST_CASE("a spine lying on the paper dresses in a bundle twice as wide", "[stri
   const auto [light, light_z] = lateralSpanAt(0.0, kBundleFlatLoadN / 2);
   CHECK(light_z == Approx(-w / 4).margin(kSpanTolMm));
   CHECK(light == Approx(w * bundleSpread(w / 2, w / 4)).margin(kSpanTolMm));
-}
-
-TEST_CASE("a standing tip's cap draws on the texels of the hair it covers", "[strips][paint]") {
-  // Two round spines rooted at the same x, 6 mm apart in the brush frame's y,
-  // standing straight down with their tips pressed flat on the paper (the
-  // load that flattens a bundle, kBundleFlatLoadN): each tip's half solid
-  // meets the paper in a disc of its own hair's ends (docs/paint.md, "Which
-  // texel touches a pixel"). Its points below the paper must draw on the
-  // paint of that hair: different texels for the two spines, whose hair is
-  // not the same, and more than one texel row for each, since a disc 3 mm
-  // across is a patch of cross-section several texels deep, not one.
-  const double w = 3.0;
-  std::vector<SpineSpec> spines;
-  for (double y : {-3.0, 3.0}) {
-    spines.push_back(makeSpine({5, 5, 5}, {8, 6, 4}, 0.005, Eigen::Vector3d(0, y, 0)));
-    spines.back().width_mm.assign(4, w);
-  }
-  const Brush b = makeBrush(spines, 0.4, 0.3);
-  BrushState st = restState(b, poseAt(0, 0, 20));
-  for (size_t s = 0; s < 2; ++s) {
-    const double y = spines[s].root_mm.y();
-    for (int k = 0; k <= 3; ++k)
-      st.spines[s].joints_mm[k] = Eigen::Vector3d(0, y, 15.0 - 5.0 * k);
-    st.spines[s].solution.normal_force_n.assign(3, kBundleFlatLoadN / 3);
-  }
-  std::vector<BrushVertex> tris;
-  buildSpineGeometry(b, st, &tris);
-  const BrushTexelMap map(b);
-  // Points pressed below the paper by more than float rounding: the caps'
-  // contact (the tubes end at the tips' centres, on the paper).
-  constexpr double kBelowPaperMm = 0.01;
-  std::set<int> texels[2], rows[2];
-  for (const BrushVertex& p : tris) {
-    if (!(p.z_mm < -kBelowPaperMm)) continue;
-    // Which spine's cap: the spines stand apart in y. buildSpineGeometry
-    // writes the spines' own u (brush_geometry.cpp adds the part's offset,
-    // engine/geometry/brush_vertex.h).
-    const int s = p.y_mm < 0 ? 0 : 1;
-    const int t = map.texel(encodeTextureU(BrushPart::kSpine, p.u), p.v);
-    texels[s].insert(t);
-    rows[s].insert(t / BrushTexelMap::kColumns);
-  }
-  REQUIRE_FALSE(texels[0].empty());
-  REQUIRE_FALSE(texels[1].empty());
-  INFO("texel rows under the tips: " << rows[0].size() << " and " << rows[1].size());
-  int shared = 0;
-  for (int t : texels[0]) shared += static_cast<int>(texels[1].count(t));
-  CHECK(shared == 0);
-  CHECK(rows[0].size() >= 2);
-  CHECK(rows[1].size() >= 2);
 }
 
 TEST_CASE("a flat's slab of hair touches the paper across its width", "[strips]") {
