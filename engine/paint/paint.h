@@ -48,6 +48,9 @@ inline constexpr double kFullLoadFilmMm = 0.3;
 // 1 at the tip). The geometry's own u is per part: the surface's u is an angle
 // around the brush axis, a spine tube's u picks the spine, a strip's u its
 // texture row. This map turns each into w from the part's rest position in x.
+// A spine joint's half solid writes a v that follows the hair's place across
+// the brush's face (y) over the joint's span of the hair (engine/geometry/
+// spine_bundles.cpp, capV; docs/paint.md, "Which texel touches a pixel").
 class BrushTexelMap {
  public:
   static constexpr int kColumns = 32;
@@ -342,7 +345,11 @@ struct TransferParams {
   // Wet film settles where deposit and pickup balance: deposit_rate / pickup_rate
   // of a full load's film (0.15 * 0.3 mm = 0.045 mm, about 2 optical units).
   double pickup_rate = 0.2;
-  // A texel hands over at most this fraction of its paint in one step.
+  // A texel hands over at most this fraction of its own paint in one step;
+  // what its touches want past that, its column (the hair along which paint
+  // runs to the touching end) feeds it within the step, each texel of it
+  // sparing at most this fraction of its own (docs/paint.md, "The cap on a
+  // texel's deposit").
   double max_out_fraction = 0.5;
   // Below this fraction of a full load a texel begins to run dry: it deposits only
   // where the paper's tooth (0 valley .. 1 peak) exceeds a threshold growing
