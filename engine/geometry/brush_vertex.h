@@ -27,9 +27,7 @@ namespace bristle {
 // A vertex of brush geometry in world mm with its brush texture coordinate:
 // u runs across the part (see above; for a spine's tube, from the side towards
 // the brush frame's -x to the side towards its +x), v along the hairs (0 at
-// the root, 1 at the tip; a spine joint's half solid spreads its joint's
-// span of v over the hair's place across the brush's face, so that it draws
-// on the paint of the hair it covers: spine_bundles.cpp, capV).
+// the root, 1 at the tip).
 struct BrushVertex {
   float x_mm, y_mm, z_mm;
   float u, v;
