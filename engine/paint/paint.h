@@ -48,9 +48,6 @@ inline constexpr double kFullLoadFilmMm = 0.3;
 // 1 at the tip). The geometry's own u is per part: the surface's u is an angle
 // around the brush axis, a spine tube's u picks the spine, a strip's u its
 // texture row. This map turns each into w from the part's rest position in x.
-// A spine joint's half solid writes a v that follows the hair's place across
-// the brush's face (y) over the joint's span of the hair (engine/geometry/
-// spine_bundles.cpp, capV; docs/paint.md, "Which texel touches a pixel").
 class BrushTexelMap {
  public:
   static constexpr int kColumns = 32;
