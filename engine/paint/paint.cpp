@@ -517,6 +517,8 @@ struct TransferScratch {
   std::vector<double> demand;    // per texel: the sum of its touches' deposit weights
   std::vector<double> out_sum;   // per texel: paint given to the canvas (mm^3)
   std::vector<double> in_sum;    // per texel: paint picked up (mm^3)
+  std::vector<double> fed;       // per texel: paint its column feeds it this step (planFeed)
+  std::vector<double> feeds;     // per texel: paint it gives its column's fed texels
   std::vector<std::array<float, 6>> in_optics;  // per texel: volume-weighted K and S picked up
   std::vector<float> flag;       // per footprint pixel: deposit factor of flagged ends (flagRim)
   std::vector<int> flag_sums;    // per footprint pixel: flagRim's column sums of hull pixels
@@ -530,6 +532,8 @@ struct TransferScratch {
     demand.assign(kTexels, 0.0);
     out_sum.assign(kTexels, 0.0);
     in_sum.assign(kTexels, 0.0);
+    fed.assign(kTexels, 0.0);
+    feeds.assign(kTexels, 0.0);
     in_optics.assign(kTexels, {0, 0, 0, 0, 0, 0});
     touches.reserve(pixels);
   }
@@ -923,6 +927,83 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
   return contact_px;
 }
 
+// The reservoir within a step (docs/paint.md, "The cap on a texel's
+// deposit"): a texel hands over at most max_out of its paint a step, and a
+// texel whose touches want more than that is fed the rest by the other
+// texels of its column, the hair along which paint runs to the touching
+// end, as far as they can spare it (each at most max_out of its own, less
+// what it lays itself). Hair that does not wick (BrushPaint::wicking below
+// 1) runs paint only down towards its tips: the texels past the tipmost fed
+// one spare only that share. Where the column cannot feed all that is
+// wanted, the fed texels' deposit is cut to their own cap plus the same
+// share of their shortfall. Fills scratch.fed and scratch.feeds and scales
+// per_pixel (deposit per unit of contact) of the texels cut.
+void planFeed(const BrushPaint& brush, double max_out, std::array<float, kTexels>& per_pixel,
+              TransferScratch& scratch) {
+  constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
+  std::array<double, R> short_of, spare;
+  for (int col = 0; col < C; ++col) {
+    double need = 0;
+    int tipmost = -1;
+    for (int row = 0; row < R; ++row) {
+      const int t = row * C + col;
+      const double own = max_out * brush.cell(t).volume_mm3;
+      const double out = double(per_pixel[t]) * scratch.demand[t];
+      short_of[row] = std::max(0.0, out - own);
+      spare[row] = short_of[row] > 0 ? 0.0 : own - out;
+      need += short_of[row];
+      if (short_of[row] > 0) tipmost = row;
+    }
+    if (!(need > 0)) continue;
+    double can = 0;
+    for (int row = 0; row < R; ++row) {
+      if (row > tipmost) spare[row] *= brush.wicking();
+      can += spare[row];
+    }
+    const double fed_share = std::min(1.0, can / need);
+    const double give_share = can > 0 ? std::min(1.0, need / can) : 0.0;
+    for (int row = 0; row < R; ++row) {
+      const int t = row * C + col;
+      scratch.feeds[t] = give_share * spare[row];
+      if (!(short_of[row] > 0)) continue;
+      scratch.fed[t] = fed_share * short_of[row];
+      const double own = max_out * brush.cell(t).volume_mm3;
+      per_pixel[t] = static_cast<float>((own + scratch.fed[t]) / scratch.demand[t]);
+    }
+  }
+}
+
+// Moves the paint planFeed planned, within each column: the givers' paint is
+// pooled, so a fed texel takes in their mixture.
+void feedFromColumns(BrushPaint& brush, const TransferScratch& scratch) {
+  constexpr int C = BrushTexelMap::kColumns, R = BrushTexelMap::kRows;
+  for (int col = 0; col < C; ++col) {
+    double pool = 0, pool_k[3] = {0, 0, 0}, pool_s[3] = {0, 0, 0};
+    for (int row = 0; row < R; ++row) {
+      const float give = static_cast<float>(scratch.feeds[row * C + col]);
+      if (!(give > 0)) continue;
+      PaintCell& cell = brush.cell(row * C + col);
+      cell.volume_mm3 -= give;
+      pool += give;
+      for (int k = 0; k < 3; ++k) {
+        pool_k[k] += double(give) * cell.optics.k[k];
+        pool_s[k] += double(give) * cell.optics.s[k];
+      }
+    }
+    if (!(pool > 0)) continue;
+    Optics pooled;
+    for (int k = 0; k < 3; ++k) {
+      pooled.k[k] = static_cast<float>(pool_k[k] / pool);
+      pooled.s[k] = static_cast<float>(pool_s[k] / pool);
+    }
+    for (int row = 0; row < R; ++row) {
+      PaintCell& cell = brush.cell(row * C + col);
+      const float take = static_cast<float>(scratch.fed[row * C + col]);
+      if (take > 0) mixInto(cell, cell.volume_mm3, pooled, take);
+    }
+  }
+}
+
 // Stage 2: deposit and pickup per pixel, from the texels' paint at the start
 // of the step. Rates are per reference step of contact
 // (TransferParams::exposure): an amount per step scales with the exposure, a
@@ -947,11 +1028,9 @@ void depositAndPickUp(const BrushPaint& brush, PaintCanvas& canvas, const Transf
     // "Unabsorbent hair").
     const double film = brush.wicking() < 1 ? std::max(full_film, v / brush.map().texelAreaMm2())
                                             : full_film;
-    const double want = rate * film * area_px;
-    const double total = want * scratch.demand[t];
-    const double cap = max_out * v;
-    per_pixel[t] = static_cast<float>(total > cap && total > 0 ? want * cap / total : want);
+    per_pixel[t] = static_cast<float>(rate * film * area_px);
   }
+  planFeed(brush, max_out, per_pixel, scratch);
   const float pickup = static_cast<float>(compoundFraction(params.pickup_rate, exposure));
   for (const Touch& h : scratch.touches) {
     PaintCell& px = canvas.wet(h.pixel);
@@ -1079,6 +1158,7 @@ TransferStats transfer(const FootprintView& fp, BrushPaint& brush, PaintCanvas& 
   stats.contact_px = gatherTouches(fp, brush, canvas, params, dryness, scratch);
   const double exposure = std::max(params.exposure, 0.0);
   depositAndPickUp(brush, canvas, params, exposure, scratch);
+  feedFromColumns(brush, scratch);
   settleTexels(brush, scratch, &stats);
   // Unabsorbent hair draws up only its share of the flow (BrushPaint::wicking);
   // the rest runs towards the tips only.

@@ -342,7 +342,11 @@ struct TransferParams {
   // Wet film settles where deposit and pickup balance: deposit_rate / pickup_rate
   // of a full load's film (0.15 * 0.3 mm = 0.045 mm, about 2 optical units).
   double pickup_rate = 0.2;
-  // A texel hands over at most this fraction of its paint in one step.
+  // A texel hands over at most this fraction of its own paint in one step;
+  // what its touches want past that, its column (the hair along which paint
+  // runs to the touching end) feeds it within the step, each texel of it
+  // sparing at most this fraction of its own (docs/paint.md, "The cap on a
+  // texel's deposit").
   double max_out_fraction = 0.5;
   // Below this fraction of a full load a texel begins to run dry: it deposits only
   // where the paper's tooth (0 valley .. 1 peak) exceeds a threshold growing
@@ -366,12 +370,13 @@ struct TransferParams {
   // by the gap's width. So where the footprint tells how the hair slid
   // (FootprintView::slide), the rim's pickup is the full hair's times
   // g + (1 - g) min(1, s / flag_scrub_mm), s the slide per reference step
-  // (a speed, so that cutting a step in two changes nothing). 0.1 mm, a
-  // badger hair's thickness, is the gap between its flags: a flag drawn at
-  // 20 mm/s or faster, a softening stroke, wipes all of the paper under the
-  // rim, while one lifting straight off it does not scrub it (docs/paint.md,
-  // "Flags scrub only as they slide").
-  double flag_scrub_mm = 0.1;
+  // (a speed, so that cutting a step in two changes nothing). 0.2 mm is the
+  // gap between its flags: the hairs are 0.1 mm thick, and the dome's tips,
+  // few and splayed, stand about two thicknesses apart. A flag drawn at
+  // 40 mm/s or faster, a softening stroke, wipes all of the paper under the
+  // rim, while one lifting straight off it or creeping to a stop does not
+  // scrub it (docs/paint.md, "Flags scrub only as they slide").
+  double flag_scrub_mm = 0.2;
   // Flagged hair lays paint as it slides, too: its split ends hold the paint
   // in their splits by capillarity, and the paper draws it out of them as
   // they pass over it (the film drawn from a meniscus grows with the speed,
@@ -379,7 +384,7 @@ struct TransferParams {
   // wets its contact. So where the footprint tells how the hair slid, a
   // flagged brush's deposit is the rate's
   // flag_still_deposit + (1 - flag_still_deposit) min(1, s / flag_scrub_mm):
-  // in full at 20 mm/s or faster, per mm slid below it, and this share
+  // in full at 40 mm/s or faster, per mm slid below it, and this share
   // standing. Under a still dome the film then settles at this share of the
   // deposit-pickup balance, not at all of it: a softener landing on the
   // paper leaves no blot, and its mark fades in. On the flagged rim it

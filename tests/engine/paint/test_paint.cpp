@@ -317,6 +317,44 @@ TEST_CASE("Transfer: unabsorbent hair feeds its tips from the belly, never the b
   }
 }
 
+TEST_CASE("Transfer: a texel feeding many pixels lays the film one feeding few does",
+          "[paint][transfer]") {
+  // One (u, v) over a square of n x n pixels: one texel of the texture feeds
+  // them all, as a joint's cap or a bundle lying along the stroke does on
+  // many pixels. How many pixels share a texel is the texture's sampling of
+  // the hair, not the hair: the film laid per pixel must not depend on it
+  // while the hair's column holds the paint (docs/paint.md, "The cap on a
+  // texel's deposit"). 40 x 40 pixels want ~10 times the texel's cap of
+  // half its paint (a 12 x 12 mm brush: 0.14 mm^2 a texel, at 8 px/mm).
+  const Brush brush = fivesSpineBrush();
+  auto laidPerPixel = [&](int n) {
+    std::vector<float> texels(static_cast<size_t>(n) * n * 4);
+    for (int i = 0; i < n * n; ++i) {
+      float* t = &texels[static_cast<size_t>(i) * 4];
+      t[0] = encodeTextureU(BrushPart::kSpine, 0.5f);
+      t[1] = 0.5f;
+      t[2] = 0.5f;  // pressed well past the grain: full contact
+      t[3] = 1;
+    }
+    BrushPaint paint(brush);
+    paint.load(solid("ultramarine"), MixModel::kKubelkaMunk, "t");
+    PaintCanvas canvas(grid(64, 64), PaperSpec{}, MixModel::kKubelkaMunk);
+    const double before = paint.totalVolumeMm3();
+    const TransferStats st =
+        transfer(FootprintView{4, 4, n, n, texels.data()}, paint, canvas, TransferParams{});
+    // Conservation, as "Transfer conserves paint".
+    CHECK(paint.totalVolumeMm3() + canvas.wetVolumeMm3() == Approx(before).epsilon(1e-5));
+    return st.deposited_mm3 / (n * n);
+  };
+  const double few = laidPerPixel(4), many = laidPerPixel(40);
+  INFO("laid per pixel: " << few << " mm^3 over 4 x 4 pixels, " << many << " over 40 x 40");
+  REQUIRE(few > 0);
+  // The same film to float rounding (the deposit is the same rate per pixel;
+  // 1e-4 is a float's sums over 1,600 pixels with room).
+  constexpr double kSameFilmRelTol = 1e-4;
+  CHECK(many == Approx(few).epsilon(kSameFilmRelTol));
+}
+
 TEST_CASE("Transfer: a clean brush picks up wet paint and carries it on", "[paint][transfer]") {
   const Brush brush = fivesSpineBrush();
   PaintCanvas canvas(grid(64, 200), PaperSpec{}, MixModel::kKubelkaMunk);
