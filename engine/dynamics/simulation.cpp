@@ -54,8 +54,7 @@ Simulation::Simulation(const Brush& brush, const SimOptions& options,
       solver_(std::move(solver)),
       fallback_(std::move(fallback)),
       volume_pairs_(brush.volume.present() ? volumePairs(brush) : std::vector<VolumePair>{}),
-      rest_hair_mm_(restHairLengthMm(brush)),
-      squash_rest_mm_(rest_hair_mm_ - brush.volume.squash_after_mm) {
+      rest_hair_mm_(restHairLengthMm(brush)) {
   for (const SpineSpec& spec : brush.spines) rest_rot_.push_back(restRotations(spec));
   for (size_t i = 0; i < brush.spines.size(); ++i) {
     const SpineSpec& spec = brush.spines[i];
@@ -527,8 +526,7 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   // it; a handle that travels on from there drags it out from under the
   // ferrule and lays it along the paper (bundleSquash's travel).
   if (bundleSquash(rest_hair_mm_, handle) <= 1) state_.touch_xy_mm = axisOnPaper(handle);
-  squash_ =
-      bundleSquash(squash_rest_mm_, handle, (axisOnPaper(handle) - state_.touch_xy_mm).norm());
+  squash_ = bundleSquash(rest_hair_mm_, handle, (axisOnPaper(handle) - state_.touch_xy_mm).norm());
   const std::vector<int> which = startSpines(handle, &trial, &sliding);
   const bool settled = !which.empty() && settledAt(handle, which);
   if (settled) {

@@ -132,11 +132,6 @@ struct VolumeSpec {
   // axis by sqrt(s). A joint nearer the axis than that is pushed out with this
   // stiffness, and cohesion's limit grows by sqrt(s). 0 = off.
   double spread_n_per_mm = 0;
-  // The point's lie-down (docs/dynamics.md, "The point lies down before the
-  // belly squashes"): the first this many mm of a press past first contact
-  // fold the soft point over along the paper; only the press beyond them
-  // squashes the belly, so the squash's rest length is the hair's less this.
-  double squash_after_mm = 0;
   bool present() const { return min_separation > 0; }
 };
 

@@ -392,38 +392,6 @@ TEST_CASE("marks: the calligraphy brushes pressed straight down leave one smooth
   CHECK(b.fill >= kMinFill);
 }
 
-TEST_CASE("marks: the calligraphy brush pressed straight down leaves a round blot under the handle",
-          "[marks]") {
-  // Pressed straight down past its point, a full round brush's belly is
-  // squashed and spreads all round the handle (docs/dynamics.md, "The point
-  // lies down before the belly squashes"): a round blot centred under the
-  // handle, not the bundle laid over to one side as one body, a lozenge
-  // whose ink sat 3.9-6.0 mm off the handle (axes 1.18-1.43). At 0.35, 0.4 and
-  // 0.45 of the hair (10.5-13.5 mm): whether a straight press lays over or
-  // spreads is a buckling branch, and one depth alone could pass by luck.
-  // Ipopt, the reference (SLSQP's blot at 0.4 is as round: axes 1.18,
-  // 0.9 mm off). Limits as the round's blot test (tests/cli/test_cli_round.cpp):
-  // axes at most kMaxRatio, a blot a painter calls round; the ink's
-  // centroid within kMaxOffsetMm of the handle (at x-y 0, 0), a sixth of
-  // the blot's ~19 mm.
-  constexpr double kMaxRatio = 1.3, kMaxOffsetMm = 1.5;
-  const double fraction = GENERATE(0.35, 0.4, 0.45);
-  INFO("pressed " << fraction << " of the hair");
-  TempDir dir;
-  const Coverage img =
-      renderCase("calligraphy", pressLiftCase(fraction), dir, "round-blot", "ipopt");
-  const BlotStats b = blotStats(img, 0.1, 1);
-  const double ratio = principalAxisRatio(img, 0.1);
-  double cx = 0, cy = 0;
-  REQUIRE(inkCentroidMm(img, 0.1, &cx, &cy));
-  const double offset = std::hypot(cx, cy);
-  INFO("components " << b.components << ", fill " << b.fill << ", axis ratio " << ratio
-                     << ", ink centroid " << offset << " mm from the handle");
-  CHECK(b.components == 1);
-  CHECK(ratio <= kMaxRatio);
-  CHECK(offset <= kMaxOffsetMm);
-}
-
 TEST_CASE("marks: a fan's pull draws a few distinct lines on the default paper", "[marks]") {
   // The grass stroke: wet hair gathers into bunches, and each bunch draws a
   // line. Broadside at 30 % of the hair, on bristle's default paper (tooth
