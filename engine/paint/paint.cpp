@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -743,28 +744,62 @@ float flagDeposit(float g, float tooth, float hair) {
   return g * (kFlagFloor + (1 - kFlagFloor) * pass);
 }
 
+// A value over the footprint's canvas points that varies over millimetres
+// (the spines' slide, their pressure): looked up once per square cell of
+// about kSlideCellMm, at the cell's centre, and kept for the step. The
+// values looked up are never negative (the cache's "not yet").
+constexpr double kSlideCellMm = 0.25;
+class CellLookup {
+ public:
+  using Value = std::function<float(double x_mm, double y_mm)>;
+  CellLookup(const FootprintView& fp, const CanvasGrid& grid, std::vector<float>* cache)
+      : fp_(fp), grid_(grid), cache_(*cache) {}
+  // Starts the step's cache; at() calls value at each cell's first use.
+  void start(Value value) {
+    value_ = std::move(value);
+    cell_ = std::max(1, static_cast<int>(std::lround(kSlideCellMm * grid_.px_per_mm)));
+    cells_w_ = (fp_.width + cell_ - 1) / cell_;
+    cache_.assign(static_cast<size_t>(cells_w_) * ((fp_.height + cell_ - 1) / cell_), -1.0f);
+  }
+  // The value at footprint pixel (c, r).
+  float at(int c, int r) {
+    const int cc = c / cell_, cr = r / cell_;
+    float& v = cache_[static_cast<size_t>(cr) * cells_w_ + cc];
+    if (v < 0) {
+      // The cell's centre in canvas mm (engine/model/canvas.h: row 0 at the top).
+      const double col = fp_.col0 + (cc + 0.5) * cell_, row = fp_.row0 + (cr + 0.5) * cell_;
+      v = value_(grid_.x0_mm + col / grid_.px_per_mm,
+                 grid_.y0_mm + (grid_.height_px - row) / grid_.px_per_mm);
+    }
+    return v;
+  }
+
+ private:
+  const FootprintView& fp_;
+  const CanvasGrid& grid_;
+  std::vector<float>& cache_;
+  Value value_;
+  int cell_ = 1, cells_w_ = 0;
+};
+
 // How the flagged hair's slide over the paper sets its transfer: the share
 // min(1, s / flag_scrub_mm) of the paper its flags wipe, s the hair's slide
 // per reference step where it touches (TransferParams::flag_scrub_mm). The
 // rim picks up g + (1 - g) of it (pickup), and the flagged brush's hair lays
-// flag_still_deposit + (1 - flag_still_deposit) of it (lay). The spines'
-// motion varies over millimetres, so the slide is looked up once per square
-// cell of about kSlideCellMm and kept for the step. Without a slide (none
-// known, or no contact time) both are in full.
-constexpr double kSlideCellMm = 0.25;
+// flag_still_deposit + (1 - flag_still_deposit) of it (lay). Without a slide
+// (none known, or no contact time) both are in full.
 class FlagScrub {
  public:
   FlagScrub(const FootprintView& fp, const CanvasGrid& grid, const TransferParams& params,
             std::vector<float>* cache)
-      : fp_(fp), grid_(grid), cache_(*cache) {
+      : slide_(fp, grid, cache) {
     const double exposure = std::max(params.exposure, 0.0);
     if (fp.slide == nullptr || !(exposure > 0) || !(params.flag_scrub_mm > 0)) return;
     on_ = true;
     still_ = static_cast<float>(std::clamp(params.flag_still_deposit, 0.0, 1.0));
     inv_ref_ = 1.0 / (params.flag_scrub_mm * exposure);
-    cell_ = std::max(1, static_cast<int>(std::lround(kSlideCellMm * grid.px_per_mm)));
-    cells_w_ = (fp.width + cell_ - 1) / cell_;
-    cache_.assign(static_cast<size_t>(cells_w_) * ((fp.height + cell_ - 1) / cell_), -1.0f);
+    const HairSlide* slide = fp.slide;
+    slide_.start([slide](double x, double y) { return static_cast<float>(slide->at(x, y)); });
   }
   // The pickup's share at footprint pixel (c, r), whose rim deposit factor is g.
   float pickup(int c, int r, float g) {
@@ -782,67 +817,39 @@ class FlagScrub {
 
  private:
   float wiped(int c, int r) {
-    const int cc = c / cell_, cr = r / cell_;
-    float& s = cache_[static_cast<size_t>(cr) * cells_w_ + cc];
-    if (s < 0) {
-      // The cell's centre in canvas mm (engine/model/canvas.h: row 0 at the top).
-      const double col = fp_.col0 + (cc + 0.5) * cell_, row = fp_.row0 + (cr + 0.5) * cell_;
-      s = static_cast<float>(fp_.slide->at(grid_.x0_mm + col / grid_.px_per_mm,
-                                           grid_.y0_mm + (grid_.height_px - row) / grid_.px_per_mm));
-    }
-    return static_cast<float>(std::min(1.0, s * inv_ref_));
+    return static_cast<float>(std::min(1.0, slide_.at(c, r) * inv_ref_));
   }
-  const FootprintView& fp_;
-  const CanvasGrid& grid_;
-  std::vector<float>& cache_;
+  CellLookup slide_;
   bool on_ = false;
   float still_ = 1;
   double inv_ref_ = 0;
-  int cell_ = 1, cells_w_ = 0;
 };
 
 // The share of the transfer rates the hair's pressure gives at each pixel
 // of the footprint (TransferParams::press_full_n_per_mm2): press_floor plus
-// the rest in proportion to the pressure, up to all of it. The spines' load
-// varies over millimetres, so the pressure is looked up once per square
-// cell of about kSlideCellMm and kept for the step. Without a pressure
-// known, in full.
+// the rest in proportion to the pressure, up to all of it. Without a
+// pressure known, in full.
 class PressShare {
  public:
   PressShare(const FootprintView& fp, const CanvasGrid& grid, const TransferParams& params,
              std::vector<float>* cache)
-      : fp_(fp), grid_(grid), cache_(*cache) {
+      : share_(fp, grid, cache) {
     if (fp.press == nullptr || !(params.press_full_n_per_mm2 > 0)) return;
     on_ = true;
-    floor_ = static_cast<float>(std::clamp(params.press_floor, 0.0, 1.0));
-    inv_full_ = 1.0 / params.press_full_n_per_mm2;
-    cell_ = std::max(1, static_cast<int>(std::lround(kSlideCellMm * grid.px_per_mm)));
-    cells_w_ = (fp.width + cell_ - 1) / cell_;
-    cache_.assign(static_cast<size_t>(cells_w_) * ((fp.height + cell_ - 1) / cell_), -1.0f);
+    const float floor = static_cast<float>(std::clamp(params.press_floor, 0.0, 1.0));
+    const double inv_full = 1.0 / params.press_full_n_per_mm2;
+    const HairPress* press = fp.press;
+    share_.start([press, floor, inv_full](double x, double y) {
+      const double p = press->at(x, y);
+      return floor + (1 - floor) * static_cast<float>(std::clamp(p * inv_full, 0.0, 1.0));
+    });
   }
   // The share at footprint pixel (c, r).
-  float at(int c, int r) {
-    if (!on_) return 1.0f;
-    const int cc = c / cell_, cr = r / cell_;
-    float& share = cache_[static_cast<size_t>(cr) * cells_w_ + cc];
-    if (share < 0) {
-      // The cell's centre in canvas mm (engine/model/canvas.h: row 0 at the top).
-      const double col = fp_.col0 + (cc + 0.5) * cell_, row = fp_.row0 + (cr + 0.5) * cell_;
-      const double p = fp_.press->at(grid_.x0_mm + col / grid_.px_per_mm,
-                                     grid_.y0_mm + (grid_.height_px - row) / grid_.px_per_mm);
-      share = floor_ + (1 - floor_) * static_cast<float>(std::clamp(p * inv_full_, 0.0, 1.0));
-    }
-    return share;
-  }
+  float at(int c, int r) { return on_ ? share_.at(c, r) : 1.0f; }
 
  private:
-  const FootprintView& fp_;
-  const CanvasGrid& grid_;
-  std::vector<float>& cache_;
+  CellLookup share_;
   bool on_ = false;
-  float floor_ = 1;
-  double inv_full_ = 0;
-  int cell_ = 1, cells_w_ = 0;
 };
 
 // Stage 1 of transfer: who touches what, and how hard. Fills scratch.touches
