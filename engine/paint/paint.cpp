@@ -524,6 +524,8 @@ struct TransferScratch {
   std::vector<float> flag;       // per footprint pixel: deposit factor of flagged ends (flagRim)
   std::vector<int> flag_sums;    // per footprint pixel: flagRim's column sums of hull pixels
   std::vector<std::uint8_t> flag_mask;  // flagRim's hull of the footprint (convexFootprint)
+  std::vector<int> hull_hair;    // per footprint pixel: whose hair touches it (hullHair), -1 none
+  std::vector<int> hull_queue;   // hullHair's working space
   FlagHullScratch flag_hull;     // convexFootprint's working space
   std::vector<float> slide;      // per FlagScrub cell: the hair's slide there (mm), < 0 not yet
   std::vector<float> press;      // per PressShare cell: the transfer's share there, < 0 not yet
@@ -669,6 +671,12 @@ void convexFootprint(const FootprintView& fp, int pad, std::vector<std::uint8_t>
   }
 }
 
+// flag_mm in whole pixels, at least one: the half-side of flagRim's square
+// and the padding of its mask.
+int flagPadPx(double flag_mm, double px_per_mm) {
+  return std::max(1, static_cast<int>(std::lround(flag_mm * px_per_mm)));
+}
+
 // Flagged hair ends (Brush::paint_flag_mm, docs/brush-format.md): a soft
 // hair's split ends splay past the body of the hair and are all that reaches
 // the paper at the rim of the footprint. Each flag is a few fibres finer than
@@ -692,7 +700,7 @@ bool flagRim(const FootprintView& fp, double flag_mm, double px_per_mm, std::vec
              std::vector<std::uint8_t>* mask, FlagHullScratch* hull, std::vector<int>* sums) {
   const int w = fp.width, h = fp.height;
   if (!(flag_mm > 0) || w == 0 || h == 0) return false;
-  const int half = std::max(1, static_cast<int>(std::lround(flag_mm * px_per_mm)));
+  const int half = flagPadPx(flag_mm, px_per_mm);
   convexFootprint(fp, half, mask, hull);
   const int mw = w + 2 * half;
   std::vector<float>& g = *out;
@@ -723,6 +731,41 @@ bool flagRim(const FootprintView& fp, double flag_mm, double px_per_mm, std::vec
     }
   }
   return true;
+}
+
+// The hair between the bundles (docs/paint.md, "The gaps are hair too"): the
+// notches and gaps the spines' tubes leave inside a touching piece's convex
+// hull (flagRim's mask, padded by `pad`) are hair on a real head, the dense
+// mass the spines sample, which reaches the paper where the hair around it
+// does. Each such pixel is touched by the hair of the nearest touched pixel
+// (8-connected steps through the hull, breadth first from every touched
+// pixel at once): *who holds, per footprint pixel, the index of the pixel
+// whose texel, depth and cover it takes (itself where the geometry touches),
+// -1 outside every hull. `queue` is working space.
+void hullHair(const FootprintView& fp, const std::vector<std::uint8_t>& mask, int pad,
+              std::vector<int>* who, std::vector<int>* queue) {
+  const int w = fp.width, h = fp.height, mw = w + 2 * pad;
+  who->assign(static_cast<size_t>(w) * h, -1);
+  queue->clear();
+  for (int i = 0; i < w * h; ++i) {
+    const float* px = fp.texels + static_cast<size_t>(i) * 4;
+    if (px[3] > 0 && px[2] > 0) {
+      (*who)[static_cast<size_t>(i)] = i;
+      queue->push_back(i);
+    }
+  }
+  for (size_t k = 0; k < queue->size(); ++k) {
+    const int i = (*queue)[k], r = i / w, c = i % w;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const int rr = r + dr, cc = c + dc, j = rr * w + cc;
+        if (rr < 0 || rr >= h || cc < 0 || cc >= w || (*who)[static_cast<size_t>(j)] >= 0 ||
+            !mask[static_cast<size_t>(rr + pad) * mw + cc + pad])
+          continue;
+        (*who)[static_cast<size_t>(j)] = (*who)[static_cast<size_t>(i)];
+        queue->push_back(j);
+      }
+  }
 }
 
 // The share of the flagged rim's deposit every touched pixel keeps, however
@@ -806,13 +849,15 @@ class FlagScrub {
     if (!on_ || g >= 1) return 1.0f;
     return g + (1 - g) * wiped(c, r);
   }
-  // The deposit's share at footprint pixel (c, r), whose rim deposit factor
-  // is g: the dense hair's share g of it lays by its slide; the few flags
-  // further out already lay only the share of the paper their contact wets
-  // (flagDeposit), as flags standing do.
-  float lay(int c, int r, float g) {
-    if (!on_ || still_ >= 1 || g <= 0) return 1.0f;
-    return 1 - g * (1 - still_) * (1 - wiped(c, r));
+  // The deposit's share at footprint pixel (c, r): every flag, on the rim as
+  // in the body, holds its paint in its splits and gives it as the paper
+  // draws it out, a share standing. On the rim the flags' number (how much
+  // of the paper they cover, flagDeposit) scales both the deposit and,
+  // standing, the pickup; the release scales the deposit alone, so a rim
+  // standing on the paper settles no darker than the body does.
+  float lay(int c, int r) {
+    if (!on_ || still_ >= 1) return 1.0f;
+    return still_ + (1 - still_) * wiped(c, r);
   }
 
  private:
@@ -871,14 +916,21 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
   const bool flagged =
       flagRim(fp, brush.flagMm(), g.px_per_mm, &scratch.flag, &scratch.flag_mask,
               &scratch.flag_hull, &scratch.flag_sums);
+  if (flagged)
+    hullHair(fp, scratch.flag_mask, flagPadPx(brush.flagMm(), g.px_per_mm), &scratch.hull_hair,
+             &scratch.hull_queue);
   FlagScrub scrub(fp, g, params, &scratch.slide);
   PressShare press(fp, g, params, &scratch.press);
   int contact_px = 0;
   for (int r = 0; r < fp.height; ++r) {
     const int row = fp.row0 + r;
     if (row < 0 || row >= g.height_px) continue;
-    const float* px = fp.texels + static_cast<size_t>(r) * fp.width * 4;
-    for (int c = 0; c < fp.width; ++c, px += 4) {
+    for (int c = 0; c < fp.width; ++c) {
+      // A flagged head's hair fills its hull (hullHair).
+      const int from = flagged ? scratch.hull_hair[static_cast<size_t>(r) * fp.width + c]
+                               : r * fp.width + c;
+      if (from < 0) continue;
+      const float* px = fp.texels + static_cast<size_t>(from) * 4;
       if (px[3] <= 0) continue;
       const int col = fp.col0 + c;
       if (col < 0 || col >= g.width_px) continue;
@@ -920,10 +972,13 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
       pick *= pressed;
       if (flagged) {
         const float rim = scratch.flag[static_cast<size_t>(r) * fp.width + c];
-        dep *= flagDeposit(rim, canvas.tooth(i), hair) * scrub.lay(c, r, rim);
+        dep *= flagDeposit(rim, canvas.tooth(i), hair) * scrub.lay(c, r);
         // Over dry paper there is nothing to take up (each pixel is touched
-        // once a step).
-        if (canvas.wet(i).volume_mm3 > 0) pick *= scrub.pickup(c, r, rim);
+        // once a step). The hair in a gap (hullHair) lies between bundles
+        // that no joint of its own presses onto the paper: it wets the share
+        // it lays on, as flags standing do, and does not wipe the rest.
+        if (canvas.wet(i).volume_mm3 > 0)
+          pick *= from == r * fp.width + c ? scrub.pickup(c, r, rim) : rim;
       }
       touches.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint16_t>(t), pick,
                          dep});

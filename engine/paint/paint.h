@@ -387,9 +387,11 @@ struct TransferParams {
   // in full at 40 mm/s or faster, per mm slid below it, and this share
   // standing. Under a still dome the film then settles at this share of the
   // deposit-pickup balance, not at all of it: a softener landing on the
-  // paper leaves no blot, and its mark fades in. On the flagged rim it
-  // applies to the dense hair's share g only (the rest, a few flags, already
-  // lays only what its contact wets). 1: deposit whatever the slide
+  // paper leaves no blot, and its mark fades in. It applies on the flagged
+  // rim too, where fewer flags reach the paper (the rim's g scales deposit
+  // and, standing, pickup alike): each of them holds and gives its paint as
+  // the body's do, so a standing rim settles no darker than the body and a
+  // pressed dab feathers out at its edge. 1: deposit whatever the slide
   // (docs/paint.md, "Flags lay as they slide").
   double flag_still_deposit = 0.25;
   // Paint moves between hair and paper as the hair presses on it (dAb's and

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <utility>
 
 namespace bristle::testsupport {
@@ -53,6 +54,18 @@ long long twiceArea(const std::vector<Point>& poly) {
   return a < 0 ? -a : a;
 }
 
+// Whether the centre of pixel (c, r) lies in `hull` (pixel corners,
+// counter-clockwise, at least 3): tested in doubled coordinates, so exactly.
+bool centreInHull(const std::vector<Point>& hull, int c, int r) {
+  const Point p{2LL * c + 1, 2LL * r + 1};
+  for (size_t k = 0; k < hull.size(); ++k) {
+    const Point a{2 * hull[k].x, 2 * hull[k].y};
+    const Point b{2 * hull[(k + 1) % hull.size()].x, 2 * hull[(k + 1) % hull.size()].y};
+    if (cross(a, b, p) < 0) return false;
+  }
+  return true;
+}
+
 // BlotStats' median_ink and pale_share of a blot's pixels and hull (in
 // pixel corners, counter-clockwise): pixel centres are tested in doubled
 // coordinates, so exactly.
@@ -67,14 +80,7 @@ void paleShare(const Coverage& img, const std::vector<std::pair<int, int>>& blot
   long inside = 0, pale = 0;
   for (int r = 0; r < img.h; ++r)
     for (int c = 0; c < img.w; ++c) {
-      const Point p{2LL * c + 1, 2LL * r + 1};
-      bool in = true;
-      for (size_t k = 0; k < hull.size() && in; ++k) {
-        const Point a{2 * hull[k].x, 2 * hull[k].y};
-        const Point b{2 * hull[(k + 1) % hull.size()].x, 2 * hull[(k + 1) % hull.size()].y};
-        in = cross(a, b, p) >= 0;
-      }
-      if (!in) continue;
+      if (!centreInHull(hull, c, r)) continue;
       ++inside;
       if (img.at(c, r) < 0.5 * out->median_ink) ++pale;
     }
@@ -220,6 +226,19 @@ BlotStats blotStats(const Coverage& img, double threshold, int min_component_px)
   const std::vector<Point> hull = convexHull(corners);
   out.largest_hull_area_px = 0.5 * double(twiceArea(hull));
   paleShare(img, largest, hull, &out);
+  // Satellites: the other components, specks too, none of whose pixels lies
+  // in the largest one's hull.
+  const int largest_id = label[size_t(largest.front().second) * w + largest.front().first];
+  std::vector<char> inside(size_t(out.components + out.specks), 0);
+  if (hull.size() >= 3)
+    for (int r = 0; r < h; ++r)
+      for (int c = 0; c < w; ++c) {
+        const int id = label[size_t(r) * w + c];
+        if (id >= 0 && id != largest_id && !inside[size_t(id)] && centreInHull(hull, c, r))
+          inside[size_t(id)] = 1;
+      }
+  for (size_t id = 0; id < inside.size(); ++id)
+    if (int(id) != largest_id && !inside[id]) ++out.satellites;
   if (out.largest_hull_area_px > 0)
     out.fill = double(out.largest_area_px) / out.largest_hull_area_px;
   const double px2 = img.px_per_mm * img.px_per_mm;
@@ -439,6 +458,128 @@ bool inkCentroidMm(const Coverage& img, double threshold, double* x_mm, double* 
   *x_mm = mx / m;
   *y_mm = my / m;
   return true;
+}
+
+}  // namespace bristle::testsupport
+
+namespace bristle::testsupport {
+
+namespace {
+
+// Ink at pixel coordinates (x, y) (pixel centres at half-integers),
+// bilinear between the four nearest centres; 0 outside the image.
+double inkAt(const Coverage& img, double x, double y) {
+  const double fx = x - 0.5, fy = y - 0.5;
+  const int c = static_cast<int>(std::floor(fx)), r = static_cast<int>(std::floor(fy));
+  const double ax = fx - c, ay = fy - r;
+  auto v = [&](int cc, int rr) {
+    return cc < 0 || rr < 0 || cc >= img.w || rr >= img.h ? 0.0 : double(img.at(cc, rr));
+  };
+  return (1 - ay) * ((1 - ax) * v(c, r) + ax * v(c + 1, r)) +
+         ay * ((1 - ax) * v(c, r + 1) + ax * v(c + 1, r + 1));
+}
+
+// Maxima of a circular sequence that stand out by at least `prominence`: on
+// each side the sequence falls to some low before it rises above the maximum
+// (or comes round to it), and the higher of the two lows lies at least that
+// far below it. The highest maximum always counts. Equal values are ordered
+// by index, so that a plateau is one maximum and the highest is one sample.
+int prominentMaxima(const std::vector<double>& r, double prominence) {
+  const int n = static_cast<int>(r.size());
+  auto wrap = [&](int i) { return ((i % n) + n) % n; };
+  auto at = [&](int i) { return r[static_cast<size_t>(wrap(i))]; };
+  auto higher = [&](int j, int i) {  // sample j above sample i
+    return at(j) > at(i) || (at(j) == at(i) && wrap(j) > wrap(i));
+  };
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!higher(i, i - 1) || !higher(i, i + 1)) continue;
+    double low_left = at(i), low_right = at(i);
+    int k = 1;
+    for (; k < n && !higher(i - k, i); ++k) low_left = std::min(low_left, at(i - k));
+    if (k == n) {  // nothing above it: the highest
+      ++count;
+      continue;
+    }
+    for (k = 1; k < n && !higher(i + k, i); ++k) low_right = std::min(low_right, at(i + k));
+    if (at(i) - std::max(low_left, low_right) >= prominence) ++count;
+  }
+  return count;
+}
+
+}  // namespace
+
+BlotOutline blotOutline(const Coverage& img, double threshold, double prominence_mm,
+                        int directions) {
+  BlotOutline out;
+  double cx = 0, cy = 0, m = 0;
+  std::vector<float> inked;
+  for (int r = 0; r < img.h; ++r)
+    for (int c = 0; c < img.w; ++c) {
+      const float v = img.at(c, r);
+      if (!(v > threshold)) continue;
+      m += v;
+      cx += v * (c + 0.5);
+      cy += v * (r + 0.5);
+      inked.push_back(v);
+    }
+  if (!(m > 0) || directions < 8) return out;
+  cx /= m;
+  cy /= m;
+  std::nth_element(inked.begin(), inked.begin() + inked.size() / 2, inked.end());
+  out.level = inked[inked.size() / 2];
+  const double step = 0.25, reach = std::hypot(img.w, img.h);
+  std::vector<double> radius(static_cast<size_t>(directions)), ramp;
+  std::vector<std::vector<double>> rays(static_cast<size_t>(directions));
+  for (int d = 0; d < directions; ++d) {
+    const double a = 2 * std::numbers::pi * d / directions, dx = std::cos(a), dy = std::sin(a);
+    std::vector<double>& ray = rays[static_cast<size_t>(d)];
+    for (double s = 0; s < reach; s += step) ray.push_back(inkAt(img, cx + s * dx, cy + s * dy));
+    int last = 0;
+    for (int i = 0; i < static_cast<int>(ray.size()); ++i)
+      if (ray[static_cast<size_t>(i)] > threshold) last = i;
+    radius[static_cast<size_t>(d)] = last * step;
+    int i10 = -1, i90 = -1;
+    for (int i = static_cast<int>(ray.size()) - 1; i >= 0 && i90 < 0; --i) {
+      const double v = ray[static_cast<size_t>(i)];
+      if (i10 < 0 && v >= 0.1 * out.level) i10 = i;
+      if (i10 >= 0 && v >= 0.9 * out.level) i90 = i;
+    }
+    if (i10 >= 0) ramp.push_back((i10 - std::max(i90, 0)) * step / img.px_per_mm);
+  }
+  // Smoothed over +-3 degrees.
+  const int half = std::max(1, directions / 120);
+  std::vector<double> smooth(radius.size());
+  double sum = 0, sum2 = 0;
+  for (int d = 0; d < directions; ++d) {
+    double s = 0;
+    for (int k = -half; k <= half; ++k)
+      s += radius[static_cast<size_t>(((d + k) % directions + directions) % directions)];
+    smooth[static_cast<size_t>(d)] = s / (2 * half + 1) / img.px_per_mm;
+    sum += smooth[static_cast<size_t>(d)];
+    sum2 += smooth[static_cast<size_t>(d)] * smooth[static_cast<size_t>(d)];
+  }
+  out.mean_radius_mm = sum / directions;
+  const double var = std::max(0.0, sum2 / directions - out.mean_radius_mm * out.mean_radius_mm);
+  out.radius_cv = out.mean_radius_mm > 0 ? std::sqrt(var) / out.mean_radius_mm : 0;
+  out.lobes = prominentMaxima(smooth, prominence_mm);
+  if (!ramp.empty()) {
+    std::nth_element(ramp.begin(), ramp.begin() + ramp.size() / 2, ramp.end());
+    out.edge_ramp_mm = ramp[ramp.size() / 2];
+  }
+  // Mean ink along the rays within 0.3 of the mean radius, and over 0.6-0.9.
+  const double rpx = out.mean_radius_mm * img.px_per_mm;
+  double c_sum = 0, o_sum = 0;
+  long c_n = 0, o_n = 0;
+  for (const std::vector<double>& ray : rays)
+    for (size_t i = 0; i < ray.size(); ++i) {
+      const double s = i * step / rpx;
+      if (s < 0.3) c_sum += ray[i], ++c_n;
+      else if (s >= 0.6 && s < 0.9) o_sum += ray[i], ++o_n;
+    }
+  out.centre_ink = c_n ? c_sum / c_n : 0;
+  out.outer_ink = o_n ? o_sum / o_n : 0;
+  return out;
 }
 
 }  // namespace bristle::testsupport

@@ -85,6 +85,10 @@ struct BlotStats {
   // than half that ink (pale rings and gaps inside a blot; 0 for an even one).
   double median_ink = 0;
   double pale_share = 0;
+  // The other components, specks included, that lie wholly outside the
+  // largest one's hull (no pixel centre in it): marks beside the blot, where
+  // a crumb of its own ragged edge lies in a notch of its outline.
+  int satellites = 0;
 };
 BlotStats blotStats(const Coverage& img, double threshold = 0.1, int min_component_px = 4);
 
@@ -170,5 +174,32 @@ double principalAxisRatio(const Coverage& img, double threshold = 0.1);
 // ink): where a blot sits, to set against where the handle pressed it.
 // False without ink.
 bool inkCentroidMm(const Coverage& img, double threshold, double* x_mm, double* y_mm);
+
+// The outline of a blot pressed straight down, seen from its ink centroid
+// (inkCentroidMm's, in pixels). Along each of `directions` rays the blot's
+// radius is the farthest point whose ink (bilinear between pixel centres)
+// exceeds the threshold; the radii, smoothed over +-3 degrees (half a
+// millimetre of arc at 10 mm, over the pixel staircase), go round the blot.
+//  - lobes: the maxima of the radius that stand out by at least
+//    prominence_mm (topographic prominence on the circle: how far the radius
+//    falls on the lower of its two sides before it rises above the maximum
+//    again; the largest radius always counts): a round blot has one, a cloud
+//    of discs one per disc on its outline.
+//  - the edge's softness: along each ray, walked inwards from outside, the
+//    distance from where the ink first reaches 10 % of the blot's level to
+//    where it first reaches 90 % of it (the level: the median ink of the
+//    pixels above the threshold); the median over the rays. A hard edge gives
+//    about a pixel.
+//  - how the ink lies from the middle out: the mean ink within 0.3 of the
+//    mean radius and over 0.6-0.9 of it, along the rays.
+struct BlotOutline {
+  int lobes = 0;
+  double mean_radius_mm = 0, radius_cv = 0;
+  double edge_ramp_mm = 0;
+  double level = 0;
+  double centre_ink = 0, outer_ink = 0;
+};
+BlotOutline blotOutline(const Coverage& img, double threshold = 0.1, double prominence_mm = 0.5,
+                        int directions = 360);
 
 }  // namespace bristle::testsupport

@@ -188,6 +188,22 @@ TEST_CASE("mark_measure: a ring with gaps is several blots or a poorly filled on
     const BlotStats b = blotStats(img);
     CHECK(b.components == 2);
     CHECK(b.specks == 3);
+    // All four lie outside the ring's hull, the disc of r_out: satellites,
+    // whatever their size.
+    CHECK(b.satellites == 4);
+  }
+  SECTION("a crumb in the blot's hull is no satellite") {
+    // One gap, as above; a 2 px crumb in the hole of the ring and one in the
+    // gap lie in its hull; a pixel just outside it does not.
+    Coverage img = paint(200, 200, [&](double x, double y) {
+      return ring(x, y) && !(x > cx && std::abs(y - cy) < 3);
+    });
+    img.at(100, 100) = img.at(101, 100) = 1;
+    img.at(135, 100) = 1;
+    img.at(100, 145) = 1;
+    const BlotStats b = blotStats(img, 0.1, 1);
+    CHECK(b.components == 4);
+    CHECK(b.satellites == 1);
   }
 }
 
@@ -364,6 +380,53 @@ TEST_CASE("mark_measure: how far a stroke lays paint before it runs dry", "[mark
   CHECK(inkRunMm(along, ppm, 0.1) == Approx(40.0));
   // No ink: no run.
   CHECK(inkRunMm(std::vector<double>(50, 0.0), ppm, 0.5) == 0.0);
+}
+
+TEST_CASE("mark_measure: a blot's outline, its lobes and its edge", "[mark]") {
+  // 8 px/mm, 240 px square, centre (120, 120). ink(x, y) fills each image.
+  auto image = [](auto ink) {
+    Coverage img(240, 240, 8);
+    for (int r = 0; r < img.h; ++r)
+      for (int c = 0; c < img.w; ++c) img.at(c, r) = static_cast<float>(ink(c + 0.5, r + 0.5));
+    return img;
+  };
+  // A disc of radius 80 px (10 mm), ink 0.6 with a hard edge: one lobe (its
+  // largest radius), the radius, a ramp of at most a pixel.
+  const BlotOutline disc = blotOutline(
+      image([](double x, double y) { return std::hypot(x - 120, y - 120) < 80 ? 0.6 : 0.0; }));
+  CHECK(disc.lobes == 1);
+  CHECK(disc.mean_radius_mm == Approx(10).margin(0.15));
+  CHECK(disc.radius_cv < 0.01);
+  CHECK(disc.edge_ramp_mm <= 1.0 / 8);
+  CHECK(disc.level == Approx(0.6));
+  CHECK(disc.centre_ink == Approx(0.6).margin(0.01));
+  // Six discs of radius 4 mm on a ring of radius 6 mm over a disc of 6 mm:
+  // six lobes, each 10 mm out with the notches between them 7.84 mm out,
+  // and but one, the largest radius, that stands out by 3 mm.
+  const Coverage petals = image([](double x, double y) {
+    if (std::hypot(x - 120, y - 120) < 48) return 0.6;
+    for (int k = 0; k < 6; ++k) {
+      const double a = k * std::numbers::pi / 3;
+      if (std::hypot(x - 120 - 48 * std::cos(a), y - 120 - 48 * std::sin(a)) < 32) return 0.6;
+    }
+    return 0.0;
+  });
+  CHECK(blotOutline(petals).lobes == 6);
+  CHECK(blotOutline(petals, 0.1, 1.0).lobes == 6);
+  CHECK(blotOutline(petals, 0.1, 3.0).lobes == 1);
+  // A disc with a soft edge: ink 0.6 within 8 mm, falling linearly to 0 at
+  // 10 mm. Its 10-90 % ramp is 0.8 of the 2 mm fall, 1.6 mm; its edge lies
+  // where the ink crosses 0.1, 10 - 1/3 mm out.
+  const BlotOutline soft = blotOutline(image([](double x, double y) {
+    const double d = std::hypot(x - 120, y - 120) / 8;
+    return 0.6 * std::clamp((10 - d) / 2, 0.0, 1.0);
+  }));
+  CHECK(soft.edge_ramp_mm == Approx(1.6).margin(0.1));
+  CHECK(soft.mean_radius_mm == Approx(10 - 1.0 / 3).margin(0.15));
+  CHECK(soft.lobes == 1);
+  CHECK(soft.centre_ink > soft.outer_ink);
+  // No ink: nothing.
+  CHECK(blotOutline(image([](double, double) { return 0.0; })).lobes == 0);
 }
 
 TEST_CASE("mark_measure: coverage from RGBA, against the paper or from alpha", "[mark]") {
