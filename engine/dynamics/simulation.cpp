@@ -54,7 +54,8 @@ Simulation::Simulation(const Brush& brush, const SimOptions& options,
       solver_(std::move(solver)),
       fallback_(std::move(fallback)),
       volume_pairs_(brush.volume.present() ? volumePairs(brush) : std::vector<VolumePair>{}),
-      rest_hair_mm_(restHairLengthMm(brush)) {
+      rest_hair_mm_(restHairLengthMm(brush)),
+      squash_rest_mm_(rest_hair_mm_ - brush.volume.squash_after_mm) {
   for (const SpineSpec& spec : brush.spines) rest_rot_.push_back(restRotations(spec));
   for (size_t i = 0; i < brush.spines.size(); ++i) {
     const SpineSpec& spec = brush.spines[i];
@@ -212,13 +213,21 @@ void Simulation::addAxisSpread(int s, const std::vector<Eigen::Vector3d>& start)
   SpineProblem& p = problems_[s];
   const Eigen::Vector3d axis = p.handle.rotation * Eigen::Vector3d::UnitZ();
   const double grow = std::sqrt(squash_);
+  // Wet hair packs before it resists (VolumeSpec::spread_ramp): the push's
+  // stiffness grows with the squash over the ramp instead of switching on
+  // whole, so that the step the squash starts in does not throw a point laid
+  // over across the axis out in one jump (docs/dynamics.md, "The spread
+  // ramps in"). squash_ > 1 here, so the stiffness is above 0, which would
+  // take the volume's own.
+  const VolumeSpec& v = brush_.volume;
+  const double ramp = v.spread_ramp > 0 ? std::min(1.0, (squash_ - 1) / v.spread_ramp) : 1.0;
   for (int j = 1; j < static_cast<int>(start.size()); ++j) {
     const double rest = rest_radius_mm_[s][j];
     if (rest <= kPushDirMinMm) continue;
     const Eigen::Vector3d on_axis =
         p.handle.position_mm + axis * axis.dot(start[j] - p.handle.position_mm);
     p.volume.push_back({j, on_axis, grow * rest, 0.0, p.handle.rotation * rest_dir_[s][j],
-                        brush_.volume.spread_n_per_mm});
+                        v.spread_n_per_mm * ramp});
   }
 }
 
@@ -526,7 +535,8 @@ const BrushState& Simulation::stepOnce(const Pose& handle, double t_s) {
   // it; a handle that travels on from there drags it out from under the
   // ferrule and lays it along the paper (bundleSquash's travel).
   if (bundleSquash(rest_hair_mm_, handle) <= 1) state_.touch_xy_mm = axisOnPaper(handle);
-  squash_ = bundleSquash(rest_hair_mm_, handle, (axisOnPaper(handle) - state_.touch_xy_mm).norm());
+  squash_ =
+      bundleSquash(squash_rest_mm_, handle, (axisOnPaper(handle) - state_.touch_xy_mm).norm());
   const std::vector<int> which = startSpines(handle, &trial, &sliding);
   const bool settled = !which.empty() && settledAt(handle, which);
   if (settled) {

@@ -334,6 +334,9 @@ class Simulation : private SolveWatch {
   };
   VolumeLimits volumeLimits(const VolumePair& pair, int joint) const;
   double rest_hair_mm_ = 0;  // restHairLengthMm
+  // The length bundleSquash takes as the hair's: less the press the point
+  // takes up lying down (VolumeSpec::squash_after_mm).
+  double squash_rest_mm_ = 0;
   double squash_ = 1;        // bundleSquash of the step being solved
   // Per spine, each point's distance from the brush's axis at rest (root first).
   std::vector<std::vector<double>> rest_radius_mm_;

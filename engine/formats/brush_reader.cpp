@@ -239,7 +239,7 @@ void requireRootSpread(const JsonObject& top, const std::vector<SpineSpec>& spin
 
 void parseVolume(const JsonObject& v, VolumeSpec* out) {
   v.declareKeys({"min_separation", "stiffness_n_per_mm", "max_separation", "cohesion_n_per_mm",
-                 "tip_spread", "spread_n_per_mm"});
+                 "tip_spread", "spread_n_per_mm", "squash_after_mm", "spread_ramp"});
   VolumeSpec& vol = *out;
   vol.min_separation = v.number("min_separation");
   v.require(vol.min_separation > 0 && vol.min_separation < 1, "min_separation",
@@ -264,6 +264,12 @@ void parseVolume(const JsonObject& v, VolumeSpec* out) {
   vol.spread_n_per_mm = v.number("spread_n_per_mm", vol.spread_n_per_mm);
   v.require(vol.spread_n_per_mm >= 0 && vol.spread_n_per_mm <= 1000, "spread_n_per_mm",
             "must be in [0, 1000] N/mm (0: a squashed bundle does not spread)");
+  vol.squash_after_mm = v.number("squash_after_mm", vol.squash_after_mm);
+  v.require(vol.squash_after_mm >= 0 && vol.squash_after_mm <= 100, "squash_after_mm",
+            "must be in [0, 100] mm of press past first contact");
+  vol.spread_ramp = v.number("spread_ramp", vol.spread_ramp);
+  v.require(vol.spread_ramp >= 0 && vol.spread_ramp <= 10, "spread_ramp",
+            "must be in [0, 10] (of the squash past 1; 0: full stiffness at once)");
   v.rejectUnknownKeys();
 }
 

@@ -132,6 +132,15 @@ struct VolumeSpec {
   // axis by sqrt(s). A joint nearer the axis than that is pushed out with this
   // stiffness, and cohesion's limit grows by sqrt(s). 0 = off.
   double spread_n_per_mm = 0;
+  // The point's lie-down (docs/dynamics.md, "The point lies down before the
+  // belly squashes"): the first this many mm of a press past first contact
+  // fold the soft point over along the paper; only the press beyond them
+  // squashes the belly, so the squash's rest length is the hair's less this.
+  double squash_after_mm = 0;
+  // How far past 1 the squash s goes before the spread's push has its full
+  // stiffness (docs/dynamics.md, "The spread ramps in"): spread_n_per_mm
+  // times min(1, (s - 1) / spread_ramp). 0 = full stiffness at once.
+  double spread_ramp = 0;
   bool present() const { return min_separation > 0; }
 };
 

@@ -327,14 +327,23 @@ def calligraphy():
     b["strips"] = {"count": 150, "root_width_mm": 0.12, "tip_width_mm": 0.04, "seed": 9,
                    "placement": "area", "length_jitter": 0.1}
     # A wet calligraphy brush is one body of hair: ink binds its tips into the
-    # point and holds them there when the brush is pressed straight down, so
-    # that the press lays the bundle over as one and its entry is one rounded
-    # head (docs/dynamics.md, "Hair volume"). Cohesion (1.1 times the spacing
-    # at rest, 20 N/mm, no tip spread) keeps the pressed tips from fanning out
-    # into fingers; neighbours may squeeze to 0.3 of their spacing, as wet
-    # hair packs, so that a dwell's press does not push them apart either.
+    # point, so that its entry is one rounded head (docs/dynamics.md, "Hair
+    # volume"). Cohesion (1.1 times the spacing at rest, no tip spread) keeps
+    # the pressed tips from fanning out into fingers; neighbours may squeeze
+    # to 0.3 of their spacing, as wet hair packs, so that a dwell's press does
+    # not push them apart either. Pressed straight down past its point, the
+    # belly is squashed and spreads round the handle (spread_n_per_mm); the
+    # first 5 mm of a press only lay the soft point down (squash_after_mm).
+    # Cohesion at 3 N/mm lets the spread win: at 20 the bundle lay over to one
+    # side as one body (docs/dynamics.md, "The point lies down before the
+    # belly squashes"). The spread's push grows to its full stiffness over
+    # the first 0.05 of squash (spread_ramp), about 1.2 mm of press: switched
+    # on whole, it threw the laid-down point across the axis in one step and
+    # the solver split its steps ninefold (docs/dynamics.md, "The spread
+    # ramps in").
     b["volume"] = dict(volume(0.0), min_separation=0.3, stiffness_n_per_mm=2,
-                       max_separation=1.1, cohesion_n_per_mm=20)
+                       max_separation=1.1, cohesion_n_per_mm=3, spread_n_per_mm=40,
+                       squash_after_mm=5, spread_ramp=0.05)
     b["paint"] = {"capacity": 1.3}
     return b
 

@@ -103,13 +103,15 @@ OBJECT_PROPS = {
     "volume_cohesion_n_per_mm": (float, lambda v: 0 < v <= 1000, "in (0, 1000]"),
     "volume_tip_spread": (float, lambda v: 0 <= v <= 1, "in [0, 1]"),
     "volume_spread_n_per_mm": (float, lambda v: 0 <= v <= 1000, "in [0, 1000]"),
+    "volume_squash_after_mm": (float, lambda v: 0 <= v <= 100, "in [0, 100]"),
+    "volume_spread_ramp": (float, lambda v: 0 <= v <= 10, "in [0, 10]"),
     "solver_friction_form": (str, lambda v: v in ("auto", "epigraph", "objective"),
                              "auto, epigraph or objective"),
 }
 OBJECT_PROP_PREFIXES = ("mu_", "anisotropy_", "strips_", "paint_", "volume_", "solver_")
 # The volume block's keys after volume_, in the library files' order.
 VOLUME_KEYS = ("min_separation", "stiffness_n_per_mm", "max_separation", "cohesion_n_per_mm",
-               "tip_spread", "spread_n_per_mm")
+               "tip_spread", "spread_n_per_mm", "squash_after_mm", "spread_ramp")
 
 
 class BrushError(Exception):

@@ -697,6 +697,25 @@ TEST_CASE("hair volume: read, and refused where it would be meaningless", "[read
                     "/volume/spread_n_per_mm", "[0, 1000]");
   CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spread_n_per_mm", 1e4}}),
                     "/volume/spread_n_per_mm", "[0, 1000]");
+  // The press the point takes up lying down before the belly squashes
+  // (docs/dynamics.md, "The point lies down before the belly squashes"):
+  // none unless given, mm of press in [0, 100].
+  CHECK(cohesive.volume.squash_after_mm == 0);
+  doc["volume"]["squash_after_mm"] = 5;
+  CHECK(parseBrush(doc.dump(), "brush.json").volume.squash_after_mm == 5);
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"squash_after_mm", -1}}),
+                    "/volume/squash_after_mm", "[0, 100]");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"squash_after_mm", 150}}),
+                    "/volume/squash_after_mm", "[0, 100]");
+  // The squash over which the spread's push grows to its full stiffness
+  // (docs/dynamics.md, "The spread ramps in"): none unless given, in [0, 10].
+  CHECK(cohesive.volume.spread_ramp == 0);
+  doc["volume"]["spread_ramp"] = 0.05;
+  CHECK(parseBrush(doc.dump(), "brush.json").volume.spread_ramp == 0.05);
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spread_ramp", -0.1}}),
+                    "/volume/spread_ramp", "[0, 10]");
+  CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spread_ramp", 11}}),
+                    "/volume/spread_ramp", "[0, 10]");
   CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"spacing", 1}}),
                     "/volume/spacing", "unknown key");
 }
