@@ -903,84 +903,43 @@ TEST_CASE("marks: a loaded badger lays its pull to the end, as the round does",
   CHECK(b30 >= kToTheEnd * r30);
 }
 
-TEST_CASE("marks: the badger's mark fades in where it lands and out where it stops",
-          "[marks][badger]") {
-  // The goldens' tilted drag and straight pull (burnt umber, a glaze; SLSQP,
-  // 8 px/mm): the dome lands and stands 0.1 s, is drawn along +x, stops and
-  // lifts. A softener's mark fades in and out. While its hair laid paint at
-  // the same rate standing as sliding, the film under the standing dome
-  // settled darker than the drawn body's: a blot where it landed
-  // (docs/paint.md, "Flags lay as they slide").
-  TempDir dir;
-  for (const GoldenStroke& k :
-       {GoldenStroke{"tilted-drag", "3"}, GoldenStroke{"straight-pull", "3.1"}}) {
-    INFO(k.trajectory);
-    const Coverage img = renderBadgerGolden(k, dir);
-    const WidthProfile p = widthProfile(img);
-    REQUIRE_FALSE(p.empty());
-    const SpanRange all = middleRange(p, 0.0, 1.0), body = middleRange(p, 0.3, 0.7);
-    const int head = static_cast<int>(std::lround(5 * img.px_per_mm)),
-              tail = static_cast<int>(std::lround(8 * img.px_per_mm));
-    const double landing = inkedQuantile(img, all.lo, all.lo + head, 0.9),
-                 end = inkedQuantile(img, all.hi - tail, all.hi, 0.5),
-                 middle = inkedQuantile(img, body.lo, body.hi, 0.5);
-    INFO("first 5 mm: 90th percentile of ink " << landing << "; last 8 mm: median " << end
-         << "; body (30-70 % of its length): median " << middle);
-    // Fades in: the darkest tenth of the first 5 mm no darker than the
-    // body's median. Measured 0.48 against 0.70 (tilted drag) and 0.63
-    // against 0.69 (straight pull); 0.63 against 0.53 and 0.60 against 0.60
-    // while standing hair laid as sliding hair does.
-    constexpr double kFadeIn = 1.0;
-    CHECK(landing <= kFadeIn * middle);
-    // Fades out: the last 8 mm's median at most three quarters of the
-    // body's, a visibly lighter end (0.48 against 0.70, 0.35 against 0.69).
-    constexpr double kFadeOut = 0.75;
-    CHECK(end <= kFadeOut * middle);
-  }
-}
-
-TEST_CASE("marks: the badger's mark fades out over its lift with no darker patch",
-          "[marks][badger]") {
-  // The goldens' tilted drag and straight pull (as above). As the handle
-  // lifts, the unloading hair springs forward over the paper at 100-160
-  // mm/s. Hair that bears almost no load only brushes the paper
-  // (docs/paint.md, "Pressed hair gives and takes, resting hair barely");
-  // while it laid and took up paint at the full rate, those tips settled the
-  // paper they swept to the full balance: a darker patch at the lift, the
-  // ink along the stroke falling and then rising again before it faded.
-  TempDir dir;
-  for (const GoldenStroke& k :
-       {GoldenStroke{"tilted-drag", "3"}, GoldenStroke{"straight-pull", "3.1"}}) {
-    INFO(k.trajectory);
-    const Coverage img = renderBadgerGolden(k, dir);
-    const WidthProfile p = widthProfile(img);
-    REQUIRE_FALSE(p.empty());
-    const SpanRange all = middleRange(p, 0.0, 1.0);
-    // The lift's stretch: the last 25 mm of the mark, the dome's 14 mm and
-    // the 8-10 mm its hair springs forward as it lifts; in 1 mm bands, each
-    // band's median ink (inkedQuantile).
-    const int band = static_cast<int>(std::lround(img.px_per_mm));
-    const int from = all.hi - 25 * band;
-    // How far the ink rises again anywhere along it over the lowest it has
-    // fallen to before.
-    double lowest = 1, rise = 0;
-    for (int c = from; c + band <= all.hi; c += band) {
-      const double ink = inkedQuantile(img, c, c + band, 0.5);
-      lowest = std::min(lowest, ink);
-      rise = std::max(rise, ink - lowest);
-    }
-    INFO("largest rise of the ink over the last 25 mm: " << rise);
-    // A rise of 0.12 (a fifth of the body's median ink, 0.6) is a patch a
-    // painter sees darker than the stroke behind it. Measured 0.08 (tilted
-    // drag) and 0.11 (straight pull: its hair's tips standing still where the
-    // stroke stops, before it lifts); 0.26 and 0.14 while the springing
-    // hair laid and took up paint at the full rate.
-    constexpr double kNoRebound = 0.12;
-    CHECK(rise <= kNoRebound);
-  }
-}
-
 namespace {
+
+// How the ink of a badger pull along +x runs from end to end: the darkest
+// tenth of its first 5 mm (the landing), the median of its last 8 mm (the
+// end) and of its body (30-70 % of its length), each over its inked pixels.
+struct BadgerEnds {
+  double landing = 0, end = 0, middle = 0;
+};
+BadgerEnds badgerEnds(const Coverage& img) {
+  const WidthProfile p = widthProfile(img);
+  REQUIRE_FALSE(p.empty());
+  const SpanRange all = middleRange(p, 0.0, 1.0), body = middleRange(p, 0.3, 0.7);
+  const int head = static_cast<int>(std::lround(5 * img.px_per_mm)),
+            tail = static_cast<int>(std::lround(8 * img.px_per_mm));
+  return {inkedQuantile(img, all.lo, all.lo + head, 0.9),
+          inkedQuantile(img, all.hi - tail, all.hi, 0.5),
+          inkedQuantile(img, body.lo, body.hi, 0.5)};
+}
+
+// How far the ink rises again over the lift's stretch: the last 25 mm of the
+// mark (the dome's 14 mm and the 8-10 mm its hair springs forward as it
+// lifts), in 1 mm bands, each band's median ink (inkedQuantile); the largest
+// rise of a band over the lowest band before it.
+double liftRebound(const Coverage& img) {
+  const WidthProfile p = widthProfile(img);
+  REQUIRE_FALSE(p.empty());
+  const SpanRange all = middleRange(p, 0.0, 1.0);
+  const int band = static_cast<int>(std::lround(img.px_per_mm));
+  const int from = all.hi - 25 * band;
+  double lowest = 1, rise = 0;
+  for (int c = from; c + band <= all.hi; c += band) {
+    const double ink = inkedQuantile(img, c, c + band, 0.5);
+    lowest = std::min(lowest, ink);
+    rise = std::max(rise, ink - lowest);
+  }
+  return rise;
+}
 
 // The deepest interior dip of a stroke's cross-profile, as a share of the
 // profile's median: the profile is the mean ink of each row over the middle
@@ -1012,19 +971,60 @@ double deepestCrossDip(const Coverage& img) {
 
 }  // namespace
 
-TEST_CASE("marks: the badger's pull is one soft film, not a bundle of tubes", "[marks][badger]") {
-  // The goldens' straight pull and tilted drag (burnt umber, a glaze; SLSQP,
-  // 8 px/mm). A softener's hair is fine and dense: its mark is one haze,
-  // darker nowhere in particular across it. With the flagged rim measured
-  // on each bundle's outline, every bundle's trailing tip laid little and
-  // scrubbed what it slid over, a pale line beside each: the mark read as
-  // four or five tubes side by side (docs/paint.md, "The rim is the head's
-  // outline").
+TEST_CASE("marks: the badger's pulls fade in and out with no darker patch, one soft film",
+          "[marks][badger]") {
+  // The goldens' tilted drag and straight pull (burnt umber, a glaze; SLSQP,
+  // 8 px/mm): the dome lands and stands 0.1 s, is drawn along +x, stops and
+  // lifts. Each is rendered once and measured three ways.
   TempDir dir;
   for (const GoldenStroke& k :
-       {GoldenStroke{"straight-pull", "3.1"}, GoldenStroke{"tilted-drag", "3"}}) {
-    const double dip = deepestCrossDip(renderBadgerGolden(k, dir));
-    INFO(k.trajectory << ": deepest dip across the body " << dip << " of its median");
+       {GoldenStroke{"tilted-drag", "3"}, GoldenStroke{"straight-pull", "3.1"}}) {
+    INFO(k.trajectory);
+    const Coverage img = renderBadgerGolden(k, dir);
+
+    // A softener's mark fades in and out. While its hair laid paint at the
+    // same rate standing as sliding, the film under the standing dome
+    // settled darker than the drawn body's: a blot where it landed
+    // (docs/paint.md, "Flags lay as they slide").
+    const BadgerEnds e = badgerEnds(img);
+    INFO("first 5 mm: 90th percentile of ink " << e.landing << "; last 8 mm: median " << e.end
+         << "; body (30-70 % of its length): median " << e.middle);
+    // Fades in: the darkest tenth of the first 5 mm no darker than the
+    // body's median. Measured 0.48 against 0.70 (tilted drag) and 0.63
+    // against 0.69 (straight pull); 0.63 against 0.53 and 0.60 against 0.60
+    // while standing hair laid as sliding hair does.
+    constexpr double kFadeIn = 1.0;
+    CHECK(e.landing <= kFadeIn * e.middle);
+    // Fades out: the last 8 mm's median at most three quarters of the
+    // body's, a visibly lighter end (0.48 against 0.70, 0.35 against 0.69).
+    constexpr double kFadeOut = 0.75;
+    CHECK(e.end <= kFadeOut * e.middle);
+
+    // No darker patch at the lift. As the handle lifts, the unloading hair
+    // springs forward over the paper at 100-160 mm/s. Hair that bears almost
+    // no load only brushes the paper (docs/paint.md, "Pressed hair gives and
+    // takes, resting hair barely"); while it laid and took up paint at the
+    // full rate, those tips settled the paper they swept to the full
+    // balance: the ink along the stroke fell and then rose again before it
+    // faded.
+    const double rise = liftRebound(img);
+    INFO("largest rise of the ink over the last 25 mm: " << rise);
+    // A rise of 0.12 (a fifth of the body's median ink, 0.6) is a patch a
+    // painter sees darker than the stroke behind it. Measured 0.08 (tilted
+    // drag) and 0.11 (straight pull: its hair's tips standing still where the
+    // stroke stops, before it lifts); 0.26 and 0.14 while the springing
+    // hair laid and took up paint at the full rate.
+    constexpr double kNoRebound = 0.12;
+    CHECK(rise <= kNoRebound);
+
+    // One film, not a bundle of tubes. A softener's hair is fine and dense:
+    // its mark is one haze, darker nowhere in particular across it. With the
+    // flagged rim measured on each bundle's outline, every bundle's trailing
+    // tip laid little and scrubbed what it slid over, a pale line beside
+    // each: the mark read as four or five tubes side by side (docs/paint.md,
+    // "The rim is the head's outline").
+    const double dip = deepestCrossDip(img);
+    INFO("deepest dip across the body " << dip << " of its median");
     // Measured 0.20 (straight pull) and 0.19 (tilted drag); 0.66 and 0.92
     // with the rim on every bundle's outline, and 0.48 and 0.39 while each
     // row's film settled to the deposit of the last texel over it, rationed
