@@ -74,18 +74,6 @@ Simulation::Simulation(const Brush& brush, const SimOptions& options,
   }
 }
 
-double restHairLengthMm(const Brush& brush) {
-  double deepest = 0;
-  SpineFk fk;
-  for (const SpineSpec& spec : brush.spines) {
-    const std::vector<Eigen::Matrix3d> r = restRotations(spec);
-    const std::vector<double> zero(2 * spec.jointCount(), 0.0);
-    spineForwardKinematics(spec, Pose{}, r.data(), zero.data(), 0, &fk);
-    for (const Eigen::Vector3d& x : fk.x) deepest = std::max(deepest, -x.z());
-  }
-  return deepest;
-}
-
 Eigen::Vector2d axisOnPaper(const Pose& handle) {
   const Eigen::Vector3d down = handle.rotation * Eigen::Vector3d(0, 0, -1);
   if (down.z() >= 0) return handle.position_mm.head<2>();

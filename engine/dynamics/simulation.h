@@ -196,9 +196,6 @@ double bundleSquash(double rest_length_mm, const Pose& handle, double travel_mm 
 // Where the handle's axis meets the paper (z = 0); the handle's x-y when the
 // axis does not point down at it.
 Eigen::Vector2d axisOnPaper(const Pose& handle);
-// The length of the brush's hair along its axis at rest: how far below the
-// ferrule its lowest joint hangs.
-double restHairLengthMm(const Brush& brush);
 
 // How far a spine's hair near the paper moved across it between two sets of
 // its joint positions (n + 1 each, root first): the largest x-y move of a

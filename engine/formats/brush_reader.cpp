@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "engine/base/error.h"
 #include "engine/base/json_reader.h"
 #include "engine/base/text_file.h"
+#include "engine/mechanics/spine_kinematics.h"
 
 namespace bristle {
 namespace {
@@ -330,7 +332,20 @@ Brush parseBrush(const std::string& text, const std::string& path,
     parseStrips(top.object("strips"), &b.strips);
     if (spines_ok) requireRootSpread(top, b.spines);
   });
-  if (top.has("volume")) part([&] { parseVolume(top.object("volume"), &b.volume); });
+  if (top.has("volume")) part([&] {
+    const JsonObject v = top.object("volume");
+    parseVolume(v, &b.volume);
+    // The squash counts from the point's allowance (docs/dynamics.md, "A
+    // squashed bundle spreads"): an allowance as long as the hair leaves the
+    // squash no length to act on, and the spread would never start.
+    if (spines_ok && b.volume.spread_n_per_mm > 0) {
+      const double hair = restHairLengthMm(b);
+      std::ostringstream msg;
+      msg << "must be below the hair's length at rest (" << hair
+          << " mm) where spread_n_per_mm is above 0: at or past it the bundle never squashes";
+      v.require(b.volume.squash_after_mm < hair, "squash_after_mm", msg.str());
+    }
+  });
   if (top.has("solver")) part([&] {
     const JsonObject h = top.object("solver");
     h.declareKeys({"friction_form"});

@@ -35,6 +35,18 @@ std::vector<Eigen::Matrix3d> restRotations(const SpineSpec& spine) {
   return r;
 }
 
+double restHairLengthMm(const Brush& brush) {
+  double deepest = 0;
+  SpineFk fk;
+  for (const SpineSpec& spec : brush.spines) {
+    const std::vector<Eigen::Matrix3d> r = restRotations(spec);
+    const std::vector<double> zero(2 * spec.jointCount(), 0.0);
+    spineForwardKinematics(spec, Pose{}, r.data(), zero.data(), 0, &fk);
+    for (const Eigen::Vector3d& x : fk.x) deepest = std::max(deepest, -x.z());
+  }
+  return deepest;
+}
+
 std::vector<Eigen::Vector3d> restPoints(const SpineSpec& spine) {
   std::vector<double> q;
   for (const Eigen::Vector2d& a : spine.rest_angles_rad) q.insert(q.end(), {a[0], a[1]});

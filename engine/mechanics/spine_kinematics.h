@@ -69,6 +69,10 @@ std::vector<Eigen::Matrix3d> restRotations(const SpineSpec& spine);
 // the brush frame (mm), root first.
 std::vector<Eigen::Vector3d> restPoints(const SpineSpec& spine);
 
+// The length of the brush's hair along its axis at rest: how far below the
+// ferrule its lowest joint hangs (mm).
+double restHairLengthMm(const Brush& brush);
+
 // The eq. 10 angles (theta, phi) whose rotation has the same axis as r: for
 // reports (the trace) only; undefined in phi at theta = +-90 degrees.
 Eigen::Vector2d eulerAnglesOfAxis(const Eigen::Matrix3d& r);

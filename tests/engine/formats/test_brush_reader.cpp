@@ -707,6 +707,18 @@ TEST_CASE("hair volume: read, and refused where it would be meaningless", "[read
                     "/volume/squash_after_mm", "[0, 100]");
   CHECK_BRUSH_ERROR(brushWith("/volume", {{"min_separation", 0.8}, {"squash_after_mm", 150}}),
                     "/volume/squash_after_mm", "[0, 100]");
+  // An allowance as long as the hair (here 9.5 mm: the second spine hangs
+  // 9 mm from a root 0.5 mm down) leaves nothing to squash, so a spread
+  // given beside it would silently never act; without a spread it is harmless.
+  doc["volume"]["squash_after_mm"] = 9.5;
+  CHECK_BRUSH_ERROR(doc.dump(), "/volume/squash_after_mm", "below the hair's length");
+  doc["volume"]["squash_after_mm"] = 9.4;
+  CHECK(parseBrush(doc.dump(), "brush.json").volume.squash_after_mm == 9.4);
+  doc["volume"]["squash_after_mm"] = 9.5;
+  doc["volume"]["spread_n_per_mm"] = 0;
+  CHECK(parseBrush(doc.dump(), "brush.json").volume.squash_after_mm == 9.5);
+  doc["volume"]["spread_n_per_mm"] = 40;
+  doc["volume"]["squash_after_mm"] = 5;
   // The squash over which the spread's push grows to its full stiffness
   // (docs/dynamics.md, "The spread ramps in"): none unless given, in [0, 10].
   CHECK(cohesive.volume.spread_ramp == 0);
