@@ -3,8 +3,10 @@
 // texture-coordinate kind is mapped), a footprint shaped like a pressed brush
 // (an ellipse filling ~79% of the window, depth falling off towards its rim,
 // texture coordinates of all three geometry kinds), moving 2 px per step over a
-// canvas with paper tooth, as a stroke does. Figures in docs/PERFORMANCE.md,
-// "Paint transfer and composing".
+// canvas with paper tooth, as a stroke does; and a footprint of separate
+// bundles, laid by the badger with and without the flagged hair that fills
+// the gaps between them. Figures in docs/PERFORMANCE.md, "Paint transfer and
+// composing".
 
 #include <benchmark/benchmark.h>
 
@@ -42,9 +44,39 @@ std::vector<float> pressedFootprint(int n) {
   return t;
 }
 
+// A head pressed into separate bundles: seven discs, one in the middle and
+// six round it, with paper between them inside their hull, as the badger's
+// bundles print pressed straight down. A flagged brush fills those gaps with
+// hair (hullHair) and scrubs a rim round the hull (flagRim).
+std::vector<float> bundledFootprint(int n) {
+  std::vector<float> t(static_cast<size_t>(n) * n * 4, 0.0f);
+  const double disc = 0.22, ring = 0.6;  // of the half window
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) {
+      const double x = (c + 0.5) / n * 2 - 1, y = (r + 0.5) / n * 2 - 1;
+      bool inside = std::hypot(x, y) < disc;
+      for (int k = 0; k < 6 && !inside; ++k)
+        inside = std::hypot(x - ring * std::cos(k * M_PI / 3), y - ring * std::sin(k * M_PI / 3)) <
+                 disc;
+      if (!inside) continue;
+      float* p = &t[(static_cast<size_t>(r) * n + c) * 4];
+      p[0] = encodeTextureU(BrushPart::kStrip, static_cast<float>(0.5 * (x + 1)));
+      p[1] = static_cast<float>(0.6 + 0.2 * (y + 1));
+      p[2] = 0.05f;  // mm: on the paper
+      p[3] = 1;
+    }
+  return t;
+}
+
+// range(1): 0 the flat over a pressed footprint; the badger over the bundled
+// one, 1 with its flags cut off (paint.flag_mm 0) and 2 as it is, so that 2
+// over 1 is what the flags' rim and the hair between the bundles cost.
 void BM_Transfer(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
-  const Brush brush = loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/flat.json");
+  const int kind = static_cast<int>(state.range(1));
+  Brush brush = loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/" +
+                          (kind == 0 ? "flat" : "badger") + ".json");
+  if (kind == 1) brush.paint_flag_mm = 0;
   BrushPaint paint(brush);
   PaintLoad load;
   load.mode = PaintLoad::Mode::kAcross;
@@ -56,7 +88,7 @@ void BM_Transfer(benchmark::State& state) {
   PaperSpec paper;
   paper.tooth_depth_mm = 0.05;
   PaintCanvas canvas(grid, paper, MixModel::kKubelkaMunk);
-  const std::vector<float> texels = pressedFootprint(n);
+  const std::vector<float> texels = kind == 0 ? pressedFootprint(n) : bundledFootprint(n);
   const TransferParams params;
   int row = 0;
   long contact = 0;
@@ -76,7 +108,8 @@ void BM_Transfer(benchmark::State& state) {
   state.counters["contact_px"] =
       benchmark::Counter(double(contact) / std::max<double>(1, state.iterations()));
 }
-BENCHMARK(BM_Transfer)->ArgName("footprint_px")->Arg(256)->Arg(512)
+BENCHMARK(BM_Transfer)->ArgNames({"footprint_px", "kind"})
+    ->ArgsProduct({{256, 512}, {0, 1, 2}})
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
