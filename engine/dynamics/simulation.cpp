@@ -249,6 +249,8 @@ void Simulation::reset(const Pose& handle, double t_s) {
     p.pull_dir.assign(n, Eigen::Vector2d::Zero());
     p.prev_q = st.solution.q;
     p.base = st.rot;
+    p.cushion.clear();
+    for (int j = 1; j <= n; ++j) p.cushion.push_back(hairCushion(spec, j));
     finishSpine(static_cast<int>(s), false, std::vector<bool>(n, false));
   }
   stats_ = SimStats{};
@@ -296,7 +298,14 @@ void Simulation::setFriction(int s, const std::vector<bool>& sliding,
   for (int j = 0; j < n; ++j) {
     if (!prev.contact[j] || (!lifted.empty() && lifted[j])) continue;
     const double mu = sliding[j] ? brush_.friction.mu_kinetic : brush_.friction.mu_static;
-    p.friction_n[j] = mu * prev.solution.normal_force_n[j];
+    // The canvas's force on the joint itself: the hair under it (HairCushion)
+    // bends sideways under its light load and slides over the paper, so its
+    // push holds the joint by no friction (docs/dynamics.md, "The bundle
+    // bears load").
+    const double cushion = j < static_cast<int>(p.cushion.size())
+                               ? cushionForceN(p.cushion[j], prev.joints_mm[j + 1].z())
+                               : 0.0;
+    p.friction_n[j] = mu * std::max(0.0, prev.solution.normal_force_n[j] - cushion);
   }
   const bool touching = std::any_of(p.friction_n.begin(), p.friction_n.end(),
                                     [](double f) { return f > 0; });
@@ -601,13 +610,15 @@ std::vector<int> Simulation::startSpines(const Pose& handle, std::vector<SpineSo
     // only spring and joint friction act on it: it relaxes towards rest in
     // closed form (relaxInAir), with no solve, unless relaxing would take it
     // into the canvas.
+    // A joint touches once the hair under it does (HairCushion).
     bool clear = true;
     for (int j = 1; j <= spec.jointCount() && clear; ++j)
-      clear = prev.joints_mm[j].z() > kTouchMm;
+      clear = prev.joints_mm[j].z() > kTouchMm + cushionReachMm(s, j);
     if (clear) {
       spineForwardKinematics(spec, handle, problems_[s].baseData(), (*trial)[s].q.data(), 0,
                              &fk_);
-      for (int j = 1; j <= spec.jointCount() && clear; ++j) clear = fk_.x[j].z() > 0;
+      for (int j = 1; j <= spec.jointCount() && clear; ++j)
+        clear = fk_.x[j].z() > cushionReachMm(s, j);
     }
     if (clear && relaxInAir(s, handle)) continue;
     which.push_back(s);
@@ -741,7 +752,7 @@ void Simulation::correctContactSet(const Pose& handle, const std::vector<int>& w
       bool changed = false;
       for (size_t j = 0; j < slides.size(); ++j) {
         if (!state_.spines[s].contact[j] || lifted[s][j]) continue;
-        if (fk_.x[j + 1].z() > kLiftedMm) {
+        if (fk_.x[j + 1].z() > kLiftedMm + cushionReachMm(s, static_cast<int>(j) + 1)) {
           lifted[s][j] = true;
           changed = true;
           continue;
@@ -829,6 +840,12 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
   st.sliding.assign(n, false);
   st.stuck_xy_mm.resize(n);
   st.solution.normal_force_n.resize(n, 0.0);
+  // The hair under a joint (HairCushion) presses the paper with the canvas's
+  // force on the joint itself (eq. 5's multiplier, from the solver): the
+  // joint's normal force. Only a fresh solution's: a kept one has it already.
+  if (solved && st.summary.usable() && static_cast<int>(problem.cushion.size()) >= n)
+    for (int j = 0; j < n; ++j)
+      st.solution.normal_force_n[j] += cushionForceN(problem.cushion[j], st.joints_mm[j + 1].z());
   for (int j = 0; j < n; ++j) {
     const Eigen::Vector2d here = st.joints_mm[j + 1].head<2>();
     st.stuck_xy_mm[j] = here;
@@ -849,6 +866,12 @@ void Simulation::finishSpine(int s, bool solved, const std::vector<bool>& slidin
   }
 }
 
+double Simulation::cushionReachMm(int s, int joint) const {
+  const std::vector<HairCushion>& c = problems_[s].cushion;
+  if (joint < 1 || joint > static_cast<int>(c.size())) return 0;
+  return c[joint - 1].stiffness_n_per_mm > 0 ? c[joint - 1].reach_mm : 0;
+}
+
 bool Simulation::relaxInAir(int s, const Pose& handle) {
   const SpineSpec& spec = brush_.spines[s];
   SpineProblem& p = problems_[s];
@@ -857,8 +880,10 @@ bool Simulation::relaxInAir(int s, const Pose& handle) {
   // (the previous solution's angles are increments from the old base).
   const std::vector<double> zero(p.vars(), 0.0);
   spineForwardKinematics(spec, handle, relaxed.data(), zero.data(), 0, &fk_);
+  // Springing back would hit the canvas, or the hair under a joint would
+  // reach it (HairCushion): solve.
   for (int j = 1; j <= spec.jointCount(); ++j)
-    if (fk_.x[j].z() <= 0) return false;  // springing back would hit the canvas: solve
+    if (fk_.x[j].z() <= cushionReachMm(s, j)) return false;
   // The closed form knows nothing of hair volume: where the relaxed spine would
   // crowd a neighbour (or leave it beyond the cohesion limit), the neighbours
   // hold it and it is solved with them. (Relaxed regardless, such a spine

@@ -284,6 +284,9 @@ class Simulation : private SolveWatch {
                   const std::vector<VolumeLink>& links);
   void finishSpine(int s, bool solved, const std::vector<bool>& sliding_before);
   bool relaxInAir(int s, const Pose& handle);
+  // How far below joint `joint` (1..n) of spine s the hair that bears load
+  // reaches (HairCushion, engine/mechanics/spine_energy.h): 0 without one.
+  double cushionReachMm(int s, int joint) const;
   void predictStart(int s, const Pose& handle, std::vector<double>* q);
   double repeatedMotion(const Pose& handle) const;
   void extrapolateStart(int s, double u, std::vector<double>* q) const;

@@ -46,7 +46,8 @@ std::string traceLine(const BrushState& st) {
     js["energy_nmm"] = {{"spring", s.energy.spring_nmm},
                         {"friction", s.energy.friction_nmm},
                         {"damping", s.energy.damping_nmm},
-                        {"volume", s.energy.volume_nmm}};
+                        {"volume", s.energy.volume_nmm},
+                        {"cushion", s.energy.cushion_nmm}};
     js["solver"] = {{"status", toString(s.summary.status)},
                     {"iterations", s.summary.iterations}};
     if (!s.summary.message.empty() && !s.summary.usable())

@@ -1,5 +1,6 @@
 #include "engine/mechanics/spine_energy.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/mechanics/friction.h"
@@ -257,7 +258,46 @@ void addVolumeTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
   }
 }
 
+// The hair under each joint (HairCushion): E_c = k psi(r - z_j), with
+// dE/dq = -k psi' dz/dq and d2E/dq2 = k (psi'' dz dz^T - psi' d2z).
+void addCushionTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) {
+  const int n = std::min<int>(p.spine->jointCount(), static_cast<int>(p.cushion.size()));
+  for (int j = 1; j <= n; ++j) {
+    const HairCushion& c = p.cushion[j - 1];
+    const double v = c.reach_mm - fk->x[j].z();
+    if (!(c.stiffness_n_per_mm > 0) || !(v > 0)) continue;
+    const VolumePsi ps = volumePsi(v);
+    const double k = c.stiffness_n_per_mm;
+    sum.e.cushion_nmm += k * ps.psi;
+    const int nvj = 2 * j;  // only joints before it move x_j
+    if (sum.grad)
+      for (int a = 0; a < nvj; ++a) sum.grad[a] -= k * ps.dpsi * fk->d(j, a).z();
+    if (!sum.hess) continue;
+    for (int a = 0; a < nvj; ++a)
+      for (int b = 0; b <= a; ++b) {
+        const double val =
+            k * (ps.ddpsi * fk->d(j, a).z() * fk->d(j, b).z() - ps.dpsi * fk->dd(j, a, b).z());
+        sum.H(a, b) += val;
+        if (a != b) sum.H(b, a) += val;
+      }
+  }
+}
+
 }  // namespace
+
+HairCushion hairCushion(const SpineSpec& spec, int joint) {
+  HairCushion c;
+  if (!(spec.flat_load_n > 0) || joint < 1 || joint > spec.jointCount()) return c;
+  c.reach_mm = spec.bundleReachMm(static_cast<size_t>(joint));
+  if (c.reach_mm > 0) c.stiffness_n_per_mm = spec.flat_load_n / c.reach_mm;
+  return c;
+}
+
+double cushionForceN(const HairCushion& c, double z_mm) {
+  const double v = c.reach_mm - z_mm;
+  if (!(c.stiffness_n_per_mm > 0) || !(v > 0)) return 0;
+  return c.stiffness_n_per_mm * volumePsi(v).dpsi;
+}
 
 double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTerms* terms,
                    double* grad, double* hess, EnergyParts parts) {
@@ -274,6 +314,7 @@ double spineEnergy(const SpineProblem& p, const double* q, SpineFk* fk, EnergyTe
   addJointTerms(p, q, sum);
   if (parts == EnergyParts::kAll) addFrictionTerms(p, fk, sum);
   addVolumeTerms(p, fk, sum);
+  addCushionTerms(p, fk, sum);
   if (terms) *terms = sum.e;
   return sum.e.total();
 }

@@ -7,6 +7,8 @@
 //   E_v = sum_c k psi(min_c - s_c) + k_t psi(r_c - max_c)   (hair volume, cohesion)
 //     (r_c the distance of a pair of joints, s_c its offset along the direction
 //     held for the step; VolumeLink below)
+//   E_c = sum_i k_i psi(r_i - z_i)                          (the hair under a joint,
+//     HairCushion below)
 // with |d beta_i| taken as the joint's angular displacement in joint space,
 // |(theta_i, phi_i) - (theta_i, phi_i)_prev|: eq. 15's "constant resistance in
 // joint space". (With re-based angles, prev is 0 and this is the angle the
@@ -43,9 +45,35 @@ inline constexpr double kSmoothDampRad = 1e-5;
 inline constexpr double kSmoothDampContactRad = 1e-3;
 
 struct EnergyTerms {
-  double spring_nmm = 0, friction_nmm = 0, damping_nmm = 0, volume_nmm = 0;
-  double total() const { return spring_nmm + friction_nmm + damping_nmm + volume_nmm; }
+  double spring_nmm = 0, friction_nmm = 0, damping_nmm = 0, volume_nmm = 0, cushion_nmm = 0;
+  double total() const {
+    return spring_nmm + friction_nmm + damping_nmm + volume_nmm + cushion_nmm;
+  }
 };
+
+// The hair bundle under a joint as a compliant layer (docs/dynamics.md, "The
+// bundle bears load"). Eq. 5 holds the spine itself above the paper, but the
+// bundle around joint j reaches r_j below it (a round bundle: its radius,
+// SpineSpec::bundleReachMm), and hair pressed onto the paper pushes back
+// before the spine gets there. The renderer presses a bundle into the paper
+// r * load / flat_load_n deep (engine/geometry/spine_bundles.h,
+// bundlePressDepth): a spring of stiffness flat_load_n / r. The solve takes
+// the same spring, so that the load the canvas bears and the depth the
+// bundle is drawn at agree: E_c = k psi(r - z) with k = flat_load_n / r, psi
+// the hair volume's C2 barrier (kVolumeSmoothMm wide, then k v^2 / 2). Its
+// push k psi'(r - z) counts as the joint's normal force (contact, the
+// bundle's press and the paint's pressure, the haptic force), but not for
+// friction (eq. 3): the soft hair bends sideways and slides rather than pin
+// the joint (Simulation::setFriction). Only a spine that declares its
+// own flat_load_n (the badger's soft hair) has one: with the library's
+// default a bundle bears no force until its joint does, as eq. 5 has it.
+struct HairCushion {
+  double reach_mm = 0;            // r: how far below the joint the hair reaches
+  double stiffness_n_per_mm = 0;  // k; 0: no cushion
+};
+HairCushion hairCushion(const SpineSpec& spec, int joint);
+// The cushion's push (N, >= 0) on a joint at height z_mm above the paper.
+double cushionForceN(const HairCushion& c, double z_mm);
 
 // Hair volume (docs/dynamics.md): joint `joint` (1..n) must keep `min_mm` from
 // a neighbouring spine's joint at `other_mm`, that spine's position at the
@@ -123,6 +151,9 @@ struct SpineProblem {
   std::vector<VolumeContact> volume;          // hair volume, empty when off
   double volume_stiffness_n_per_mm = 0;
   double cohesion_n_per_mm = 0;
+  // Per joint j = 1..n (index j - 1): the hair under it (HairCushion); empty
+  // or stiffness 0: none.
+  std::vector<HairCushion> cushion;
   // Base rotation B_k of every joint (engine/mechanics/spine_kinematics.h): the angles q
   // are an increment from it. Empty: B_k = I, q are eq. 10's angles themselves.
   std::vector<Eigen::Matrix3d> base;

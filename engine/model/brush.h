@@ -37,6 +37,8 @@ struct SpineSpec {
   // The load (N) that presses this bundle flat onto the paper, 0 for the
   // library's default (kBundleFlatLoadN, engine/geometry/spine_bundles.h):
   // fine, soft hair splays under less (docs/brush-format.md, `flat_load_n`).
+  // Declared, the hair under each joint also bears load in the solve
+  // (HairCushion, engine/mechanics/spine_energy.h).
   double flat_load_n = 0;
 
   double thicknessMm(size_t j) const {

@@ -1101,6 +1101,75 @@ TEST_CASE("marks: the badger's light touch lays a broad, faint mark", "[marks][b
   CHECK(l.plateau <= f.plateau);
 }
 
+TEST_CASE("marks: the badger's first touch lays a faint haze that grows with depth",
+          "[marks][badger]") {
+  // A softener is used with the lightest touch: from its first contact on,
+  // its dome lays a haze that grows with the press. Pulled 20 mm in press
+  // depths past first contact (depthPullCsv, tilted 20 degrees), its lowest
+  // point is hair 1.75 mm below the joint it surrounds. The hair under a
+  // joint bears load before the joint reaches the paper (engine/mechanics/
+  // spine_energy.h, HairCushion); while only the joints did, the dome passed
+  // through the paper unloaded for its first 1.75 mm and laid nothing at 1.0
+  // and 1.5 mm (then 12 mm^2 at 2.0, 169 at 2.5: a cliff).
+  TempDir dir;
+  const std::string brush = sourcePath("scenes/brushes/badger.json");
+  const Eigen::Quaterniond q = tiltRotation(20);
+  // Visible: bristle's own rule for painted pixels, 6 levels of 255 off the
+  // paper (docs/batch.md), is 0.024 of its luminance.
+  constexpr double kVisibleInk = 0.025;
+  struct Pull {
+    double depth_mm;
+    double visible_mm2 = 0;  // the area over kVisibleInk
+    double ink_mm2 = 0;      // the ink summed over the image, per mm^2 of canvas
+    double mean_ink = 0;     // over the visible area
+  };
+  // The four light pulls, and a firm one.
+  std::vector<Pull> pulls = {{1.0}, {1.5}, {2.0}, {2.5}, {4.0}};
+  for (Pull& p : pulls) {
+    std::ostringstream stem;
+    stem << "touch-" << p.depth_mm;
+    const std::string csv = dir.write(stem.str() + ".csv", depthPullCsv(-3, p.depth_mm, q));
+    const std::string png = dir.file(stem.str() + ".png");
+    const RunResult r = runBristle("render -q --solver slsqp " + std::string(kGlazeAt4) +
+                                   " --brush '" + brush + "' --trajectory '" + csv + "' -o '" +
+                                   png + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("failed solve") == std::string::npos);
+    const Coverage img = loadCoveragePng(png);
+    const double px_mm2 = 1 / (img.px_per_mm * img.px_per_mm);
+    double sum = 0, visible_sum = 0;
+    for (float v : img.v) {
+      sum += v;
+      if (v > kVisibleInk) visible_sum += v;
+    }
+    const long visible_px = inkedPixels(img, kVisibleInk);
+    p.visible_mm2 = visible_px * px_mm2;
+    p.ink_mm2 = sum * px_mm2;
+    p.mean_ink = visible_px > 0 ? visible_sum / visible_px : 0;
+    UNSCOPED_INFO(p.depth_mm << " mm: visible " << p.visible_mm2 << " mm^2, ink " << p.ink_mm2
+                             << " mm^2, mean ink " << p.mean_ink);
+  }
+  // Visible at every depth: at least half a millimetre wide along the 20 mm
+  // pull (the lightest, 1.0 mm, measured 18 mm^2 of faint line).
+  constexpr double kVisibleMm2 = 10;
+  for (const Pull& p : pulls) CHECK(p.visible_mm2 >= kVisibleMm2);
+  // Grows with depth, no cliff: each pull deeper lays more ink over more
+  // paper, by at least a fifth. Measured 1.36 and 1.41 at the least (2.0 to
+  // 2.5 mm, the area and the ink), 17 and 31 from 1.0 to 1.5 mm, where the
+  // dome's tips first lie down side by side.
+  constexpr double kGrowth = 1.2;
+  for (size_t i = 0; i + 1 < pulls.size(); ++i) {
+    INFO("from " << pulls[i].depth_mm << " to " << pulls[i + 1].depth_mm << " mm");
+    CHECK(pulls[i + 1].visible_mm2 >= kGrowth * pulls[i].visible_mm2);
+    CHECK(pulls[i + 1].ink_mm2 >= kGrowth * pulls[i].ink_mm2);
+  }
+  // The lightest is a haze: its mean ink at most half the firm pull's
+  // (measured 0.03 against 0.39).
+  constexpr double kHaze = 0.5;
+  CHECK(pulls.front().mean_ink <= kHaze * pulls.back().mean_ink);
+}
+
 namespace {
 
 // A badger's pressed blot is one piece with a feathered edge: its flags lay
@@ -1201,9 +1270,13 @@ TEST_CASE("marks: the badger pressed and lifted leaves one soft blot, not a clus
   // blot's outline over flag_mm, which counts too: with flags that never
   // scrub (pickup scaled by the rim's deposit factor at any speed) it was
   // 8.8 %, and with the rim laying a standing share as the body does, its
-  // edge lighter, 12.2 %. Asked: 13 %, under half the rings', over the 11 %
-  // by a pixel's ring around the blot (2 % of its hull at 8 px/mm).
-  constexpr double kPaleShare = 0.13;
+  // edge lighter, 12.2 %. With the hair under the joints bearing load
+  // (engine/mechanics/spine_energy.h, HairCushion) the blot is darker inside
+  // (median ink 0.48 against 0.40) and 1 mm smaller, so its feathered rim
+  // falls under half the median over more of its hull: 14.1 %. Asked: 15 %,
+  // about half the rings' 28 %, over the 14.1 % by most of half a pixel's
+  // ring around the blot (1 % of its hull at 8 px/mm).
+  constexpr double kPaleShare = 0.15;
   CHECK(b.pale_share <= kPaleShare);
 }
 

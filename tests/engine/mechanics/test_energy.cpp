@@ -406,3 +406,75 @@ TEST_CASE("friction joint by joint: the energy's friction, with its own derivati
     }
   }
 }
+
+TEST_CASE("the hair cushion under the joints matches finite differences", "[energy][cushion]") {
+  // The hair bundle under each joint as a compliant layer (spine_energy.h,
+  // HairCushion): E_c = k psi(r - z). Reaches chosen so that over the trials
+  // some joints sink into their hair and some stay clear of it.
+  const SpineSpec spine = contactSpine();
+  SpineProblem p = contactProblem(&spine);
+  // Stiffer than any brush's (the badger's 0.002-0.006 N/mm) so that the term
+  // stands well above the differences' floor (kFdAbsTol).
+  p.cushion = {{3.0, 2.0}, {1.0, 3.0}, {0.5, 1.5}};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> angle(-0.9, 0.9);
+  int pressed = 0, clear = 0;  // joints, over the trials, in their hair and clear of it
+  for (int trial = 0; trial < 8; ++trial) {
+    std::vector<double> q(6);
+    for (double& a : q) a = angle(rng);
+    std::vector<double> g(6), h(36), gp(6), gm(6);
+    SpineFk fk;
+    EnergyTerms terms;
+    spineEnergy(p, q.data(), &fk, &terms, g.data(), h.data());
+    // Its push on each joint: beyond the barrier's smoothing, the spring's
+    // k (r - z), less half the smoothing width; none clear of the hair.
+    int pushing = 0;
+    for (int j = 1; j <= 3; ++j) {
+      const HairCushion& c = p.cushion[j - 1];
+      const double z = fk.x[j].z(), f = cushionForceN(c, z);
+      INFO("trial " << trial << " joint " << j << " z " << z);
+      CHECK(f >= 0);
+      if (c.reach_mm - z > kVolumeSmoothMm)
+        CHECK(f == Approx(c.stiffness_n_per_mm * (c.reach_mm - z - 0.5 * kVolumeSmoothMm)));
+      if (z >= c.reach_mm) CHECK(f == 0);
+      pushing += f > 0;
+    }
+    pressed += pushing;
+    clear += 3 - pushing;
+    CHECK((pushing > 0) == (terms.cushion_nmm > 0));
+    for (int v = 0; v < 6; ++v) {
+      std::vector<double> qp = q, qm = q;
+      qp[v] += kEnergyFdStep;
+      qm[v] -= kEnergyFdStep;
+      const double ep = spineEnergy(p, qp.data(), &fk, nullptr, gp.data(), nullptr);
+      const double em = spineEnergy(p, qm.data(), &fk, nullptr, gm.data(), nullptr);
+      INFO("trial " << trial << " var " << v);
+      CHECK(close(g[v], (ep - em) / (2 * kEnergyFdStep)));
+      for (int w = 0; w < 6; ++w) {
+        INFO("hessian (" << w << "," << v << ")");
+        CHECK(close(h[v * 6 + w], (gp[w] - gm[w]) / (2 * kEnergyFdStep)));
+      }
+    }
+  }
+  CHECK(pressed >= 3);
+  CHECK(clear >= 3);  // the clear side is checked too
+}
+
+TEST_CASE("a spine's hair cushion is its bundle pressed flat by flat_load_n", "[energy][cushion]") {
+  // k = flat_load_n / r (spine_energy.h, HairCushion): the load that presses
+  // the bundle flat in the renderer (bundlePressDepth) is the cushion's push
+  // with the joint on the paper. A spine that keeps the library's default
+  // has none: its bundle bears no force until its joint does (eq. 5).
+  SpineSpec spine = makeSpine({4.0, 3.5}, {10, 7});
+  spine.width_mm = {5.0, 4.5, 3.5};
+  CHECK(hairCushion(spine, 1).stiffness_n_per_mm == 0);
+  spine.flat_load_n = 0.01;
+  const HairCushion c = hairCushion(spine, 2);
+  CHECK(c.reach_mm == Approx(1.75));
+  CHECK(c.stiffness_n_per_mm == Approx(0.01 / 1.75));
+  // On the paper it pushes with the flat load, less the smoothing's half width.
+  CHECK(cushionForceN(c, 0.0) == Approx(0.01 * (1 - 0.5 * kVolumeSmoothMm / 1.75)));
+  CHECK(cushionForceN(c, 1.75) == 0);
+  CHECK(cushionForceN(c, 2.5) == 0);
+  CHECK(hairCushion(spine, 0).stiffness_n_per_mm == 0);  // the root is the ferrule's
+}

@@ -335,6 +335,56 @@ TEST_CASE("slsqp reaches the one-joint closed-form equilibrium", "[solvers][slsq
   CHECK(sim.state().force_n.z() == Approx(fn_star).epsilon(kForceRel));
 }
 
+TEST_CASE("both solvers reach the one-joint equilibrium on the hair cushion alone",
+          "[solvers][slsqp][ipopt][cushion]") {
+  // A spine that declares flat_load_n bears load through the hair under its
+  // joint before the joint reaches the paper (engine/mechanics/spine_energy.h,
+  // HairCushion). Frictionless and undamped, held upright with its joint
+  // 1.5 mm above the paper in its 3 mm of hair: at theta* the spring holds
+  // the cushion's push, K (theta* - theta_rest) = f L sin(theta*), with
+  // f = cushionForceN at the joint's height h - L cos(theta*).
+  constexpr double L = 10, K = 5, h = 11.5, rest = 0.02;
+  SpineSpec spine = makeSpine({L}, {K});
+  spine.rest_angles_rad[0] = Eigen::Vector2d(rest, 0);
+  spine.width_mm = {6.0, 6.0};  // r = 3 mm
+  spine.flat_load_n = 0.5;      // k = 0.5 / 3 N/mm
+  const Brush brush = makeBrush({spine}, 0.0, 0.0);
+  const HairCushion cushion = hairCushion(brush.spines[0], 1);
+  auto balance = [&](double theta) {
+    return K * (theta - rest) - cushionForceN(cushion, h - L * std::cos(theta)) * L * std::sin(theta);
+  };
+  // The push (0.25 N) is under the buckling load K / L = 0.5 N: one root
+  // between the rest angle and a right angle, found by bisection.
+  double lo = rest, hi = 0.5;
+  REQUIRE(balance(lo) < 0);
+  REQUIRE(balance(hi) > 0);
+  for (int i = 0; i < 200; ++i) (balance(0.5 * (lo + hi)) < 0 ? lo : hi) = 0.5 * (lo + hi);
+  const double theta_star = 0.5 * (lo + hi);
+  const double fn_star = cushionForceN(cushion, h - L * std::cos(theta_star));
+  REQUIRE(fn_star > 0.2);
+  const bool ipopt = GENERATE(false, true);
+  INFO((ipopt ? "ipopt" : "slsqp"));
+  Simulation sim(brush, SimOptions{}, ipopt ? makeIpoptSolver() : makeSlsqpSolver());
+  double t = 0;
+  sim.reset(poseAt(0, 0, 16), t);
+  for (const Pose& p : handlePath({poseAt(0, 0, 16), poseAt(0, 0, h)})) sim.step(p, t += 0.01);
+  const SpineState& s = sim.state().spines[0];
+  REQUIRE(s.summary.usable());
+  // The energy alone holds theta (no constraint is active): both solvers
+  // stop within about 1e-6 rad of it (sqrt of their energy tolerances over K).
+  constexpr double kAngleTol = 1e-5;
+  CHECK(jointAngles(s, 0)[0] == Approx(theta_star).margin(kAngleTol));
+  CHECK(jointAngles(s, 0)[1] == Approx(0).margin(kAngleTol));
+  CHECK(s.joints_mm[1].z() > 1.0);  // the joint itself is well clear of the paper
+  // The cushion's push is the joint's normal force: it counts as contact,
+  // and the canvas pushes the handle with it. d f / d theta is k L sin(theta*)
+  // ~ 0.07 N/rad, so the angle's tolerance moves it by under 1e-6 N.
+  constexpr double kForceTolN = 1e-5;
+  CHECK(s.solution.normal_force_n[0] == Approx(fn_star).margin(kForceTolN));
+  CHECK(s.contact[0]);
+  CHECK(sim.state().force_n.z() == Approx(fn_star).margin(kForceTolN));
+}
+
 TEST_CASE("ipopt: a hard press lays the belly on the paper, and joints out of reach carry "
           "nothing",
           "[solvers][ipopt]") {
