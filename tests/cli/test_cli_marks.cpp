@@ -1264,18 +1264,14 @@ TEST_CASE("marks: the badger pressed and lifted leaves one soft blot, not a clus
        << ", median ink " << b.median_ink << ", hull under half of it " << b.pale_share);
   CHECK(b.satellites == 0);
   CHECK(blotStats(img, 0.1, kCrumbPx).components == 1);
-  // The share of the blot's hull under half its median ink: 28 % with the
-  // rings, 11 % measured when they went, 4.2 % with no flags at all (an even
-  // blot, its hull's corners outside it). The flagged rim feathers the
-  // blot's outline over flag_mm, which counts too: with flags that never
-  // scrub (pickup scaled by the rim's deposit factor at any speed) it was
-  // 8.8 %, and with the rim laying a standing share as the body does, its
-  // edge lighter, 12.2 %. With the hair under the joints bearing load
-  // (engine/mechanics/spine_energy.h, HairCushion) the blot is darker inside
-  // (median ink 0.48 against 0.40) and 1 mm smaller, so its feathered rim
-  // falls under half the median over more of its hull: 14.1 %. Asked: 15 %,
-  // about half the rings' 28 %, over the 14.1 % by most of half a pixel's
-  // ring around the blot (1 % of its hull at 8 px/mm).
+  // The share of the blot's hull under half its median ink. Rings of dense
+  // paint round a paler middle, the fault this test is for, measure 28 %; an
+  // even blot of unflagged hair 4.2 % (its hull's corners lie outside it).
+  // The flagged rim feathers the outline over flag_mm, and the hair bearing
+  // load under the joints (HairCushion, engine/mechanics/spine_energy.h)
+  // darkens the middle, so the sound soft dab measures 14.1 %. Asked: 15 %,
+  // about half the rings' share, and 1 % of the hull (half a pixel's ring
+  // round the blot at 8 px/mm) above the sound dab's.
   constexpr double kPaleShare = 0.15;
   CHECK(b.pale_share <= kPaleShare);
 }
