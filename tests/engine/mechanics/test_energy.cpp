@@ -25,6 +25,29 @@ constexpr double kFdAbsTol = 1e-6;
 bool close(double a, double b) {
   return std::fabs(a - b) <= kFdAbsTol + kFdRelTol * std::max(std::fabs(a), std::fabs(b));
 }
+
+// spineEnergy's gradient g and Hessian h (nv x nv, h[v * nv + w]) at q
+// against central differences of its energy and of its gradient.
+void checkAgainstDifferences(const SpineProblem& p, const std::vector<double>& q,
+                             const std::vector<double>& g, const std::vector<double>& h) {
+  const int nv = static_cast<int>(q.size());
+  SpineFk fk;
+  std::vector<double> gp(nv), gm(nv);
+  for (int v = 0; v < nv; ++v) {
+    std::vector<double> qp = q, qm = q;
+    qp[v] += kEnergyFdStep;
+    qm[v] -= kEnergyFdStep;
+    const double ep = spineEnergy(p, qp.data(), &fk, nullptr, gp.data(), nullptr);
+    const double em = spineEnergy(p, qm.data(), &fk, nullptr, gm.data(), nullptr);
+    const double fd = (ep - em) / (2 * kEnergyFdStep);
+    INFO("var " << v << " grad " << g[v] << " fd " << fd);
+    CHECK(close(g[v], fd));
+    for (int w = 0; w < nv; ++w) {
+      INFO("hessian (" << w << "," << v << ")");
+      CHECK(close(h[v * nv + w], (gp[w] - gm[w]) / (2 * kEnergyFdStep)));
+    }
+  }
+}
 }  // namespace
 
 TEST_CASE("beta^2 series agrees with acos^2 and is smooth at the switch", "[energy]") {
@@ -130,24 +153,13 @@ TEST_CASE("energy gradient and Hessian match finite differences", "[energy]") {
     std::vector<double> q(6);
     for (double& a : q) a = angle(rng);
     if (trial == 0) std::fill(q.begin(), q.end(), 0.0);  // the straight spine: beta = 0
-    std::vector<double> g(6), h(36), gp(6), gm(6);
+    std::vector<double> g(6), h(36);
     SpineFk fk;
     EnergyTerms terms;
     spineEnergy(p, q.data(), &fk, &terms, g.data(), h.data());
     pushed += terms.volume_nmm > 0;
-    for (int v = 0; v < 6; ++v) {
-      std::vector<double> qp = q, qm = q;
-      qp[v] += kEnergyFdStep;
-      qm[v] -= kEnergyFdStep;
-      const double ep = spineEnergy(p, qp.data(), &fk, nullptr, gp.data(), nullptr);
-      const double em = spineEnergy(p, qm.data(), &fk, nullptr, gm.data(), nullptr);
-      INFO("trial " << trial << " var " << v << " grad " << g[v] << " fd " << (ep - em) / (2 * kEnergyFdStep));
-      CHECK(close(g[v], (ep - em) / (2 * kEnergyFdStep)));
-      for (int w = 0; w < 6; ++w) {
-        INFO("hessian (" << w << "," << v << ")");
-        CHECK(close(h[v * 6 + w], (gp[w] - gm[w]) / (2 * kEnergyFdStep)));
-      }
-    }
+    INFO("trial " << trial);
+    checkAgainstDifferences(p, q, g, h);
   }
   if (!p.volume.empty()) CHECK(pushed >= 2);
 }
@@ -422,7 +434,7 @@ TEST_CASE("the hair cushion under the joints matches finite differences", "[ener
   for (int trial = 0; trial < 8; ++trial) {
     std::vector<double> q(6);
     for (double& a : q) a = angle(rng);
-    std::vector<double> g(6), h(36), gp(6), gm(6);
+    std::vector<double> g(6), h(36);
     SpineFk fk;
     EnergyTerms terms;
     spineEnergy(p, q.data(), &fk, &terms, g.data(), h.data());
@@ -442,19 +454,8 @@ TEST_CASE("the hair cushion under the joints matches finite differences", "[ener
     pressed += pushing;
     clear += 3 - pushing;
     CHECK((pushing > 0) == (terms.cushion_nmm > 0));
-    for (int v = 0; v < 6; ++v) {
-      std::vector<double> qp = q, qm = q;
-      qp[v] += kEnergyFdStep;
-      qm[v] -= kEnergyFdStep;
-      const double ep = spineEnergy(p, qp.data(), &fk, nullptr, gp.data(), nullptr);
-      const double em = spineEnergy(p, qm.data(), &fk, nullptr, gm.data(), nullptr);
-      INFO("trial " << trial << " var " << v);
-      CHECK(close(g[v], (ep - em) / (2 * kEnergyFdStep)));
-      for (int w = 0; w < 6; ++w) {
-        INFO("hessian (" << w << "," << v << ")");
-        CHECK(close(h[v * 6 + w], (gp[w] - gm[w]) / (2 * kEnergyFdStep)));
-      }
-    }
+    INFO("trial " << trial);
+    checkAgainstDifferences(p, q, g, h);
   }
   CHECK(pressed >= 3);
   CHECK(clear >= 3);  // the clear side is checked too
