@@ -19,6 +19,7 @@
 #include <string>
 
 #include "bench_stats.h"
+#include "tests/support/build_paths.h"
 
 namespace {
 

@@ -25,6 +25,7 @@
 #include "engine/model/trajectory.h"
 #include "render/gl/footprint_renderer.h"
 #include "render/stroke_renderer.h"
+#include "tests/support/build_paths.h"
 
 namespace {
 

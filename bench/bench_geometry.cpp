@@ -19,6 +19,7 @@
 #include "engine/dynamics/simulation.h"
 #include "engine/solvers/spine_solver.h"
 #include "engine/geometry/spine_bundles.h"
+#include "tests/support/build_paths.h"
 
 namespace {
 

@@ -24,6 +24,7 @@
 #include "engine/base/error.h"
 #include "process/process_hooks.h"
 #include "tests/support/press_matrix.h"
+#include "tests/support/build_paths.h"
 
 namespace {
 

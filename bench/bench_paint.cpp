@@ -18,6 +18,7 @@
 #include "engine/model/brush.h"
 #include "engine/geometry/brush_geometry.h"
 #include "engine/paint/paint.h"
+#include "tests/support/build_paths.h"
 
 namespace {
 

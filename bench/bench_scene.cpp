@@ -14,6 +14,7 @@
 #include "engine/formats/scene.h"
 #include "render/image/compose.h"
 #include "render/scene_renderer.h"
+#include "tests/support/build_paths.h"
 
 namespace {
 

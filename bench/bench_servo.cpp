@@ -19,6 +19,7 @@
 #include "engine/model/brush.h"
 #include "haptics/live_session.h"
 #include "haptics/none_device.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 
@@ -49,7 +50,7 @@ Trajectory circles(double seconds) {
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 10.0;
   const double sim_rate = argc > 2 ? std::atof(argv[2]) : 30.0;
-  const Brush brush = loadBrush(BRISTLE_SOURCE_DIR "/scenes/brushes/round.json");
+  const Brush brush = loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/round.json");
   haptics::NoneDevice device(circles(seconds));
   const std::string session =
       (std::filesystem::temp_directory_path() / "bristle-bench-servo.csv").string();

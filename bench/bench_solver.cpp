@@ -26,6 +26,7 @@
 #include "engine/dynamics/stepper.h"
 #include "engine/mechanics/spine_kinematics.h"
 #include "engine/model/trajectory.h"
+#include "tests/support/build_paths.h"
 
 namespace {
 

@@ -18,10 +18,11 @@
 #include "fuzz/fuzz_input.h"
 #include "input/import.h"
 #include "input/pen_mapping.h"
+#include "tests/support/build_paths.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const bristle::Brush round =
-      bristle::loadBrush(BRISTLE_SOURCE_DIR "/scenes/brushes/round.json");
+      bristle::loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/round.json");
   const std::string text = bristle::fuzz::text(data, size);
   try {
     std::vector<std::string> warnings;

@@ -13,10 +13,11 @@
 #include "engine/model/trajectory.h"
 #include "engine/base/text_file.h"
 #include "fuzz/fuzz_input.h"
+#include "tests/support/build_paths.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const bristle::Brush round =
-      bristle::loadBrush(BRISTLE_SOURCE_DIR "/scenes/brushes/round.json");
+      bristle::loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/round.json");
   try {
     const bristle::Trajectory t = bristle::resolveDepths(
         bristle::parseTrajectory(bristle::fuzz::text(data, size), "t.csv"), round);

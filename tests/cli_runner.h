@@ -12,6 +12,7 @@
 #include <string>
 
 #include "temp_dir.h"
+#include "tests/support/build_paths.h"
 
 namespace bristle::testing {
 

@@ -13,6 +13,7 @@
 #include "engine/dynamics/simulation.h"
 #include "engine/mechanics/spine_kinematics.h"
 #include "engine/model/trajectory.h"
+#include "tests/support/build_paths.h"
 
 namespace bristle::testing {
 

@@ -33,7 +33,7 @@ using namespace bristle::haptics;
 
 namespace {
 
-Brush roundBrush() { return loadBrush(BRISTLE_SOURCE_DIR "/scenes/brushes/round.json"); }
+Brush roundBrush() { return loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/round.json"); }
 
 Eigen::Vector3d averageSpineForce(const BrushState& st) {
   Eigen::Vector3d f = Eigen::Vector3d::Zero();

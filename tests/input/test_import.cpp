@@ -19,6 +19,7 @@
 #include "input/pen_mapping.h"
 #include "input/recording.h"
 #include "input/svg_geometry.h"
+#include "tests/support/build_paths.h"
 
 #include <2geom/pathvector.h>
 #include <2geom/svg-path-parser.h>

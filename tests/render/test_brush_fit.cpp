@@ -12,6 +12,7 @@
 #include "engine/formats/brush_reader.h"
 #include "render/brush_fit.h"
 #include "temp_dir.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 using namespace bristle::render;

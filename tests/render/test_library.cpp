@@ -11,6 +11,7 @@
 #include "engine/geometry/brush_geometry.h"
 #include "engine/dynamics/simulation.h"
 #include "render/stroke_renderer.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 

@@ -26,6 +26,7 @@
 #include "render/image/image_compare.h"
 #include "render/step_pipeline.h"
 #include "render/stroke_renderer.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 using namespace bristle::render;

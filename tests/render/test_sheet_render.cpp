@@ -15,6 +15,7 @@
 #include "render/sheet_renderer.h"
 #include "render/image/text.h"
 #include "temp_dir.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 using namespace bristle::render;

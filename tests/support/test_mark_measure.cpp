@@ -16,6 +16,7 @@
 #include "engine/dynamics/stepper.h"
 #include "tests/support/mark_measure.h"
 #include "tests/support/press_matrix.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 using namespace bristle::testsupport;

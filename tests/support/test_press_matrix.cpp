@@ -10,6 +10,7 @@
 #include "engine/formats/brush_reader.h"
 #include "engine/model/brush.h"
 #include "tests/support/press_matrix.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 using namespace bristle::testsupport;

@@ -22,6 +22,7 @@
 #include "engine/model/trajectory.h"
 #include "temp_dir.h"
 #include "tests/engine/formats/reader_checks.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 using bristle::testing::Caught;

@@ -16,6 +16,7 @@
 #include "engine/dynamics/stepper.h"
 #include "engine/base/text_file.h"
 #include "engine/model/trajectory.h"
+#include "tests/support/build_paths.h"
 
 using namespace bristle;
 
