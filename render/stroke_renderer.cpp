@@ -178,7 +178,7 @@ void blendStates(const BrushState& a, const BrushState& b, double t, BrushState*
     o.sliding = sb.sliding;
     o.stuck_xy_mm = sb.stuck_xy_mm;
     // The canvas loads too: they set how far each bundle is pressed into the
-    // paper (engine/geometry/spine_bundles.h, kBundleFlatLoadN).
+    // paper (engine/geometry/spine_bundles.h; kBundleFlatLoadN, engine/model/brush.h).
     const std::vector<double>& fa = sa.solution.normal_force_n;
     const std::vector<double>& fb = sb.solution.normal_force_n;
     o.solution.normal_force_n.resize(fb.size());

@@ -259,6 +259,14 @@ double JsonObject::number(const std::string& key, double fallback) const {
   return has(key) ? number(key) : fallback;
 }
 
+bool JsonObject::boolean(const std::string& key, bool fallback) const {
+  used_.insert(key);
+  if (!has(key)) return fallback;
+  const nlohmann::json& v = get(key);
+  if (!v.is_boolean()) fail(childPointer(key) + " = " + shortDump(v), "must be true or false");
+  return v.get<bool>();
+}
+
 int JsonObject::integer(const std::string& key) const {
   const nlohmann::json& v = get(key);
   if (!v.is_number_integer() && !(v.is_number_float() && v.get<double>() == std::floor(v.get<double>())))

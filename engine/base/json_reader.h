@@ -55,6 +55,7 @@ class JsonObject {
   double number(const std::string& key, double fallback) const;
   int integer(const std::string& key) const;
   int integer(const std::string& key, int fallback) const;
+  bool boolean(const std::string& key, bool fallback) const;
   std::string string(const std::string& key) const;
   std::string string(const std::string& key, const std::string& fallback) const;
   std::vector<double> numbers(const std::string& key) const;

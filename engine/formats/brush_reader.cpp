@@ -39,7 +39,8 @@ std::vector<double> positiveArray(const JsonObject& o, const std::string& key, s
 
 SpineSpec parseSpine(const JsonObject& o) {
   o.declareKeys({"root_mm", "segment_lengths_mm", "stiffness_nmm_per_rad", "damping_nmm",
-                 "width_mm", "thickness_mm", "rest_angles_rad", "flat_load_n"});
+                 "width_mm", "thickness_mm", "rest_angles_rad", "flat_load_n",
+                 "bundle_bears_load"});
   SpineSpec s;
   const std::vector<double> root = o.numbers("root_mm");
   o.require(root.size() == 3, "root_mm", "must be [x, y, z]");
@@ -74,6 +75,7 @@ SpineSpec parseSpine(const JsonObject& o) {
     o.require(s.flat_load_n > 0 && s.flat_load_n <= kMaxFlatLoadN, "flat_load_n",
               "must be in (0, 1] (N that press the bundle flat)");
   }
+  s.bundle_bears_load = o.boolean("bundle_bears_load", false);
   s.rest_angles_rad.assign(n, Eigen::Vector2d::Zero());
   if (o.has("rest_angles_rad")) {
     const nlohmann::json& ra = o.raw("rest_angles_rad");

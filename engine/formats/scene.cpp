@@ -44,13 +44,6 @@ std::string fmt(double v) {
   return ss.str();
 }
 
-bool boolean(const JsonObject& o, const std::string& key, bool fallback) {
-  if (!o.has(key)) return fallback;
-  const nlohmann::json& v = o.raw(key);
-  if (!v.is_boolean()) o.fail(o.childPointer(key) + " = " + v.dump(), "must be true or false");
-  return v.get<bool>();
-}
-
 // A path as the scene names it, resolved against the scene file's folder.
 std::string resolve(const std::string& base_dir, const std::string& p) {
   const fs::path path(p);
@@ -160,7 +153,7 @@ Scene parseSceneOnly(const nlohmann::json& root, const std::string& path,
     st.trajectory_path = resolve(base_dir, traj);
     parsePaintLoad(s.object("paint"), &st.paint);
     if (s.has("placement")) parsePlacement(s.object("placement"), &st.placement);
-    st.dry_before = boolean(s, "dry_before", false);
+    st.dry_before = s.boolean("dry_before", false);
     s.rejectUnknownKeys();
     scene.strokes.push_back(std::move(st));
   }

@@ -148,7 +148,7 @@ void spineBundles(const SpineSpec& spec, const SpineState& spine, const Pose& ha
   // Each joint's bundle: its centre raised until the half solid around it
   // (the part that reaches lowest) is only as deep below the canvas as
   // the load presses it, see kBundleFlatLoadN (or the spine's own flat_load_n).
-  const double flat_load_n = spec.flat_load_n > 0 ? spec.flat_load_n : kBundleFlatLoadN;
+  const double flat_load_n = spec.flatLoadN();
   centre.assign(n + 1, Eigen::Vector3d::Zero());
   for (int j = 0; j <= n; ++j) {
     const double r = section[j].depth();

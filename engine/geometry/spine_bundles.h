@@ -64,19 +64,6 @@ inline constexpr double kSlabFlare = 0.25;
 // (1). This is the belly flattening and spreading under a press.
 double bundleSpread(double radius_mm, double reach_mm);
 
-// The load (N) that presses a spine's hair bundle flat onto the canvas. The
-// solver holds each joint on the canvas (eq. 5) and the bundle around it
-// reaches a radius below, whatever the load; the load itself is the canvas
-// constraint forces (the multipliers of eq. 8, recovered as in §3.1). A bundle
-// is pressed into the paper only as far as its load can press it: depth
-// r * load / kBundleFlatLoadN, at most r (the axis on the canvas, flat, spread
-// twice as wide). A tip that just touches -- the load fading as a moving brush
-// lifts off -- is pressed in by nothing: it rests on the paper and leaves a
-// thin line, and the stroke tapers to a point. 0.05 N is below what every
-// spine of the round presses with through a steady stroke's body (the tenth
-// percentile of its per-spine load along straight-pull.csv is 0.07 N, the
-// flat's 0.17 N, the bright's 0.24 N), so those bodies keep their width.
-inline constexpr double kBundleFlatLoadN = 0.05;
 
 // How deep (mm) a bundle of radius r may reach below the canvas under a load
 // (N): r * load / flat_load_n, within [0, r]. A spine's SpineSpec::flat_load_n

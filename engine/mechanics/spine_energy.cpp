@@ -287,9 +287,9 @@ void addCushionTerms(const SpineProblem& p, const SpineFk* fk, EnergySums& sum) 
 
 HairCushion hairCushion(const SpineSpec& spec, int joint) {
   HairCushion c;
-  if (!(spec.flat_load_n > 0) || joint < 1 || joint > spec.jointCount()) return c;
+  if (!spec.bundle_bears_load || joint < 1 || joint > spec.jointCount()) return c;
   c.reach_mm = spec.bundleReachMm(static_cast<size_t>(joint));
-  if (c.reach_mm > 0) c.stiffness_n_per_mm = spec.flat_load_n / c.reach_mm;
+  if (c.reach_mm > 0) c.stiffness_n_per_mm = spec.flatLoadN() / c.reach_mm;
   return c;
 }
 

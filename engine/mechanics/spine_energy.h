@@ -64,9 +64,9 @@ struct EnergyTerms {
 // push k psi'(r - z) counts as the joint's normal force (contact, the
 // bundle's press and the paint's pressure, the haptic force), but not for
 // friction (eq. 3): the soft hair bends sideways and slides rather than pin
-// the joint (Simulation::setFriction). Only a spine that declares its
-// own flat_load_n (the badger's soft hair) has one: with the library's
-// default a bundle bears no force until its joint does, as eq. 5 has it.
+// the joint (Simulation::setFriction). Only a spine that says
+// bundle_bears_load (the badger's soft hair) has one: without it a bundle
+// bears no force until its joint does, as eq. 5 has it.
 struct HairCushion {
   double reach_mm = 0;            // r: how far below the joint the hair reaches
   double stiffness_n_per_mm = 0;  // k; 0: no cushion

@@ -20,6 +20,21 @@ inline constexpr int kMaxSpines = 64;
 inline constexpr double kMaxBrushMm = 1000;
 inline constexpr int kMaxJointsPerSpine = 16;
 
+// The load (N) that presses a spine's hair bundle flat onto the canvas
+// unless the spine declares its own (SpineSpec::flat_load_n). The
+// solver holds each joint on the canvas (eq. 5) and the bundle around it
+// reaches a radius below, whatever the load; the load itself is the canvas
+// constraint forces (the multipliers of eq. 8, recovered as in §3.1). A bundle
+// is pressed into the paper only as far as its load can press it: depth
+// r * load / kBundleFlatLoadN, at most r (the axis on the canvas, flat, spread
+// twice as wide). A tip that just touches -- the load fading as a moving brush
+// lifts off -- is pressed in by nothing: it rests on the paper and leaves a
+// thin line, and the stroke tapers to a point. 0.05 N is below what every
+// spine of the round presses with through a steady stroke's body (the tenth
+// percentile of its per-spine load along straight-pull.csv is 0.07 N, the
+// flat's 0.17 N, the bright's 0.24 N), so those bodies keep their width.
+inline constexpr double kBundleFlatLoadN = 0.05;
+
 struct SpineSpec {
   Eigen::Vector3d root_mm = Eigen::Vector3d::Zero();  // in the brush frame
   // Joint i (0-based) bends segment i relative to its parent (segment i-1, or
@@ -35,11 +50,17 @@ struct SpineSpec {
   std::vector<double> width_mm;
   std::vector<double> thickness_mm;
   // The load (N) that presses this bundle flat onto the paper, 0 for the
-  // library's default (kBundleFlatLoadN, engine/geometry/spine_bundles.h):
+  // default (kBundleFlatLoadN above):
   // fine, soft hair splays under less (docs/brush-format.md, `flat_load_n`).
-  // Declared, the hair under each joint also bears load in the solve
-  // (HairCushion, engine/mechanics/spine_energy.h).
   double flat_load_n = 0;
+  // Whether the hair under each joint bears load in the solve before the
+  // joint reaches the paper, as a spring that flat_load_n (or the default)
+  // sets (HairCushion, engine/mechanics/spine_energy.h; docs/brush-format.md,
+  // `bundle_bears_load`). Off, a bundle bears no force until its joint does.
+  bool bundle_bears_load = false;
+
+  // The load (N) that presses this bundle flat: flat_load_n, or the default.
+  double flatLoadN() const { return flat_load_n > 0 ? flat_load_n : kBundleFlatLoadN; }
 
   double thicknessMm(size_t j) const {
     return thickness_mm.empty() ? width_mm[j] : thickness_mm[j];
@@ -68,6 +89,7 @@ inline constexpr int kMaxCageVertices = 4096;
 // hog's flags are a millimetre or two; 5 mm would be split hair for a third of
 // a short brush's length.
 inline constexpr double kMaxFlagMm = 5.0;
+
 // Largest load a spine may declare to press its bundle flat (flat_load_n):
 // 1 N is twenty times what presses a round's bundle flat.
 inline constexpr double kMaxFlatLoadN = 1.0;

@@ -231,7 +231,10 @@ def badger():
             s["segment_lengths_mm"] = [round(L * f, 3) for L in lengths]
             sp.append(s)
     for s in sp:
+        # Its soft hair bears load before the joints reach the paper, so that
+        # the dome's first touch lays a haze (docs/brush-format.md).
         s["flat_load_n"] = BADGER_FLAT_LOAD_N
+        s["bundle_bears_load"] = True
     b = base("badger", "Badger softener: a soft dome of flagged hair, 14 mm across, 25 mm long",
              sp, 0.4, 0.3, 0.2)
     b["surface"] = tube_cage(sp, 12, lambda k: 1.2, lambda k: 1.2)

@@ -464,6 +464,24 @@ TEST_CASE("wrong JSON types are 65 naming the pointer", "[readers]") {
   CHECK_BRUSH_ERROR(brushWith("/friction/mu_static", "0.4"), "/friction/mu_static",
                     "must be a number");
   CHECK_BRUSH_ERROR(brushWith("/paint/capacity", true), "/paint/capacity", "must be a number");
+  CHECK_BRUSH_ERROR(brushWith("/spines/1/bundle_bears_load", "yes"),
+                    "brush.json: /spines/1/bundle_bears_load = \"yes\": must be true or false");
+}
+
+TEST_CASE("a bundle bears load only where its spine says so, not where it declares a flat load",
+          "[readers]") {
+  // flat_load_n says how easily a bundle splays; bundle_bears_load whether
+  // its hair bears load in the solve (docs/brush-format.md): writing the
+  // default flat load out must not change what the solve does.
+  const Brush plain = parseBrush(brushWith("/spines/0/flat_load_n", 0.05), "brush.json");
+  CHECK(plain.spines[0].flat_load_n == 0.05);
+  CHECK_FALSE(plain.spines[0].bundle_bears_load);
+  const Brush soft = parseBrush(brushWith("/spines/0/bundle_bears_load", true), "brush.json");
+  CHECK(soft.spines[0].bundle_bears_load);
+  CHECK_FALSE(soft.spines[1].bundle_bears_load);
+  CHECK(soft.spines[0].flatLoadN() == kBundleFlatLoadN);
+  const Brush badger = loadBrush(std::string(BRISTLE_SOURCE_DIR) + "/scenes/brushes/badger.json");
+  for (const SpineSpec& s : badger.spines) CHECK(s.bundle_bears_load);
 }
 
 // ---------------------------------------------------------------- brush: values

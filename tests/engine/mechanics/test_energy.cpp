@@ -464,12 +464,15 @@ TEST_CASE("the hair cushion under the joints matches finite differences", "[ener
 TEST_CASE("a spine's hair cushion is its bundle pressed flat by flat_load_n", "[energy][cushion]") {
   // k = flat_load_n / r (spine_energy.h, HairCushion): the load that presses
   // the bundle flat in the renderer (bundlePressDepth) is the cushion's push
-  // with the joint on the paper. A spine that keeps the library's default
-  // has none: its bundle bears no force until its joint does (eq. 5).
+  // with the joint on the paper. Only a spine that says bundle_bears_load has
+  // one; any other bundle bears no force until its joint does (eq. 5), even
+  // one that declares how easily it splays (flat_load_n alone).
   SpineSpec spine = makeSpine({4.0, 3.5}, {10, 7});
   spine.width_mm = {5.0, 4.5, 3.5};
   CHECK(hairCushion(spine, 1).stiffness_n_per_mm == 0);
   spine.flat_load_n = 0.01;
+  CHECK(hairCushion(spine, 2).stiffness_n_per_mm == 0);
+  spine.bundle_bears_load = true;
   const HairCushion c = hairCushion(spine, 2);
   CHECK(c.reach_mm == Approx(1.75));
   CHECK(c.stiffness_n_per_mm == Approx(0.01 / 1.75));
@@ -478,4 +481,7 @@ TEST_CASE("a spine's hair cushion is its bundle pressed flat by flat_load_n", "[
   CHECK(cushionForceN(c, 1.75) == 0);
   CHECK(cushionForceN(c, 2.5) == 0);
   CHECK(hairCushion(spine, 0).stiffness_n_per_mm == 0);  // the root is the ferrule's
+  // Without its own flat_load_n, the default's spring.
+  spine.flat_load_n = 0;
+  CHECK(hairCushion(spine, 2).stiffness_n_per_mm == Approx(kBundleFlatLoadN / 1.75));
 }

@@ -337,7 +337,7 @@ TEST_CASE("slsqp reaches the one-joint closed-form equilibrium", "[solvers][slsq
 
 TEST_CASE("both solvers reach the one-joint equilibrium on the hair cushion alone",
           "[solvers][slsqp][ipopt][cushion]") {
-  // A spine that declares flat_load_n bears load through the hair under its
+  // A spine that says bundle_bears_load bears load through the hair under its
   // joint before the joint reaches the paper (engine/mechanics/spine_energy.h,
   // HairCushion). Frictionless and undamped, held upright with its joint
   // 1.5 mm above the paper in its 3 mm of hair: at theta* the spring holds
@@ -348,6 +348,7 @@ TEST_CASE("both solvers reach the one-joint equilibrium on the hair cushion alon
   spine.rest_angles_rad[0] = Eigen::Vector2d(rest, 0);
   spine.width_mm = {6.0, 6.0};  // r = 3 mm
   spine.flat_load_n = 0.5;      // k = 0.5 / 3 N/mm
+  spine.bundle_bears_load = true;
   const Brush brush = makeBrush({spine}, 0.0, 0.0);
   const HairCushion cushion = hairCushion(brush.spines[0], 1);
   auto balance = [&](double theta) {
