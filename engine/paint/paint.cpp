@@ -529,6 +529,7 @@ struct TransferScratch {
   FlagHullScratch flag_hull;     // convexFootprint's working space
   std::vector<float> slide;      // per FlagScrub cell: the hair's slide there (mm), < 0 not yet
   std::vector<float> press;      // per PressShare cell: the transfer's share there, < 0 not yet
+  std::vector<float> cover;      // per PressShare cell: the flags' share on the paper, likewise
 
   void reset(size_t pixels) {
     touches.clear();
@@ -775,16 +776,21 @@ void hullHair(const FootprintView& fp, const std::vector<std::uint8_t>& mask, in
 // but grows steadily inwards, so the rim is one piece with a ragged edge.
 constexpr float kFlagFloor = 0.5f;
 
+// Whether the flags reach a pixel where a share `share` of them lies on the
+// paper: the few that do stand where the paper is high (tooth) or the hair
+// is well loaded (hairNoise), so a pixel is reached where their mean lies
+// above 1 - share, over the dry brush's soft edge (kInvDryEdge). 1 at
+// share 1, whatever the pixel.
+float flagsReach(float share, float tooth, float hair) {
+  return std::clamp((0.5f * (tooth + hair) - (1 - share)) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
+}
+
 // Deposit factor of the flagged rim (flagRim's g in [0, 1]): thinner, and
 // uneven. The flags are few and splay unevenly, so the further out, the fewer
-// of them reach a pixel: a pixel takes its full share g only where the paper
-// stands high (tooth) or the hair there is well loaded (hairNoise), their mean
-// above 1 - g, over the dry brush's soft edge (kInvDryEdge); elsewhere
-// kFlagFloor of it. At g = 1 every pixel passes.
+// of them reach a pixel: a pixel takes its full share g only where the flags
+// reach it (flagsReach with share g); elsewhere kFlagFloor of it.
 float flagDeposit(float g, float tooth, float hair) {
-  const float pass =
-      std::clamp((0.5f * (tooth + hair) - (1 - g)) * kInvDryEdge + 1.0f, 0.0f, 1.0f);
-  return g * (kFlagFloor + (1 - kFlagFloor) * pass);
+  return g * (kFlagFloor + (1 - kFlagFloor) * flagsReach(g, tooth, hair));
 }
 
 // A value over the footprint's canvas points that varies over millimetres
@@ -870,15 +876,17 @@ class FlagScrub {
   double inv_ref_ = 0;
 };
 
-// The share of the transfer rates the hair's pressure gives at each pixel
-// of the footprint (TransferParams::press_full_n_per_mm2): press_floor plus
-// the rest in proportion to the pressure, up to all of it. Without a
-// pressure known, in full.
+// What the hair's pressure does at each pixel of the footprint: the share
+// of the transfer rates it gives (TransferParams::press_full_n_per_mm2),
+// press_floor plus the rest in proportion to the pressure, up to all of it;
+// and the share of a flagged brush's flags it lays on the paper
+// (TransferParams::flag_cover_n_per_mm2). Without a pressure known, both in
+// full.
 class PressShare {
  public:
   PressShare(const FootprintView& fp, const CanvasGrid& grid, const TransferParams& params,
-             std::vector<float>* cache)
-      : share_(fp, grid, cache) {
+             std::vector<float>* share_cache, std::vector<float>* cover_cache)
+      : share_(fp, grid, share_cache), cover_(fp, grid, cover_cache) {
     if (fp.press == nullptr || !(params.press_full_n_per_mm2 > 0)) return;
     on_ = true;
     const float floor = static_cast<float>(std::clamp(params.press_floor, 0.0, 1.0));
@@ -888,13 +896,25 @@ class PressShare {
       const double p = press->at(x, y);
       return floor + (1 - floor) * static_cast<float>(std::clamp(p * inv_full, 0.0, 1.0));
     });
+    // No cover pressure: every flag lies on the paper at any load.
+    if (!(params.flag_cover_n_per_mm2 > 0)) return;
+    cover_on_ = true;
+    const float cover_floor = static_cast<float>(std::clamp(params.flag_cover_floor, 0.0, 1.0));
+    const double inv_cover = 1.0 / params.flag_cover_n_per_mm2;
+    cover_.start([press, cover_floor, inv_cover](double x, double y) {
+      const double p = press->at(x, y);
+      return cover_floor +
+             (1 - cover_floor) * static_cast<float>(std::clamp(p * inv_cover, 0.0, 1.0));
+    });
   }
-  // The share at footprint pixel (c, r).
+  // The transfer rates' share at footprint pixel (c, r).
   float at(int c, int r) { return on_ ? share_.at(c, r) : 1.0f; }
+  // The share of a flagged brush's flags on the paper at footprint pixel (c, r).
+  float flagCover(int c, int r) { return cover_on_ ? cover_.at(c, r) : 1.0f; }
 
  private:
-  CellLookup share_;
-  bool on_ = false;
+  CellLookup share_, cover_;
+  bool on_ = false, cover_on_ = false;
 };
 
 // Stage 1 of transfer: who touches what, and how hard. Fills scratch.touches
@@ -920,7 +940,7 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
     hullHair(fp, scratch.flag_mask, flagPadPx(brush.flagMm(), g.px_per_mm), &scratch.hull_hair,
              &scratch.hull_queue);
   FlagScrub scrub(fp, g, params, &scratch.slide);
-  PressShare press(fp, g, params, &scratch.press);
+  PressShare press(fp, g, params, &scratch.press, &scratch.cover);
   int contact_px = 0;
   for (int r = 0; r < fp.height; ++r) {
     const int row = fp.row0 + r;
@@ -971,6 +991,11 @@ int gatherTouches(const FootprintView& fp, const BrushPaint& brush, const PaintC
       dep *= pressed;
       pick *= pressed;
       if (flagged) {
+        // Only the flags the load lays on the paper touch it (flagsReach).
+        const float reached = flagsReach(press.flagCover(c, r), canvas.tooth(i), hair);
+        if (reached <= 0) continue;
+        dep *= reached;
+        pick *= reached;
         const float rim = scratch.flag[static_cast<size_t>(r) * fp.width + c];
         dep *= flagDeposit(rim, canvas.tooth(i), hair) * scrub.lay(c, r);
         // Over dry paper there is nothing to take up (each pixel is touched

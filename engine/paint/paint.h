@@ -413,6 +413,26 @@ struct TransferParams {
   // (docs/paint.md, "Pressed hair gives and takes, resting hair barely").
   double press_full_n_per_mm2 = 0.01;
   double press_floor = 0.1;
+  // How many of a flagged brush's flags reach the paper (BrushPaint::flagMm).
+  // A softener's dome is flags all over: fine split ends, few and splayed,
+  // that bridge the paper's grain. Under a light load only the flags its
+  // load bends onto the paper touch it, on the grain's peaks, and the more
+  // it presses the more of them lie down, into the valleys too, as the
+  // contact of a fibre mat grows with its load. So where the footprint
+  // tells how hard the hair presses, a flagged brush touches a pixel only
+  // where the paper stands high (tooth) or the hair there is well loaded
+  // (hairNoise), their mean above 1 - f, with f = flag_cover_floor +
+  // (1 - flag_cover_floor) min(1, P / flag_cover_n_per_mm2), over the dry
+  // brush's soft edge; where it does not touch, it neither gives nor takes
+  // paint. A light touch then leaves a broken, streaked film however dark
+  // the paint, where a film of any thickness in an opaque paint reads as a
+  // solid bar, and a firm press covers the paper. 0.003 N/mm^2 is the middle
+  // of what the badger presses through its pulls (0.001 - 0.004); resting
+  // under no load its flags still touch the highest fifth of the grain.
+  // Brushes without flags cover what their geometry touches (docs/paint.md,
+  // "Light flags touch the grain's peaks").
+  double flag_cover_n_per_mm2 = 0.003;
+  double flag_cover_floor = 0.2;
   // Paint flows within each column of the brush texture (one lateral position of
   // the bundle) towards texels that lost paint, the belly feeding the tip by
   // capillarity: this fraction of each texel's difference from the column mean
