@@ -171,12 +171,13 @@ TEST_CASE("yong: the left-falling stroke enters without a ball", "[marks][yong]"
 
 TEST_CASE("yong: the long horizontal enters with a head about as wide as its body",
           "[marks][yong]") {
-  // 横折钩's horizontal comes down travelling its way and presses to its
-  // body's 3 mm over its first 3 mm: its head (its first 4 mm along the line
+  // 横折钩's horizontal comes down travelling its way to 0.5 mm and presses to
+  // its body's 3 mm over its first 4 mm: its head (its first 4 mm along the line
   // from (29, 73) to (50, 75.3)) at most kMaxHeadToBody of its body (6 to
   // 12 mm from where its ink begins, before the turn), the bound of the
   // entry test in test_cli_marks.cpp. Pressed to 3.2 mm over its first
-  // 1.6 mm, nearly standing, it began with a round knob 1.5 times its body.
+  // 1.6 mm, nearly standing, it began with a round knob 1.5 times its body;
+  // from 1 mm over 3 mm, 1.30 times.
   constexpr double kMaxHeadToBody = 1.35;
   const std::vector<double> w = yongStrokeWidths(1, 29, 73, 50, 75.3);
   REQUIRE(w.size() >= 6);
@@ -186,10 +187,48 @@ TEST_CASE("yong: the long horizontal enters with a head about as wide as its bod
   CHECK(head <= kMaxHeadToBody * body);
 }
 
+TEST_CASE("yong: the horizontal stays black into its turn", "[marks][yong]") {
+  // 横折钩's horizontal keeps its ink to the corner: the brush lifts only as
+  // far as its point (depth 0.3 mm at the corner) and presses down and to the
+  // right into the shoulder, so the hair never leaves the paper. Lifted clear
+  // of it (-0.3 mm), the horizontal thinned and greyed over its last 3-4 mm,
+  // the point alone still touching as the hair rose. Read column by column
+  // (every 0.25 units, 0.2 mm) between y = 65 and 85 units, the ink summed
+  // down each column (mm of full ink): over the horizontal's last 5 units
+  // (4 mm) before the turn, 50 to 55 units, none is under kMinEnd of the
+  // body's median (38 to 48 units). Measured 0.96 (0.67 lifted clear); 0.8
+  // lies between, a fifth of the body lost.
+  constexpr double kMinEnd = 0.8;
+  TempDir dir;
+  const Coverage img = renderYongStroke(1, dir);
+  const double band0 = yongUnits(0, 65).y, band1 = yongUnits(0, 85).y;
+  auto inkAcross = [&](double u0, double u1) {
+    std::vector<double> out;
+    for (double u = u0; u < u1; u += 0.25) {
+      const int col =
+          static_cast<int>(std::floor((yongUnits(u, 0).x - img.x0_mm) * img.px_per_mm));
+      double sum = 0;
+      for (int r = 0; r < img.h; ++r) {
+        const double y = img.y0_mm + (img.h - r - 0.5) / img.px_per_mm;
+        if (y >= band0 && y <= band1) sum += img.at(col, r) / img.px_per_mm;
+      }
+      out.push_back(sum);
+    }
+    return out;
+  };
+  const double body = yongMedian(inkAcross(38, 48));
+  const std::vector<double> end = inkAcross(50, 55);
+  const double least = *std::min_element(end.begin(), end.end());
+  INFO("ink across each column (mm): body median " << body << ", least over the last 5 units "
+                                                   << least << " (" << yongList(end) << ")");
+  CHECK(least >= kMinEnd * body);
+}
+
 TEST_CASE("yong: the turn of the horizontal into the long vertical is square", "[marks][yong]") {
   // 横折钩's turn: the horizontal keeps its body's depth to the corner, the
-  // brush lifts and presses again down the vertical's way (顿笔), leaving a
-  // shoulder, not a lump. The corner's ink may rise above the horizontal's
+  // brush lifts to its point and presses down and to the right into the
+  // shoulder, then down the vertical's way (顿笔), leaving a shoulder, not a
+  // lump. The corner's ink may rise above the horizontal's
   // top edge, and stand out right of the vertical's right edge, by at most
   // kMaxShoulder of the width of the vertical, the stroke whose press makes
   // the shoulder: a square turn's shoulder stands out by about half that
@@ -200,7 +239,8 @@ TEST_CASE("yong: the turn of the horizontal into the long vertical is square", "
   // slowed before the turn and 4.6 mm standing after it, the corner was a
   // lump rising 0.85 of the vertical's width above the horizontal and as
   // much right of the vertical, and its top bowed by 0.35 of its width;
-  // lifted only to 0.5 mm at the corner, the vertical's top bowed by 0.43.
+  // lifted only to 0.5 mm at the corner and pressed straight down, the
+  // vertical's top bowed by 0.43 (0.21 pressed into the shoulder first).
   constexpr double kMaxShoulder = 0.7, kMaxBow = 0.3;
   TempDir dir;
   const Coverage img = renderYongStroke(1, dir);
