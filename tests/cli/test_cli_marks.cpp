@@ -1220,7 +1220,7 @@ TEST_CASE("marks: the badger's first touch lays a faint haze that grows with dep
   // Visible at every depth. Under the lightest load only the flags on the
   // grain's peaks and the best-loaded hairs touch (TransferParams::
   // flag_cover_floor), so the lightest pull, 1.0 mm, is a dotted line:
-  // measured 5.4 mm^2 (87 px at 4 px/mm; 18 mm^2 of even faint line while
+  // measured 5.4 mm^2 (87 px at 4 px/mm; 49 mm^2 of even faint line while
   // every flag touched at any load). Asked: 2.5 mm^2, 40 px, a row of dots
   // along the pull and not a stray speck, with room for the grain's seed.
   constexpr double kVisibleMm2 = 2.5;
